@@ -1,0 +1,152 @@
+# symrec build. Plain make: `make [config=debug|release|sanitize]`, objects out of tree
+# under build/$(config)/. Targets: all (libsymrec.a + symrec), deps (install the Debian
+# packages this project needs, only when missing), demo (the README's main job),
+# test (unit + CLI tests under ASan/UBSan), valgrind (CLI tests under Valgrind),
+# check (deps + test + valgrind: what CI runs), bench (make bench: speed and accuracy
+# ratios measured in one run), clean.
+
+config ?= debug
+BUILD  := build/$(config)
+
+# Debian packages, installed by `make deps` when missing (as root, fresh Debian 12).
+DEB_PACKAGES := pkg-config libsqlite3-dev sqlite3 libopenmesh-dev libtinygltf-dev \
+                nlohmann-json3-dev libcmocka-dev libpolyclipping-dev libcgal-dev \
+                libgmp-dev libmpfr-dev valgrind
+
+CC  ?= cc
+CXX ?= g++
+PKG_LIBS := sqlite3 openmesh tinygltf polyclipping
+
+CFLAGS_COMMON   := -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
+                   -Wno-unused-parameter -Isrc -Icli -Itests -I$(BUILD)/gen -MMD -MP
+CXXFLAGS_COMMON := -std=c++17 -Wall -Wextra -Wno-unused-parameter -Isrc -MMD -MP \
+                   -DOM_STATIC_BUILD=0 -Wno-deprecated-copy -Wno-class-memaccess
+LDLIBS := -lOpenMeshCore -lOpenMeshTools -ltinygltf -lpolyclipping -lsqlite3 -lgmp -lmpfr -lm -lstdc++
+
+ifeq ($(config),release)
+  OPT := -O2 -DNDEBUG
+else ifeq ($(config),sanitize)
+  OPT := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+  LDFLAGS += -fsanitize=address,undefined
+else ifeq ($(config),debug)
+  OPT := -O1 -g
+else
+  $(error config must be debug, release or sanitize)
+endif
+# The CGAL translation unit is slow to compile (about 40 s); it is always built -O2
+# and without sanitizers' instrumentation of CGAL internals would be too slow to use.
+comma := ,
+CGAL_OPT := -O2 -g0 -DNDEBUG -DCGAL_NDEBUG $(if $(filter sanitize,$(config)),-fsanitize=address$(comma)undefined)
+
+ifneq ($(V),1)
+  Q := @
+endif
+
+LIB_C_SRC   := $(wildcard src/*.c)
+LIB_CXX_SRC := $(wildcard src/bridge/*.cpp)
+CLI_SRC     := $(wildcard cli/*.c)
+SQL_SRC     := $(sort $(wildcard sql/*.sql))
+TEST_SRC    := $(wildcard tests/test_*.c)
+BENCH_SRC   := $(wildcard tests/bench/*.c)
+FIX_SRC     := $(wildcard fixtures/*.c)
+
+GEN_SQL := $(BUILD)/gen/sql_embedded.c
+LIB_OBJ := $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(GEN_SQL:.c=.o)
+CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
+LIB     := $(BUILD)/libsymrec.a
+BIN     := $(BUILD)/symrec
+TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+BENCH   := $(BUILD)/bench/symrec_bench
+
+.PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built
+all: $(LIB) $(BIN)
+
+deps:
+	$(Q)missing=""; for p in $(DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "symrec: installing Debian packages:$$missing" >&2; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >&2; \
+	fi
+
+$(BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CC    $<")
+	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/src/bridge/boolean_cgal.o: src/bridge/boolean_cgal.cpp
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CXX   $< (CGAL, slow)")
+	$(Q)$(CXX) $(CXXFLAGS_COMMON) $(CGAL_OPT) -c $< -o $@
+
+$(BUILD)/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CXX   $<")
+	$(Q)$(CXX) $(CXXFLAGS_COMMON) $(OPT) $(CXXFLAGS) -c $< -o $@
+
+# SQL files are compiled into the binary: each becomes one C string, fetched by name.
+$(GEN_SQL): $(SQL_SRC) Makefile
+	@mkdir -p $(dir $@)
+	$(Q){ echo '/* generated from the files of sql/ by the Makefile; do not edit */'; \
+	  echo '#include "sql_embedded.h"'; \
+	  echo 'const sr_sql_file sr_sql_files[] = {'; \
+	  for f in $(SQL_SRC); do \
+	    printf '  { "%s",\n' "$$(basename $$f)"; \
+	    sed -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/\\n"/' $$f; \
+	    echo '  },'; \
+	  done; \
+	  echo '  { 0, 0 }'; echo '};'; } > $@
+
+$(GEN_SQL:.c=.o): $(GEN_SQL)
+	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
+
+$(LIB): $(LIB_OBJ)
+	@$(if $(Q),echo "  AR    $@")
+	$(Q)ar rcs $@ $^
+
+$(BIN): $(CLI_OBJ) $(LIB)
+	@$(if $(Q),echo "  LINK  $@")
+	$(Q)$(CC) $(LDFLAGS) $(CLI_OBJ) $(LIB) $(LDLIBS) -o $@
+
+TEST_SUPPORT_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(wildcard tests/support/*.c))
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_SUPPORT_OBJ) $(LIB)
+	@$(if $(Q),echo "  LINK  $@")
+	$(Q)$(CC) $(LDFLAGS) $< $(TEST_SUPPORT_OBJ) $(LIB) $(LDLIBS) -lcmocka -o $@
+
+$(BENCH): $(BENCH_SRC:%.c=$(BUILD)/%.o) $(TEST_SUPPORT_OBJ) $(LIB)
+	@mkdir -p $(dir $@)
+	$(Q)$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+# The project's own fixtures: small meshes with known volumes, made by its own code.
+fixtures: $(BIN)
+	$(Q)$(BIN) fixtures --out fixtures
+
+demo: deps
+	$(Q)$(MAKE) --no-print-directory config=release all
+	$(Q)rm -f build/demo.db build/demo.db-wal build/demo.db-shm
+	$(Q)build/release/symrec --db build/demo.db demo
+
+test: deps
+	$(Q)$(MAKE) --no-print-directory config=sanitize all tests-built
+	$(Q)SYMREC_BIN=build/sanitize/symrec sh tests/run_tests.sh build/sanitize
+
+tests-built: $(TESTS)
+
+valgrind: deps
+	$(Q)$(MAKE) --no-print-directory config=debug all tests-built
+	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_WRAP="valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite" \
+	  sh tests/run_tests.sh build/debug cli
+
+check: test valgrind
+
+bench: deps
+	$(Q)$(MAKE) --no-print-directory config=release all bench-built
+	$(Q)build/release/bench/symrec_bench
+
+bench-built: $(BENCH)
+
+clean:
+	rm -rf build
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

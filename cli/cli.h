@@ -1,0 +1,191 @@
+/*
+ * cli.h: what the files of cli/ share: the command signature and table entry, exit
+ * codes, the global context (which catalogue), the strict argument parser, the one-line
+ * diagnostics, and the human formatting helpers (tables, symmetry, units).
+ *
+ * Only cli/ prints or exits. Every command is one cmd_<name>.c with its usage text at
+ * the top; a command gets argv starting at its own name and returns an exit code:
+ * 0 ok, 1 failure (the library refused: "symrec: error: ..."), 2 usage
+ * ("symrec: usage: ..."). Results go to stdout, progress and diagnostics to stderr,
+ * and every diagnostic is exactly one line.
+ */
+#ifndef SR_CLI_H
+#define SR_CLI_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "catalog.h"
+#include "status.h"
+#include "symmetry.h"
+
+enum {
+    CLI_OK = 0,
+    CLI_FAIL = 1,
+    CLI_USAGE = 2,
+};
+
+/* Global options, parsed by main.c before the command. */
+typedef struct cli_ctx {
+    const char *db_path;        /* --db, else $SYMREC_DB, else CLI_DEFAULT_DB */
+} cli_ctx;
+
+#define CLI_DEFAULT_DB "./symrec.db"
+
+/* A command: argv[0] is the command's own name; returns the exit code. */
+typedef int (*cli_fn)(const cli_ctx *ctx, int argc, char **argv);
+
+typedef struct cli_command {
+    const char *name;
+    cli_fn fn;
+    const char *summary;        /* one line for `symrec --help` */
+} cli_command;
+
+int cmd_catalog(const cli_ctx *ctx, int argc, char **argv);
+int cmd_part(const cli_ctx *ctx, int argc, char **argv);
+int cmd_instance(const cli_ctx *ctx, int argc, char **argv);
+int cmd_export(const cli_ctx *ctx, int argc, char **argv);
+int cmd_params(const cli_ctx *ctx, int argc, char **argv);
+int cmd_demo(const cli_ctx *ctx, int argc, char **argv);
+int cmd_fixtures(const cli_ctx *ctx, int argc, char **argv);
+int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv);
+
+/* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
+
+/* "symrec: error: <msg>"; returns CLI_FAIL. */
+int cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Prints a library failure: err->msg, or the status name when the library left it
+ * empty. Returns CLI_FAIL. */
+int cli_fail(sr_status status, const sr_err *err);
+
+/* "symrec: usage: <msg>"; returns CLI_USAGE. */
+int cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* "symrec: <msg>": progress and notes. */
+void cli_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* ---- arguments (cli/args.c) ---- */
+
+/* One option of a command: a value option stores its argument in *value (the last
+ * one given wins); a flag (value == NULL) sets *flag to true. */
+typedef struct cli_opt {
+    const char *name;           /* with the dashes: "--layers" */
+    const char **value;
+    bool *flag;
+} cli_opt;
+
+typedef struct cli_spec {
+    const char *cmd;            /* "part add", for messages */
+    const char *usage;          /* printed to stdout for --help */
+    const cli_opt *opts;        /* terminated by { NULL } */
+    int min_pos, max_pos;       /* allowed number of positional arguments */
+    const char *pos_name;       /* what a positional is, for messages ("ID") */
+} cli_spec;
+
+/* Parses argv[0..argc) (the words after the command and subcommand names): options
+ * as `--name VALUE` or `--name=VALUE`, positionals into pos[] (room for max_pos),
+ * `--` ends the options. `--help` prints spec->usage to stdout. Returns true when the
+ * command should run; false with *rc = 0 after --help, or *rc = CLI_USAGE after
+ * printing a usage error (unknown option, missing value, wrong positional count). */
+bool cli_parse(const cli_spec *spec, int argc, char **argv, const char **pos, int *pos_count,
+               int *rc);
+
+/* Strict number parsing of option values: the whole string must parse, be finite and
+ * lie in [min, max]. On failure prints "symrec: usage: bad OPT 'TEXT': expected WHAT"
+ * and returns false (*out untouched). */
+bool cli_parse_int(const char *opt, const char *text, long min, long max, const char *what,
+                   int *out);
+bool cli_parse_id(const char *opt, const char *text, int64_t *out);
+bool cli_parse_double(const char *opt, const char *text, double min, double max,
+                      const char *what, double *out);
+
+/* A real calendar date written YYYY-MM-DD. */
+bool cli_date_valid(const char *text);
+
+/* Builds a symmetry from --symmetry/--order/--shift (any may be NULL). With no
+ * --symmetry, *out is kind NONE and --order/--shift are usage errors. Prints the
+ * usage error and returns false on failure. */
+bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
+                        sr_symmetry *out);
+
+/* Prints a subcommand group's usage error for a missing/unknown subcommand. */
+int cli_bad_subcommand(const char *cmd, const char *sub);
+
+/* ---- catalogue (cli/open.c) ---- */
+
+/* Opens ctx's catalogue. Without `create`, a missing file is an error that says how
+ * to create one. Prints the error and returns false on failure. */
+bool cli_open(const cli_ctx *ctx, bool create, sr_catalog **out);
+
+/* ---- records gathered in memory (cli/collect.c) ----
+ * The catalogue hands records to a callback; commands that print tables or look other
+ * records up per row first gather them here (no catalogue call runs inside a callback). */
+
+typedef struct cli_parts {
+    sr_part_info *v;
+    size_t count, cap;
+} cli_parts;
+
+typedef struct cli_instances {
+    sr_instance_info *v;
+    size_t count, cap;
+} cli_instances;
+
+/* Loads the matching parts / the instances of `part` (number or id; NULL = all).
+ * On failure the vector is empty and err says why. Release with the _release calls. */
+sr_status cli_parts_load(sr_catalog *cat, const sr_part_filter *filter, cli_parts *out,
+                         sr_err *err);
+void cli_parts_release(cli_parts *parts);
+sr_status cli_instances_load(sr_catalog *cat, const char *part, cli_instances *out,
+                             sr_err *err);
+void cli_instances_release(cli_instances *instances);
+
+/* ---- printers shared by several commands ---- */
+
+/* cmd_part.c: the part table (`part list`, `demo`) and one part in full with its
+ * instances (`part show`, `demo`). Return an exit code. */
+int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json);
+int cli_part_show_print(sr_catalog *cat, const char *key, bool json);
+
+/* cmd_instance.c: a table of instances; with_part adds the part number column. The
+ * missing volume is the part's intact volume minus the instance's. Returns false
+ * (after an error line) on failure. */
+bool cli_instance_table(sr_catalog *cat, const cli_instances *list, bool with_part, int indent);
+
+/* ---- human output (cli/format.c) ---- */
+
+/* "axial, continuous", "axial, 6-fold", "mirror", "glide, shift 10 mm",
+ * "glide, shift by search", "-" (none). */
+const char *cli_sym_str(const sr_symmetry *sym, char *buf, size_t size);
+
+/* A text table: cells added row by row, columns sized to their widest cell (counted
+ * in UTF-8 characters) and aligned right when `right` is set. */
+#define CLI_TABLE_MAX_COLS 16
+
+typedef struct cli_table {
+    size_t cols;
+    const char *const *headers;
+    const bool *right;
+    char **cells;               /* rows * cols strings, owned */
+    size_t cell_count, cell_cap;
+    bool failed;                /* out of memory while adding */
+} cli_table;
+
+void cli_table_init(cli_table *t, size_t cols, const char *const *headers, const bool *right);
+void cli_table_cell(cli_table *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Prints the table (a header line, then the rows), every line indented by `indent`
+ * spaces; at most CLI_TABLE_MAX_COLS columns. Returns false (after an error line) if a
+ * cell could not be stored. */
+bool cli_table_print(const cli_table *t, FILE *f, int indent);
+void cli_table_release(cli_table *t);
+
+/* A labelled bounding box in mm, with its size on a second line. */
+void cli_print_bbox(FILE *f, const char *label, const double min[3], const double max[3]);
+
+/* "label value" where a multi-line value keeps its later lines under the first. */
+void cli_print_field(FILE *f, const char *label, const char *value);
+
+#endif

@@ -1,0 +1,332 @@
+/*
+ * cmd_reconstruct.c: `symrec reconstruct`: restores a damaged instance from the
+ * catalogue (or a mesh file) by its symmetry and writes the restored part, the patches
+ * and a GLB scene that overlay the input scan.
+ *
+ * Pipeline: src/reconstruct.h (align, slice, analyse, patches, union). This file only
+ * parses arguments, loads the input, calls it and prints/writes the results.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "bridge/mesh_io.h"
+#include "cli.h"
+#include "json_out.h"
+#include "reconstruct.h"
+
+static const char usage[] =
+    "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"
+    "              --symmetry axial|mirror|glide [--order N] [--shift MM]\n"
+    "              [--layers N] [--sectors N] [--gamma G] [--min-depth MM]\n"
+    "              [--out DIR] [--format stl|obj|ply|off] [--no-union] [--json]\n"
+    "\n"
+    "Aligns the damaged scan with its symmetry axis or plane, slices it into layers and\n"
+    "sectors (paper Algorithms 1-2), finds what is missing layer by layer (Algorithm 4\n"
+    "for axial, 5 for mirror/glide), builds a closed patch mesh for every missing\n"
+    "section (Algorithm 6) and the restored part (scan united with the patches).\n"
+    "\n"
+    "  INSTANCE        a damaged instance id from the catalogue (its symmetry is the\n"
+    "                  default for --symmetry)\n"
+    "  --mesh FILE     reconstruct a mesh file instead (STL, OBJ, PLY, OFF, glTF, GLB)\n"
+    "  --symmetry K    axial, mirror or glide\n"
+    "  --order N       axial: n-fold order (2..360); default continuous\n"
+    "  --shift MM      glide: the shift along the plane in mm; default: searched\n"
+    "  --layers N      number of layers (default 320)\n"
+    "  --sectors N     number of sectors (default 240)\n"
+    "  --gamma G       the analysis threshold gamma_axis / gamma_plane (default 0.95)\n"
+    "  --min-depth MM  smallest depth counted as damage (default 0.05 mm)\n"
+    "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
+    "                  all in the frame of the input scan\n"
+    "  --format F      format of restored/patches (default stl)\n"
+    "  --no-union      restored = scan + patches as separate shells (no boolean)\n"
+    "  --json          print one JSON object: alignment, sections, timings\n";
+
+static void print_human(const sr_recon_result *r, const char *source)
+{
+    const sr_alignment *a = &r->alignment;
+    printf("reconstruction of %s\n", source);
+    printf("  alignment: axis point (%.3f, %.3f, %.3f) mm, direction (%.5f, %.5f, %.5f)\n",
+           a->axis_point[0], a->axis_point[1], a->axis_point[2], a->axis_dir[0],
+           a->axis_dir[1], a->axis_dir[2]);
+    printf("             fit rms %.4f mm, score %.3f\n", a->fit_rms_mm, a->fit_score);
+    printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
+           r->grid.dz);
+    if (r->section_count == 0) {
+        printf("  nothing to repair: no missing section found\n");
+    } else {
+        printf("  %zu missing section(s):\n", r->section_count);
+        for (size_t i = 0; i < r->section_count; i++) {
+            const sr_section *s = &r->sections[i];
+            printf("  %2zu. z %.2f..%.2f mm, angle %.1f..%.1f deg, depth max %.3f mean %.3f "
+                   "mm, volume %.1f mm3\n",
+                   i + 1, s->z_min, s->z_max, s->angle_min_deg, s->angle_max_deg,
+                   s->depth_max_mm, s->depth_mean_mm, s->volume_mm3);
+        }
+    }
+    printf("  scan volume %.1f mm3, restored %.1f mm3 (%s), patches %.1f mm3\n",
+           r->scan_volume_mm3, r->restored_volume_mm3,
+           r->restored_by_union ? "boolean union" : "separate shells", r->patch_volume_mm3);
+    printf("  time %.3f s (align %.3f, slice %.3f, analyse %.3f, patch %.3f, union %.3f)\n",
+           r->timings.total_s, r->timings.align_s, r->timings.slice_s, r->timings.analyse_s,
+           r->timings.patch_s, r->timings.union_s);
+}
+
+static void print_json(const sr_recon_result *r, const char *source, const sr_symmetry *sym)
+{
+    json_out j;
+    json_init(&j, stdout);
+    json_object_begin(&j);
+    json_key(&j, "source");
+    json_string(&j, source);
+    json_key(&j, "symmetry");
+    json_symmetry(&j, sym);
+    json_key(&j, "layers");
+    json_int(&j, (int64_t)r->grid.layers);
+    json_key(&j, "sectors");
+    json_int(&j, (int64_t)r->grid.sectors);
+    json_key(&j, "alignment");
+    json_object_begin(&j);
+    json_key(&j, "transform");
+    json_array_begin(&j);
+    for (int i = 0; i < 12; i++)
+        json_number(&j, r->alignment.xform[i]);
+    json_array_end(&j);
+    json_key(&j, "axis_point_mm");
+    json_array_begin(&j);
+    for (int i = 0; i < 3; i++)
+        json_number(&j, r->alignment.axis_point[i]);
+    json_array_end(&j);
+    json_key(&j, "axis_dir");
+    json_array_begin(&j);
+    for (int i = 0; i < 3; i++)
+        json_number(&j, r->alignment.axis_dir[i]);
+    json_array_end(&j);
+    json_key(&j, "plane_normal");
+    json_array_begin(&j);
+    for (int i = 0; i < 3; i++)
+        json_number(&j, r->alignment.plane_normal[i]);
+    json_array_end(&j);
+    json_key(&j, "glide_shift_mm");
+    json_number(&j, r->alignment.glide_shift_mm);
+    json_key(&j, "fit_rms_mm");
+    json_number(&j, r->alignment.fit_rms_mm);
+    json_key(&j, "fit_score");
+    json_number(&j, r->alignment.fit_score);
+    json_object_end(&j);
+    json_key(&j, "sections");
+    json_array_begin(&j);
+    for (size_t i = 0; i < r->section_count; i++) {
+        const sr_section *s = &r->sections[i];
+        json_object_begin(&j);
+        json_key(&j, "index");
+        json_int(&j, (int64_t)i + 1);
+        json_key(&j, "layer_first");
+        json_int(&j, (int64_t)s->layer_first);
+        json_key(&j, "layer_last");
+        json_int(&j, (int64_t)s->layer_last);
+        json_key(&j, "z_min_mm");
+        json_number(&j, s->z_min);
+        json_key(&j, "z_max_mm");
+        json_number(&j, s->z_max);
+        json_key(&j, "angle_min_deg");
+        json_number(&j, s->angle_min_deg);
+        json_key(&j, "angle_max_deg");
+        json_number(&j, s->angle_max_deg);
+        json_key(&j, "cells");
+        json_int(&j, (int64_t)s->cell_count);
+        json_key(&j, "depth_max_mm");
+        json_number(&j, s->depth_max_mm);
+        json_key(&j, "depth_mean_mm");
+        json_number(&j, s->depth_mean_mm);
+        json_key(&j, "volume_mm3");
+        json_number(&j, s->volume_mm3);
+        json_key(&j, "area_mm2");
+        json_number(&j, s->area_mm2);
+        json_key(&j, "patch_triangles");
+        json_int(&j, (int64_t)s->patch.tri_count);
+        json_object_end(&j);
+    }
+    json_array_end(&j);
+    json_key(&j, "scan_volume_mm3");
+    json_number(&j, r->scan_volume_mm3);
+    json_key(&j, "restored_volume_mm3");
+    json_number(&j, r->restored_volume_mm3);
+    json_key(&j, "patch_volume_mm3");
+    json_number(&j, r->patch_volume_mm3);
+    json_key(&j, "restored_by_union");
+    json_bool(&j, r->restored_by_union);
+    if (r->union_note[0]) {
+        json_key(&j, "union_note");
+        json_string(&j, r->union_note);
+    }
+    json_key(&j, "timings");
+    json_object_begin(&j);
+    json_key(&j, "align_s");
+    json_number(&j, r->timings.align_s);
+    json_key(&j, "slice_s");
+    json_number(&j, r->timings.slice_s);
+    json_key(&j, "analyse_s");
+    json_number(&j, r->timings.analyse_s);
+    json_key(&j, "patch_s");
+    json_number(&j, r->timings.patch_s);
+    json_key(&j, "union_s");
+    json_number(&j, r->timings.union_s);
+    json_key(&j, "total_s");
+    json_number(&j, r->timings.total_s);
+    json_object_end(&j);
+    json_object_end(&j);
+    json_finish(&j);
+}
+
+static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
+                         const sr_recon_result *r)
+{
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return cli_error("cannot create '%s': %s", dir, strerror(errno));
+    char path[4096];
+    sr_err err;
+    sr_err_clear(&err);
+    snprintf(path, sizeof path, "%s/restored.%s", dir, fmt);
+    sr_status st = sr_mesh_write(path, &r->restored, NULL, &err);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    sr_mesh all;
+    sr_mesh_init(&all);
+    for (size_t i = 0; i < r->section_count && st == SR_OK; i++)
+        st = sr_mesh_append(&all, &r->sections[i].patch);
+    snprintf(path, sizeof path, "%s/patches.%s", dir, fmt);
+    if (st == SR_OK && r->section_count > 0)
+        st = sr_mesh_write(path, &all, NULL, &err);
+    sr_mesh_release(&all);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    if (r->section_count == 0)
+        remove(path); /* nothing to patch: no stale patches file */
+
+    size_t n = r->section_count + 1;
+    sr_scene_mesh items[256];
+    char names[256][32];
+    if (n > 256)
+        n = 256;
+    items[0] = (sr_scene_mesh){"damaged", scan, {0.62f, 0.64f, 0.68f, 1.0f}};
+    for (size_t i = 1; i < n; i++) {
+        snprintf(names[i], sizeof names[i], "patch %zu", i);
+        items[i] = (sr_scene_mesh){names[i], &r->sections[i - 1].patch, {0.1f, 0.75f, 0.95f, 1.0f}};
+    }
+    snprintf(path, sizeof path, "%s/result.glb", dir);
+    st = sr_scene_write(path, items, n, "{\"units\":\"mm\",\"generator\":\"symrec reconstruct\"}",
+                        &err);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    return CLI_OK;
+}
+
+int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
+{
+    const char *mesh_file = NULL, *kind = NULL, *order = NULL, *shift = NULL, *layers = NULL,
+               *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl";
+    bool json = false, no_union = false;
+    const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},  {"--symmetry", &kind, NULL},
+                            {"--order", &order, NULL},     {"--shift", &shift, NULL},
+                            {"--layers", &layers, NULL},   {"--sectors", &sectors, NULL},
+                            {"--gamma", &gamma, NULL},     {"--min-depth", &min_depth, NULL},
+                            {"--out", &out, NULL},         {"--format", &fmt, NULL},
+                            {"--no-union", NULL, &no_union}, {"--json", NULL, &json},
+                            {NULL, NULL, NULL}};
+    const cli_spec spec = {"reconstruct", usage, opts, 0, 1, "INSTANCE"};
+    const char *pos[1];
+    int npos = 0, rc;
+    if (!cli_parse(&spec, argc - 1, argv + 1, pos, &npos, &rc))
+        return rc;
+    if ((npos == 1) == (mesh_file != NULL))
+        return cli_usage_error("'reconstruct' needs an INSTANCE id or --mesh FILE, not both "
+                               "(see 'symrec reconstruct --help')");
+    sr_recon_opts ro;
+    memset(&ro, 0, sizeof ro);
+    int v;
+    double d;
+    if (layers) {
+        if (!cli_parse_int("--layers", layers, 1, 100000, "an integer 1..100000", &v))
+            return CLI_USAGE;
+        ro.layers = (size_t)v;
+    }
+    if (sectors) {
+        if (!cli_parse_int("--sectors", sectors, 3, 100000, "an integer 3..100000", &v))
+            return CLI_USAGE;
+        ro.sectors = (size_t)v;
+    }
+    if (gamma) {
+        if (!cli_parse_double("--gamma", gamma, 1e-6, 1, "a number in (0, 1]", &d))
+            return CLI_USAGE;
+        ro.gamma_axis = ro.gamma_plane = d;
+    }
+    ro.min_depth_mm = 0.05;
+    if (min_depth && !cli_parse_double("--min-depth", min_depth, 0, 1000, "a depth 0..1000 mm",
+                                       &ro.min_depth_mm))
+        return CLI_USAGE;
+    if (strcmp(fmt, "stl") && strcmp(fmt, "obj") && strcmp(fmt, "ply") && strcmp(fmt, "off"))
+        return cli_usage_error("bad --format '%s': expected stl, obj, ply or off", fmt);
+    ro.skip_union = no_union;
+    if (kind && !cli_parse_symmetry(kind, order, shift, &ro.symmetry))
+        return CLI_USAGE;
+    if (!kind && (order || shift))
+        return cli_usage_error("--order and --shift need --symmetry");
+
+    sr_mesh scan;
+    sr_mesh_init(&scan);
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st;
+    char source[4200];
+    if (mesh_file) {
+        if (!kind)
+            return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide");
+        st = sr_mesh_read(mesh_file, &scan, &err);
+        if (st != SR_OK)
+            return cli_fail(st, &err);
+        snprintf(source, sizeof source, "'%s'", mesh_file);
+    } else {
+        int64_t id;
+        if (!cli_parse_id("INSTANCE", pos[0], &id))
+            return CLI_USAGE;
+        sr_catalog *cat;
+        if (!cli_open(ctx, false, &cat))
+            return CLI_FAIL;
+        sr_instance_info inst;
+        st = sr_catalog_instance_get(cat, id, &inst, &err);
+        if (st == SR_OK)
+            st = sr_catalog_instance_mesh(cat, id, &scan, &err);
+        sr_catalog_close(cat);
+        if (st != SR_OK)
+            return cli_fail(st, &err);
+        if (!kind) {
+            if (inst.symmetry.kind == SR_SYM_NONE)
+                return cli_usage_error("instance %lld has no symmetry in the catalogue: give "
+                                       "--symmetry axial|mirror|glide", (long long)id);
+            ro.symmetry = inst.symmetry;
+        }
+        snprintf(source, sizeof source, "instance %lld (part %s, serial %s)", (long long)id,
+                 inst.part_number, inst.serial[0] ? inst.serial : "-");
+    }
+    cli_note("reconstructing %s (%zu triangles)...", source, scan.tri_count);
+    sr_recon_result r;
+    st = sr_reconstruct(&scan, &ro, &r, &err);
+    if (st != SR_OK) {
+        sr_mesh_release(&scan);
+        return cli_fail(st, &err);
+    }
+    rc = CLI_OK;
+    if (out)
+        rc = write_outputs(out, fmt, &scan, &r);
+    if (rc == CLI_OK) {
+        if (json)
+            print_json(&r, source, &ro.symmetry);
+        else
+            print_human(&r, source);
+    }
+    sr_recon_result_release(&r);
+    sr_mesh_release(&scan);
+    return rc;
+}

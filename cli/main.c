@@ -1,0 +1,128 @@
+/*
+ * main.c: the symrec command line's entry point: the command table, the global
+ * options parsed before the command (--db, --help, --version), and dispatch, including
+ * `symrec help CMD [SUB]`. Each command lives in its own cli/cmd_<name>.c.
+ *
+ * Exit codes: 0 ok, 1 failure, 2 usage. The catalogue is --db FILE, else $SYMREC_DB,
+ * else ./symrec.db.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "version.h"
+
+static const char usage[] =
+    "usage: symrec [--db FILE] COMMAND [ARGS...]\n"
+    "       symrec --help | --version | help COMMAND [SUBCOMMAND]\n"
+    "\n"
+    "Restores damaged mechanical parts by their symmetry, keeping parts, damaged\n"
+    "instances and their meshes in a catalogue (an SQLite file).\n"
+    "\n"
+    "Global options (before the command):\n"
+    "  --db FILE    the catalogue; default: $SYMREC_DB if set, else " CLI_DEFAULT_DB "\n"
+    "  --help       this text\n"
+    "  --version    print the version\n"
+    "\n"
+    "Commands:\n";
+
+static const char usage_tail[] =
+    "\n"
+    "Every command takes --help. Commands with output take --json (one JSON value on\n"
+    "stdout). Lengths are in mm, areas in mm², volumes in mm³.\n"
+    "Exit status: 0 ok, 1 failure, 2 usage error.\n";
+
+static int cmd_help(const cli_ctx *ctx, int argc, char **argv);
+
+static const cli_command commands[] = {
+    {"catalog", cmd_catalog, "create a catalogue, or show what it holds"},
+    {"part", cmd_part, "add, list and show parts (models with their intact mesh)"},
+    {"instance", cmd_instance, "add, list and show damaged instances of a part"},
+    {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
+    {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
+    {"params", cmd_params, "list, show and set named parameter sets"},
+    {"demo", cmd_demo, "build the demo catalogue and show it"},
+    {"fixtures", cmd_fixtures, "write the demo parts' meshes and known volumes"},
+    {"help", cmd_help, "show the help of a command"},
+};
+static const size_t command_count = sizeof commands / sizeof commands[0];
+
+static const cli_command *find_command(const char *name)
+{
+    for (size_t i = 0; i < command_count; i++)
+        if (strcmp(commands[i].name, name) == 0)
+            return &commands[i];
+    return NULL;
+}
+
+static void print_usage(FILE *f)
+{
+    fputs(usage, f);
+    for (size_t i = 0; i < command_count; i++)
+        fprintf(f, "  %-12s %s\n", commands[i].name, commands[i].summary);
+    fputs(usage_tail, f);
+}
+
+/* `symrec help CMD [SUB]` runs `symrec CMD [SUB] --help`. */
+static int cmd_help(const cli_ctx *ctx, int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        print_usage(stdout);
+        return CLI_OK;
+    }
+    if (argc > 3)
+        return cli_usage_error("unexpected argument '%s' for 'help' (see 'symrec --help')",
+                               argv[3]);
+    const cli_command *cmd = find_command(argv[1]);
+    if (!cmd)
+        return cli_usage_error("unknown command '%s' (see 'symrec --help')", argv[1]);
+    char help_flag[] = "--help";
+    char *args[3] = {argv[1], argc == 3 ? argv[2] : help_flag, help_flag};
+    return cmd->fn(ctx, argc == 3 ? 3 : 2, args);
+}
+
+int main(int argc, char **argv)
+{
+    cli_ctx ctx = {0};
+    const char *env = getenv("SYMREC_DB");
+    ctx.db_path = env && env[0] ? env : CLI_DEFAULT_DB;
+
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-'; i++) {
+        const char *arg = argv[i];
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            print_usage(stdout);
+            return CLI_OK;
+        }
+        if (strcmp(arg, "--version") == 0) {
+            printf("symrec %s\n", SR_VERSION);
+            return CLI_OK;
+        }
+        if (strcmp(arg, "--db") == 0) {
+            if (i + 1 >= argc || argv[i + 1][0] == '\0' || strncmp(argv[i + 1], "--", 2) == 0)
+                return cli_usage_error("option '--db' needs a file name");
+            ctx.db_path = argv[++i];
+            continue;
+        }
+        if (strncmp(arg, "--db=", 5) == 0) {
+            if (arg[5] == '\0')
+                return cli_usage_error("option '--db' needs a file name");
+            ctx.db_path = arg + 5;
+            continue;
+        }
+        return cli_usage_error("unknown option '%s' (see 'symrec --help')", arg);
+    }
+    if (i >= argc)
+        return cli_usage_error("missing command (see 'symrec --help')");
+
+    const cli_command *cmd = find_command(argv[i]);
+    if (!cmd)
+        return cli_usage_error("unknown command '%s' (see 'symrec --help')", argv[i]);
+    int rc = cmd->fn(&ctx, argc - i, argv + i);
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        cli_error("cannot write the output: standard output failed");
+        return CLI_FAIL;
+    }
+    return rc;
+}

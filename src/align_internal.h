@@ -1,0 +1,231 @@
+/*
+ * align_internal.h: the private interface between the files that implement align.h.
+ * Not installed, not used outside src/align*.c.
+ *
+ *   align_math.c     small dense linear algebra (symmetric eigen, SPD solve), frames
+ *   align_surface.c  the scan as a surface: per-triangle normals/areas, area moments,
+ *                    area-uniform sample points, and a uniform grid answering
+ *                    "closest point of the surface to p" (no library)
+ *   align_icp.c      the symmetry models (rotation about an axis, reflection in a
+ *                    plane, glide reflection) and one robust ICP engine that fits any
+ *                    of them: the model maps the surface to itself, so each sample's
+ *                    image must lie on the surface
+ *   align_axial.c    axial: normal-line (Pottmann-Randrup) estimate + candidates + ICP
+ *   align_planar.c   mirror and glide: plane candidates, shift search, ICP
+ *   align_paper.c    the paper's Algorithm 1 (fast layer) and Algorithm 3 (heuristic
+ *                    alignment by counting symmetric layers over a grid of rotations)
+ *   align.c          the public entry points: validation, canonical frame, override
+ */
+#ifndef SR_ALIGN_INTERNAL_H
+#define SR_ALIGN_INTERNAL_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "align.h"
+#include "mesh.h"
+#include "status.h"
+#include "symmetry.h"
+
+/* ---- 3-vectors ---- */
+
+static inline double v3_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void v3_cross(const double a[3], const double b[3], double out[3])
+{
+    double r[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                   a[0] * b[1] - a[1] * b[0]};
+    out[0] = r[0];
+    out[1] = r[1];
+    out[2] = r[2];
+}
+
+static inline double v3_norm(const double a[3])
+{
+    return sqrt(v3_dot(a, a));
+}
+
+/* Normalises a in place; returns its former length (a unchanged when 0). */
+static inline double v3_normalize(double a[3])
+{
+    double n = v3_norm(a);
+    if (n > 0) {
+        a[0] /= n;
+        a[1] /= n;
+        a[2] /= n;
+    }
+    return n;
+}
+
+/* ---- align_math.c ---- */
+
+/* Eigen-decomposition of a symmetric n x n matrix (n <= 8, row-major a) by cyclic
+ * Jacobi. w gets the n eigenvalues in ascending order; column k of v (v[i*n + k]) is
+ * the unit eigenvector of w[k]. */
+void al_eig_sym(int n, const double *a, double *w, double *v);
+
+/* Solves a x = b for a symmetric positive (semi-)definite n x n matrix (n <= 8) by
+ * Cholesky. Returns false when a pivot is not positive (x untouched). */
+bool al_solve_spd(int n, const double *a, const double *b, double *x);
+
+/* Two unit vectors u, v with (u, v, d) a right-handed orthonormal frame; d must be a
+ * unit vector. */
+void al_perp_frame(const double d[3], double u[3], double v[3]);
+
+/* Rotation matrix (3x3 row-major) by angle `ang` (radians) about unit axis `k`. */
+void al_rot_axis(const double k[3], double ang, double r[9]);
+
+/* ---- align_surface.c ---- */
+
+typedef struct al_surface {
+    const sr_mesh *mesh;
+    size_t count;          /* triangles with non-zero area */
+    uint32_t *tri;         /* count indices into mesh->tri */
+    double *nrm;           /* count by 3 unit outward normals */
+    double *area;          /* count areas, mm^2 */
+    double total_area;
+    double centroid[3];    /* area centroid of the surface */
+    double cov[9];         /* area-weighted covariance of the surface about centroid */
+    double bmin[3], bmax[3];
+    double diag;           /* bounding-box diagonal, mm */
+    /* uniform grid of triangles (indices into tri) for closest-point queries */
+    double origin[3];
+    double cell;
+    int dim[3];
+    uint32_t *cell_start;  /* dim[0]*dim[1]*dim[2] + 1 offsets into cell_items */
+    uint32_t *cell_items;
+    uint32_t *stamp;       /* count: last query that tested the triangle */
+    uint32_t stamp_id;
+} al_surface;
+
+/* Builds the surface data and grid of a validated mesh. SR_E_INVALID when no triangle
+ * has an area, SR_E_NOMEM. On failure *s is released. */
+sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err);
+void al_surface_release(al_surface *s);
+
+/* Closest point of the surface to p among points within max_dist. Returns false when
+ * there is none. q: the closest point, n: its triangle's unit normal, *dist: |p - q|. */
+bool al_surface_closest(al_surface *s, const double p[3], double max_dist, double q[3],
+                        double n[3], double *dist);
+
+/* Area-uniform points on the surface (stratified, deterministic for a given seed). */
+typedef struct al_samples {
+    size_t count;
+    double *p;             /* count by 3 */
+    double *n;             /* count by 3: unit normal of the triangle sampled */
+} al_samples;
+
+sr_status al_samples_make(const al_surface *s, size_t count, uint64_t seed,
+                          al_samples *out);
+void al_samples_release(al_samples *smp);
+
+/* ---- align_icp.c ---- */
+
+enum { AL_AXIAL = 1, AL_MIRROR, AL_GLIDE };
+
+#define AL_MAX_VARIANTS 360
+#define AL_MAX_PARAMS 5
+
+/* A symmetry transform family. The state is the symmetry element; `variant` picks
+ * one of several transforms of the same element (rotation angles of an axial model;
+ * +shift / -shift of a glide). Every variant maps the intact surface onto itself. */
+typedef struct al_model {
+    int kind;
+    double a[3];           /* axial: axis direction; planar: plane normal (unit) */
+    double c[3];           /* a point on the axis / in the plane */
+    double t[3];           /* glide: unit shift direction in the plane */
+    double shift;          /* glide: shift along t, mm */
+    int fix_shift;         /* glide: the shift is given, not fitted */
+    double scale;          /* length scale of position parameters, mm (part size) */
+    int variant_count;
+    double angle[AL_MAX_VARIANTS]; /* axial: rotation angle of each variant, radians */
+} al_model;
+
+/* Number of free parameters of the model (axial 4, mirror 3, glide 4 or 5). */
+int al_model_nparam(const al_model *m);
+
+/* The 3x4 affine matrix of variant `variant` of the model moved by the local
+ * parameter step `delta` (al_model_nparam entries; NULL = no step). */
+void al_model_matrix(const al_model *m, const double *delta, int variant, double mat[12]);
+
+/* Moves the model by a local parameter step (re-orthonormalising its frame). */
+void al_model_step(al_model *m, const double *delta);
+
+/* How well a model maps the surface onto itself. */
+typedef struct al_fit {
+    double inlier_rms;     /* RMS closest-point distance over the inliers, mm */
+    double score;          /* share of samples whose image is within tol of the surface */
+    double median;         /* median closest-point distance (unmatched count as far) */
+    double tol;            /* the inlier tolerance used, mm */
+    int iterations;        /* ICP iterations run */
+} al_fit;
+
+/* Robust ICP (Tukey weights, scale from the median distance, shrinking threshold)
+ * starting at *m; point-to-plane residuals, Gauss-Newton steps. tau0 is the first
+ * iteration's match radius (mm). Leaves the refined model in *m and its evaluation
+ * against tol in *fit. */
+void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, double tau0,
+            double tol, al_fit *fit);
+
+/* Evaluation only: share of samples within tol, inlier RMS, median. */
+void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double tol,
+                 al_fit *fit);
+
+/* Screens candidate models on `screen` samples with the loose tolerance, refines by
+ * ICP on `coarse` those scoring at least 0.6 of the best screening score (best first),
+ * and returns the best refined model and its fit. count <= 64, >= 1. Returns the
+ * number refined. */
+int al_refine_candidates(al_surface *s, const al_samples *screen, const al_samples *coarse,
+                         al_model *cand, int count, double loose, double tau0, double tol,
+                         al_model *best, al_fit *best_fit);
+
+/* True when fit a is better than fit b (higher score; near-equal scores: lower RMS). */
+bool al_fit_better(const al_fit *a, const al_fit *b);
+
+/* ---- align_axial.c / align_planar.c ---- */
+
+/* Shared inputs of a search. */
+typedef struct al_ctx {
+    al_surface *surf;
+    al_samples screen;     /* a few hundred samples to screen candidates */
+    al_samples coarse;     /* a few thousand samples for candidates */
+    al_samples fine;       /* tens of thousands for the final refinement */
+    const sr_symmetry *sym;
+    const sr_align_opts *opts; /* defaults filled in */
+    double tol;            /* inlier tolerance for scores, mm */
+} al_ctx;
+
+/* Axis direction and point minimising the normal-line residuals (Pottmann & Randrup
+ * 1998), iteratively reweighted. Returns false when degenerate. */
+bool al_axial_normal_lines(const al_surface *s, double a[3], double c[3]);
+
+sr_status al_axial_search(al_ctx *ctx, al_model *out, al_fit *fit);
+sr_status al_planar_search(al_ctx *ctx, al_model *out, al_fit *fit);
+
+/* ---- align_paper.c ---- */
+
+/* Result of the paper's Algorithm 3. */
+typedef struct al_paper_result {
+    double dir[3];         /* axial: axis; planar: in-plane axis (the slicing z) */
+    double point[3];       /* a point on the axis / in the plane */
+    double normal[3];      /* planar: plane normal */
+    double shift;          /* glide: shift found, mm */
+    int symmetric_layers;  /* at the chosen rotation */
+} al_paper_result;
+
+/* Algorithm 3 with Algorithm 1 layers over a grid of tilts (axial) or of slicing
+ * directions and in-layer plane angles (mirror, glide). */
+sr_status al_paper_align(const al_surface *s, const sr_symmetry *sym,
+                         const sr_align_opts *opts, al_paper_result *out);
+
+/* Number of Alg. 3 symmetric layers of the given axial model (used to report
+ * symmetric_layers for the refined axis). */
+int al_paper_count_axial(const al_surface *s, const sr_align_opts *opts, const double dir[3],
+                         const double point[3]);
+
+#endif

@@ -1,0 +1,418 @@
+/*
+ * align_surface.c: the scan as a surface for the alignment (align_internal.h).
+ *
+ * Owns three things, all linear in the triangle count:
+ *  - per-triangle unit normals and areas, the area centroid and the exact
+ *    area-weighted second moments of the surface (a triangle's integral of x x^T is
+ *    A/12 (a a^T + b b^T + c c^T + 9 m m^T), m its centroid), whose eigenvectors are
+ *    the principal directions used as alignment candidates;
+ *  - area-uniform sample points (stratified over the cumulative area, jittered with a
+ *    fixed-seed splitmix64, so runs are reproducible);
+ *  - a uniform grid of triangles answering "closest surface point to p". A triangle
+ *    goes into every cell its bounding box overlaps whose box its plane cuts, so long
+ *    slivers of CAD meshes do not flood the grid. Queries visit cubic shells of cells
+ *    around p and stop once the best distance found is below the shell's inner
+ *    distance (or past max_dist). A per-triangle stamp skips triangles already tested
+ *    through another cell. The cell size follows the mean triangle size, capped so the
+ *    grid has at most about 16M cells.
+ */
+#include "align_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_CELLS 16000000.0
+
+static const double *vtx(const al_surface *s, size_t i, int k)
+{
+    return s->mesh->xyz + 3 * (size_t)s->mesh->tri[3 * (size_t)s->tri[i] + k];
+}
+
+void al_surface_release(al_surface *s)
+{
+    if (!s)
+        return;
+    free(s->tri);
+    free(s->nrm);
+    free(s->area);
+    free(s->cell_start);
+    free(s->cell_items);
+    free(s->stamp);
+    memset(s, 0, sizeof *s);
+}
+
+static void cell_of(const al_surface *s, const double p[3], int idx[3])
+{
+    for (int k = 0; k < 3; k++) {
+        double f = (p[k] - s->origin[k]) / s->cell;
+        int i = f <= 0 ? 0 : (f >= s->dim[k] - 1 ? s->dim[k] - 1 : (int)f);
+        idx[k] = i;
+    }
+}
+
+/* Does triangle i's plane cut the cell (ix, iy, iz)? (conservative box-plane test) */
+static bool plane_cuts_cell(const al_surface *s, size_t i, int ix, int iy, int iz)
+{
+    const double *n = s->nrm + 3 * i, *a = vtx(s, i, 0);
+    double h = s->cell;
+    double c[3] = {s->origin[0] + (ix + 0.5) * h, s->origin[1] + (iy + 0.5) * h,
+                   s->origin[2] + (iz + 0.5) * h};
+    double d = n[0] * (c[0] - a[0]) + n[1] * (c[1] - a[1]) + n[2] * (c[2] - a[2]);
+    double reach = 0.5 * h * (fabs(n[0]) + fabs(n[1]) + fabs(n[2]));
+    return fabs(d) <= reach * (1 + 1e-9) + 1e-12;
+}
+
+/* Visits the cells triangle i is filed in: pass 0 counts, pass 1 fills. */
+static void file_triangle(al_surface *s, size_t i, int pass, uint32_t *cursor)
+{
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = hi[k] = vtx(s, i, 0)[k];
+        for (int j = 1; j < 3; j++) {
+            double x = vtx(s, i, j)[k];
+            lo[k] = x < lo[k] ? x : lo[k];
+            hi[k] = x > hi[k] ? x : hi[k];
+        }
+    }
+    int a[3], b[3];
+    cell_of(s, lo, a);
+    cell_of(s, hi, b);
+    int spread = (b[0] > a[0]) + (b[1] > a[1]) + (b[2] > a[2]);
+    for (int z = a[2]; z <= b[2]; z++)
+        for (int y = a[1]; y <= b[1]; y++)
+            for (int x = a[0]; x <= b[0]; x++) {
+                if (spread >= 2 && !plane_cuts_cell(s, i, x, y, z))
+                    continue;
+                size_t cidx = (size_t)x + (size_t)s->dim[0] * ((size_t)y + (size_t)s->dim[1] * z);
+                if (pass == 0)
+                    s->cell_start[cidx + 1]++;
+                else
+                    s->cell_items[cursor[cidx]++] = (uint32_t)i;
+            }
+}
+
+sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
+{
+    memset(s, 0, sizeof *s);
+    s->mesh = mesh;
+    size_t nt = mesh->tri_count;
+    s->tri = malloc((nt ? nt : 1) * sizeof *s->tri);
+    s->nrm = malloc((nt ? nt : 1) * 3 * sizeof *s->nrm);
+    s->area = malloc((nt ? nt : 1) * sizeof *s->area);
+    if (!s->tri || !s->nrm || !s->area) {
+        al_surface_release(s);
+        return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for %zu triangles", nt);
+    }
+    sr_mesh_bbox(mesh, s->bmin, s->bmax);
+    double ref[3]; /* moments are taken about the bbox centre for accuracy */
+    for (int k = 0; k < 3; k++)
+        ref[k] = 0.5 * (s->bmin[k] + s->bmax[k]);
+    double m1[3] = {0, 0, 0}, m2[9] = {0};
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *f = mesh->tri + 3 * t;
+        const double *pa = mesh->xyz + 3 * (size_t)f[0], *pb = mesh->xyz + 3 * (size_t)f[1],
+                     *pc = mesh->xyz + 3 * (size_t)f[2];
+        double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+        double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+        double n[3];
+        v3_cross(u, w, n);
+        double len = v3_normalize(n);
+        if (!(len > 0))
+            continue;
+        double A = 0.5 * len;
+        size_t i = s->count++;
+        s->tri[i] = (uint32_t)t;
+        memcpy(s->nrm + 3 * i, n, sizeof n);
+        s->area[i] = A;
+        s->total_area += A;
+        double a[3], b[3], c[3], m[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = pa[k] - ref[k];
+            b[k] = pb[k] - ref[k];
+            c[k] = pc[k] - ref[k];
+            m[k] = (a[k] + b[k] + c[k]) / 3;
+            m1[k] += A * m[k];
+        }
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++)
+                m2[3 * r + q] += A / 12 * (a[r] * a[q] + b[r] * b[q] + c[r] * c[q] + 9 * m[r] * m[q]);
+    }
+    if (s->count == 0 || !(s->total_area > 0)) {
+        al_surface_release(s);
+        return sr_err_set(err, SR_E_INVALID, "cannot align: the mesh has no triangle with an area");
+    }
+    for (int k = 0; k < 3; k++)
+        m1[k] /= s->total_area;
+    for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++)
+            s->cov[3 * r + q] = m2[3 * r + q] / s->total_area - m1[r] * m1[q];
+    for (int k = 0; k < 3; k++)
+        s->centroid[k] = m1[k] + ref[k];
+    double ext[3];
+    for (int k = 0; k < 3; k++)
+        ext[k] = s->bmax[k] - s->bmin[k];
+    s->diag = v3_norm(ext);
+
+    /* grid */
+    double h = 1.5 * sqrt(s->total_area / (double)s->count);
+    double vol = (ext[0] + h) * (ext[1] + h) * (ext[2] + h);
+    double hmin = cbrt(vol / MAX_CELLS);
+    if (h < hmin)
+        h = hmin;
+    if (!(h > 0))
+        h = 1;
+    s->cell = h;
+    size_t ncell = 1;
+    for (int k = 0; k < 3; k++) {
+        s->origin[k] = s->bmin[k];
+        s->dim[k] = (int)(ext[k] / h) + 1;
+        ncell *= (size_t)s->dim[k];
+    }
+    s->cell_start = calloc(ncell + 1, sizeof *s->cell_start);
+    s->stamp = calloc(s->count, sizeof *s->stamp);
+    if (!s->cell_start || !s->stamp) {
+        al_surface_release(s);
+        return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for the search grid");
+    }
+    for (size_t i = 0; i < s->count; i++)
+        file_triangle(s, i, 0, NULL);
+    uint64_t total = 0;
+    for (size_t c = 0; c < ncell; c++) {
+        total += s->cell_start[c + 1];
+        if (total > UINT32_MAX) {
+            al_surface_release(s);
+            return sr_err_set(err, SR_E_NOMEM, "cannot align: search grid too large");
+        }
+        s->cell_start[c + 1] = (uint32_t)total;
+    }
+    s->cell_items = malloc((total ? total : 1) * sizeof *s->cell_items);
+    uint32_t *cursor = malloc(ncell * sizeof *cursor);
+    if (!s->cell_items || !cursor) {
+        free(cursor);
+        al_surface_release(s);
+        return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for the search grid");
+    }
+    memcpy(cursor, s->cell_start, ncell * sizeof *cursor);
+    for (size_t i = 0; i < s->count; i++)
+        file_triangle(s, i, 1, cursor);
+    free(cursor);
+    return SR_OK;
+}
+
+/* Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection
+ * 5.1.5). */
+static void closest_on_triangle(const double p[3], const double a[3], const double b[3],
+                                const double c[3], double q[3])
+{
+    double ab[3], ac[3], ap[3];
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k];
+    }
+    double d1 = v3_dot(ab, ap), d2 = v3_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) {
+        memcpy(q, a, 3 * sizeof(double));
+        return;
+    }
+    double bp[3];
+    for (int k = 0; k < 3; k++)
+        bp[k] = p[k] - b[k];
+    double d3 = v3_dot(ab, bp), d4 = v3_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) {
+        memcpy(q, b, 3 * sizeof(double));
+        return;
+    }
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        double v = d1 / (d1 - d3);
+        for (int k = 0; k < 3; k++)
+            q[k] = a[k] + v * ab[k];
+        return;
+    }
+    double cp[3];
+    for (int k = 0; k < 3; k++)
+        cp[k] = p[k] - c[k];
+    double d5 = v3_dot(ab, cp), d6 = v3_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) {
+        memcpy(q, c, 3 * sizeof(double));
+        return;
+    }
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        double w = d2 / (d2 - d6);
+        for (int k = 0; k < 3; k++)
+            q[k] = a[k] + w * ac[k];
+        return;
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        for (int k = 0; k < 3; k++)
+            q[k] = b[k] + w * (c[k] - b[k]);
+        return;
+    }
+    double den = 1 / (va + vb + vc);
+    double v = vb * den, w = vc * den;
+    for (int k = 0; k < 3; k++)
+        q[k] = a[k] + ab[k] * v + ac[k] * w;
+}
+
+#ifdef AL_DEBUG
+unsigned long al_dbg_queries, al_dbg_tris, al_dbg_cells;
+#endif
+static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *best2,
+                      size_t *best)
+{
+#ifdef AL_DEBUG
+    al_dbg_cells++;
+    al_dbg_tris += s->cell_start[cidx + 1] - s->cell_start[cidx];
+#endif
+    for (uint32_t j = s->cell_start[cidx]; j < s->cell_start[cidx + 1]; j++) {
+        uint32_t i = s->cell_items[j];
+        if (s->stamp[i] == s->stamp_id)
+            continue;
+        s->stamp[i] = s->stamp_id;
+        double q[3];
+        closest_on_triangle(p, vtx(s, i, 0), vtx(s, i, 1), vtx(s, i, 2), q);
+        double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                    (q[2] - p[2]) * (q[2] - p[2]);
+        if (d2 < *best2) {
+            *best2 = d2;
+            *best = i;
+        }
+    }
+}
+
+bool al_surface_closest(al_surface *s, const double p[3], double max_dist, double q[3],
+                        double n[3], double *dist)
+{
+#ifdef AL_DEBUG
+    al_dbg_queries++;
+#endif
+    if (++s->stamp_id == 0) { /* wrapped: reset the stamps */
+        memset(s->stamp, 0, s->count * sizeof *s->stamp);
+        s->stamp_id = 1;
+    }
+    /* distance from p to the grid box: nothing is closer */
+    double out2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double lo = s->origin[k], hi = s->origin[k] + s->dim[k] * s->cell;
+        double e = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0);
+        out2 += e * e;
+    }
+    if (out2 > max_dist * max_dist)
+        return false;
+    int c0[3];
+    cell_of(s, p, c0);
+    /* p clamped into the grid box: distances to cells are bounded from there */
+    double pc[3];
+    for (int k = 0; k < 3; k++) {
+        double lo = s->origin[k], hi = s->origin[k] + s->dim[k] * s->cell;
+        pc[k] = p[k] < lo ? lo : (p[k] > hi ? hi : p[k]);
+    }
+    double best2 = max_dist * max_dist;
+    size_t best = SIZE_MAX;
+    int kmax = s->dim[0] + s->dim[1] + s->dim[2];
+    for (int k = 0; k <= kmax; k++) {
+        int zlo = c0[2] - k, zhi = c0[2] + k;
+        for (int z = zlo < 0 ? 0 : zlo; z <= zhi && z < s->dim[2]; z++) {
+            int ylo = c0[1] - k, yhi = c0[1] + k;
+            bool zface = (z == zlo || z == zhi);
+            for (int y = ylo < 0 ? 0 : ylo; y <= yhi && y < s->dim[1]; y++) {
+                bool face = zface || y == ylo || y == yhi;
+                size_t row = (size_t)s->dim[0] * ((size_t)y + (size_t)s->dim[1] * z);
+                if (face) {
+                    int xlo = c0[0] - k, xhi = c0[0] + k;
+                    for (int x = xlo < 0 ? 0 : xlo; x <= xhi && x < s->dim[0]; x++)
+                        scan_cell(s, row + (size_t)x, p, &best2, &best);
+                } else {
+                    int x = c0[0] - k;
+                    if (x >= 0)
+                        scan_cell(s, row + (size_t)x, p, &best2, &best);
+                    x = c0[0] + k;
+                    if (k > 0 && x < s->dim[0])
+                        scan_cell(s, row + (size_t)x, p, &best2, &best);
+                }
+            }
+        }
+        /* every cell not yet visited lies outside the block of (2k+1)^3 cells around
+         * c0: bound the distance from p to it by pc's distance to the block's faces
+         * (faces on the grid boundary have nothing beyond them) */
+        double reach = INFINITY;
+        for (int a = 0; a < 3; a++) {
+            if (c0[a] - k > 0) {
+                double e = pc[a] - (s->origin[a] + (c0[a] - k) * s->cell);
+                reach = e < reach ? e : reach;
+            }
+            if (c0[a] + k < s->dim[a] - 1) {
+                double e = s->origin[a] + (c0[a] + k + 1) * s->cell - pc[a];
+                reach = e < reach ? e : reach;
+            }
+        }
+        if (best != SIZE_MAX && best2 <= reach * reach)
+            break;
+        if (reach >= max_dist || reach == INFINITY)
+            break;
+    }
+    if (best == SIZE_MAX)
+        return false;
+    closest_on_triangle(p, vtx(s, best, 0), vtx(s, best, 1), vtx(s, best, 2), q);
+    memcpy(n, s->nrm + 3 * best, 3 * sizeof(double));
+    *dist = sqrt(best2);
+    return true;
+}
+
+static uint64_t splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+static double uniform01(uint64_t *state)
+{
+    return (double)(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+void al_samples_release(al_samples *smp)
+{
+    if (!smp)
+        return;
+    free(smp->p);
+    free(smp->n);
+    memset(smp, 0, sizeof *smp);
+}
+
+sr_status al_samples_make(const al_surface *s, size_t count, uint64_t seed, al_samples *out)
+{
+    al_samples r = {0};
+    r.p = malloc((count ? count : 1) * 3 * sizeof *r.p);
+    r.n = malloc((count ? count : 1) * 3 * sizeof *r.n);
+    if (!r.p || !r.n) {
+        free(r.p);
+        free(r.n);
+        return SR_E_NOMEM;
+    }
+    r.count = count;
+    uint64_t st = seed;
+    double step = s->total_area / (double)count, acc = 0;
+    size_t i = 0;
+    for (size_t j = 0; j < count; j++) {
+        double u = (j + uniform01(&st)) * step;
+        while (i + 1 < s->count && acc + s->area[i] < u) {
+            acc += s->area[i];
+            i++;
+        }
+        double r1 = sqrt(uniform01(&st)), r2 = uniform01(&st);
+        double wa = 1 - r1, wb = r1 * (1 - r2), wc = r1 * r2;
+        const double *a = vtx(s, i, 0), *b = vtx(s, i, 1), *c = vtx(s, i, 2);
+        for (int k = 0; k < 3; k++) {
+            r.p[3 * j + k] = wa * a[k] + wb * b[k] + wc * c[k];
+            r.n[3 * j + k] = s->nrm[3 * i + k];
+        }
+    }
+    *out = r;
+    return SR_OK;
+}

@@ -1,0 +1,65 @@
+/*
+ * boolean.h: robust 3D booleans and surface distances, the pure-C face of
+ * src/bridge/boolean_cgal.cpp (CGAL 5.5 Polygon Mesh Processing: corefinement, AABB
+ * trees). CGAL's PMP package is GPL-3.0-or-later, so a symrec binary linking it is
+ * distributed under the GPL (see README).
+ *
+ * Inputs must be closed, consistently oriented and free of self-intersections; that is
+ * checked first and refused with SR_E_INVALID naming the input (`what`).
+ */
+#ifndef SR_BOOLEAN_H
+#define SR_BOOLEAN_H
+
+#include <stddef.h>
+
+#include "mesh.h"
+#include "status.h"
+
+/* out = a ∪ b (closed, oriented, no internal faces). On failure *out is untouched.
+ * On success *out is overwritten, not released (as sr_mesh_copy); out may be a or b,
+ * whose old arrays are then released. The result may be empty (no triangles, e.g. the
+ * intersection of disjoint meshes). Faces shared exactly by a and b (a patch sitting
+ * on a fracture surface) are handled: they vanish from a union. SR_E_INVALID too when
+ * the result would not be manifold (a and b touch only along an edge or at a point).
+ * In messages the inputs are called 'first mesh' and 'second mesh'. */
+sr_status sr_boolean_union(const sr_mesh *a, const sr_mesh *b, sr_mesh *out, sr_err *err);
+
+/* out = a ∩ b and out = a \ b, same contract. */
+sr_status sr_boolean_intersection(const sr_mesh *a, const sr_mesh *b, sr_mesh *out,
+                                  sr_err *err);
+sr_status sr_boolean_difference(const sr_mesh *a, const sr_mesh *b, sr_mesh *out,
+                                sr_err *err);
+
+/* The three operations behind one entry, with the inputs named in messages:
+ *   'patch' is not closed (12 boundary edges)
+ * a_what / b_what may be NULL ('first mesh' / 'second mesh'). op out of range:
+ * SR_E_RANGE. Same contract as sr_boolean_union. */
+typedef enum sr_boolean_op {
+    SR_BOOLEAN_UNION = 0,
+    SR_BOOLEAN_INTERSECTION,
+    SR_BOOLEAN_DIFFERENCE,
+} sr_boolean_op;
+sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_what,
+                             const sr_mesh *b, const char *b_what, sr_mesh *out,
+                             sr_err *err);
+
+/* *out = 1 when the mesh has self-intersecting triangles (CGAL's test: triangles that
+ * meet other than along their shared edges or vertices; a zero-area triangle counts),
+ * else 0. The mesh need not be closed but must form an oriented manifold (every edge
+ * in at most two triangles, traversed in opposite directions), else SR_E_INVALID. */
+sr_status sr_mesh_self_intersects(const sr_mesh *mesh, int *out, sr_err *err);
+
+/* Surface deviation of a from b: for sample points on a (every vertex plus the
+ * centroid of every triangle), the unsigned distance to the nearest point of b's
+ * surface. max, mean and RMS in mm, and the number of samples (vertex_count +
+ * tri_count of a). b may be open or non-manifold (a scan); its zero-area triangles
+ * are ignored. SR_E_INVALID when either mesh fails sr_mesh_validate, or b has no
+ * triangle of non-zero area. Cost: O((n_a + n_b) log n_b); 1M triangles in seconds. */
+typedef struct sr_deviation {
+    double max_mm, mean_mm, rms_mm;
+    size_t samples;
+} sr_deviation;
+sr_status sr_mesh_deviation(const sr_mesh *a, const sr_mesh *b, sr_deviation *out,
+                            sr_err *err);
+
+#endif

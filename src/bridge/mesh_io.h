@@ -1,0 +1,84 @@
+/*
+ * mesh_io.h: reading and writing mesh files, the pure-C face of the C++ bridge
+ * (src/bridge/mesh_io.cpp). OpenMesh reads and writes STL (ASCII and binary), OBJ, PLY
+ * and OFF; tinygltf reads and writes glTF and GLB. Nothing C++ crosses this header.
+ *
+ * Every file is checked before it is handed to a library (the faults listed in
+ * shared/DEPENDENCY-NOTES.md: lying STL counts, truncated PLY headers, huge OFF
+ * counts, glTF path traversal, GLB chunk overruns...) and the result is checked after
+ * (no triangle silently lost, no NaN/Inf, no index out of range). Every error comes
+ * back as a status plus one line naming the file:
+ *   cannot read 'x.stl': truncated binary STL (header says 5000 triangles, file holds 12)
+ * Writes go to a temporary file in the same folder, are fsync'ed and renamed over the
+ * target, so a failed write never leaves a half-written file.
+ */
+#ifndef SR_MESH_IO_H
+#define SR_MESH_IO_H
+
+#include <stddef.h>
+
+#include "mesh.h"
+#include "status.h"
+
+typedef enum sr_format {
+    SR_FMT_UNKNOWN = 0,
+    SR_FMT_STL,
+    SR_FMT_OBJ,
+    SR_FMT_PLY,
+    SR_FMT_OFF,
+    SR_FMT_GLTF,
+    SR_FMT_GLB,
+} sr_format;
+
+/* Format from the file name's extension (case-insensitive); SR_FMT_UNKNOWN otherwise. */
+sr_format sr_format_from_path(const char *path);
+
+/* Lower-case extension name of a format ("stl", ...), "unknown" otherwise. */
+const char *sr_format_name(sr_format format);
+
+/* Reads a mesh file (format from the extension) into *out, vertices welded where the
+ * format shares them. A glTF/GLB file's meshes are merged into one. On success *out
+ * is a validated mesh (non-empty, finite, indices in range); on failure *out is
+ * untouched. */
+sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err);
+
+/* Options for writing; zero is the default (binary STL/PLY, full double precision). */
+typedef struct sr_write_opts {
+    int ascii;   /* non-zero: ASCII STL/PLY instead of binary */
+} sr_write_opts;
+
+/* Writes a mesh (format from the extension). opts may be NULL. Atomic (temp+rename). */
+sr_status sr_mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts *opts,
+                        sr_err *err);
+
+/* One mesh of a glTF scene. */
+typedef struct sr_scene_mesh {
+    const char *name;        /* mesh and node name; may be NULL */
+    const sr_mesh *mesh;
+    float rgba[4];           /* base colour of its material, linear 0..1 */
+} sr_scene_mesh;
+
+/* Writes several meshes, one node + mesh + material each, to a .gltf (buffer embedded
+ * as a data URI) or .glb file. extras_json, if non-NULL, is a JSON object stored as the
+ * asset's `extras` (metadata such as run id, units). Positions are float32 as glTF
+ * requires, with POSITION min/max set. */
+sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
+                         const char *extras_json, sr_err *err);
+
+/* A glTF scene read back: meshes with their names and colours. */
+typedef struct sr_scene {
+    size_t count;
+    sr_mesh *meshes;         /* count meshes, owned */
+    char **names;            /* count strings (maybe ""), owned */
+    float (*rgba)[4];        /* count colours, owned */
+    char *extras_json;       /* the asset's extras as JSON text, or NULL; owned */
+} sr_scene;
+
+/* Reads every mesh of a glTF/GLB file separately. External buffers must lie inside the
+ * file's own folder. On failure *out is untouched. */
+sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err);
+
+/* Frees a scene; accepts NULL and a zeroed scene. */
+void sr_scene_release(sr_scene *scene);
+
+#endif

@@ -1,0 +1,55 @@
+/*
+ * reconstruct.h: one reconstruction of a damaged scan, end to end: align (align.h),
+ * slice (slice.h, Alg. 2), analyse (analyse.h, Alg. 4/5), build the sections' closed
+ * patch meshes (patch.h, Alg. 6) and the restored part (damaged ∪ patches by CGAL's
+ * corefinement, boolean.h). Results are in the frame of the input scan so they overlay
+ * it; the layer grid and analysis stay in the aligned frame. No I/O, no catalogue: the
+ * CLI reads the input and records the result.
+ */
+#ifndef SR_RECONSTRUCT_H
+#define SR_RECONSTRUCT_H
+
+#include "align.h"
+#include "analyse.h"
+#include "mesh.h"
+#include "patch.h"
+#include "slice.h"
+#include "symmetry.h"
+
+typedef struct sr_recon_opts {
+    sr_symmetry symmetry;
+    size_t layers;              /* 0 = 320 */
+    size_t sectors;             /* 0 = 240 */
+    double gamma_axis;          /* 0 = 0.95 */
+    double gamma_plane;         /* 0 = 0.95 */
+    double delta_d;             /* 0 = 0.05 */
+    double min_depth_mm;        /* depth below which a cell is not damage; 0 = none */
+    int have_alignment;         /* 1: use `alignment` instead of searching (override) */
+    sr_alignment alignment;
+    int skip_union;             /* 1: restored = scan + patches as separate shells */
+} sr_recon_opts;
+
+typedef struct sr_recon_timings {
+    double align_s, slice_s, analyse_s, patch_s, union_s, total_s;
+} sr_recon_timings;
+
+typedef struct sr_recon_result {
+    sr_alignment alignment;
+    sr_layer_grid grid;         /* damaged outline, aligned frame */
+    sr_analysis analysis;       /* restored outline + damaged cells */
+    sr_section *sections;       /* patches in the scan frame */
+    size_t section_count;
+    sr_mesh restored;           /* scan frame */
+    int restored_by_union;      /* 1: one closed surface from the boolean union */
+    char union_note[600];       /* why the union fell back, if it did */
+    double scan_volume_mm3, restored_volume_mm3, patch_volume_mm3;
+    sr_recon_timings timings;
+} sr_recon_result;
+
+/* Runs the pipeline. *out only on success (release with sr_recon_result_release). */
+sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
+                         sr_err *err);
+
+void sr_recon_result_release(sr_recon_result *r);
+
+#endif

@@ -1,0 +1,96 @@
+#!/bin/sh
+# run_tests.sh: runs symrec's cmocka test binaries and sums their results.
+#
+#   sh tests/run_tests.sh BUILD_DIR [cli]
+#
+# Runs every BUILD_DIR/tests/test_* binary (with `cli`, only test_cli) from the
+# repository root, one after another, each with its output in a log. Prints one line
+# per binary (passed/failed counts, or how it crashed, followed by its log when
+# anything failed) and ends with exactly one line "N passed, N failed". Exits non-zero
+# if any test failed or any binary exited non-zero (a crash, a sanitizer report, a
+# leak) - even if cmocka's own counts look clean.
+#
+# Environment: SYMREC_BIN (the CLI under test; default BUILD_DIR/symrec) and
+# SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli.
+set -u
+
+if [ $# -lt 1 ] || [ $# -gt 2 ] || { [ $# -eq 2 ] && [ "$2" != cli ]; }; then
+    echo "usage: sh tests/run_tests.sh BUILD_DIR [cli]" >&2
+    exit 2
+fi
+build=$1
+only=${2:-}
+
+# Tests assume the repository root as the working directory.
+cd "$(dirname "$0")/.." || exit 2
+
+SYMREC_BIN=${SYMREC_BIN:-$build/symrec}
+export SYMREC_BIN
+# cmocka prints its per-test lines to stdout in this mode.
+CMOCKA_MESSAGE_OUTPUT=stdout
+export CMOCKA_MESSAGE_OUTPUT
+
+if [ -n "$only" ]; then
+    bins=$build/tests/test_cli
+else
+    bins=$(ls "$build"/tests/test_* 2>/dev/null | grep -v '\.[od]$')
+fi
+
+out=$(mktemp /tmp/symrec-run-tests-XXXXXX) || exit 2
+err=$(mktemp /tmp/symrec-run-tests-XXXXXX) || exit 2
+trap 'rm -f "$out" "$err"' EXIT
+trap 'exit 130' INT TERM
+
+total_pass=0
+total_fail=0
+bad_binaries=0
+found=0
+for bin in $bins; do
+    [ -f "$bin" ] && [ -x "$bin" ] || continue
+    found=$((found + 1))
+    name=$(basename "$bin")
+    start=$(date +%s)
+    "$bin" >"$out" 2>"$err"
+    rc=$?
+    secs=$(( $(date +%s) - start ))
+    # cmocka writes one result line per test to stdout ("[       OK ] name",
+    # "[  FAILED  ] name", "[  SKIPPED ] name") and its summary to stderr, so counting
+    # the stdout lines counts each test once. Names are C identifiers.
+    pass=$(grep -c '^\[       OK \] [A-Za-z_]' "$out")
+    fail=$(grep -c '^\[  FAILED  \] [A-Za-z_]' "$out")
+    skipped=$(grep -c '^\[  SKIPPED \] [A-Za-z_]' "$out")
+    ran=$(grep -c '^\[ RUN      \] ' "$out")
+    # A binary that died mid-test never printed "[==========] N test(s) run.": the
+    # tests it started without a result failed, and at least one did.
+    if ! grep -q '^\[==========\] [0-9]* test(s) run\.' "$out"; then
+        unfinished=$((ran - pass - fail - skipped))
+        [ "$unfinished" -lt 1 ] && unfinished=1
+        fail=$((fail + unfinished))
+    fi
+    status="ok"
+    if [ "$rc" -ne 0 ] || [ "$fail" -ne 0 ]; then
+        bad_binaries=$((bad_binaries + 1))
+        if [ "$rc" -gt 128 ]; then
+            status="crashed (signal $((rc - 128)))"
+        else
+            status="FAILED (exit $rc)"
+        fi
+        # Exit non-zero with every test passing: a sanitizer or leak report at exit.
+        [ "$fail" -eq 0 ] && fail=1
+    fi
+    printf '%-14s %3d passed, %d failed  %s  (%ss)\n' "$name" "$pass" "$fail" "$status" "$secs"
+    if [ "$status" != ok ]; then
+        sed 's/^/    | /' "$out" "$err"
+    fi
+    total_pass=$((total_pass + pass))
+    total_fail=$((total_fail + fail))
+done
+
+if [ "$found" -eq 0 ]; then
+    echo "run_tests.sh: no test binaries in '$build/tests' (build them first)" >&2
+    echo "0 passed, 1 failed"
+    exit 1
+fi
+
+echo "$total_pass passed, $total_fail failed"
+[ "$total_fail" -eq 0 ] && [ "$bad_binaries" -eq 0 ]

@@ -1,0 +1,1856 @@
+/*
+ * test_cli.c: golden tests of the symrec command line. Each case runs the binary
+ * ($SYMREC_BIN, optionally under $SYMREC_WRAP such as valgrind) on a catalogue in a
+ * fresh temporary folder and checks the exact exit code and what it printed: results
+ * on stdout (--json parsed by a small strict JSON reader below), each diagnostic one
+ * line on stderr ("symrec: error: ..." exit 1, "symrec: usage: ..." exit 2), and that
+ * a failed command leaves the catalogue as it was. Mesh files are made inside the
+ * tests with the library (sr_shape_cylinder + sr_mesh_write) and exports are read back
+ * with sr_mesh_read and compared with what the catalogue stored.
+ *
+ * Run from the repository root (the default binary is build/debug/symrec).
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "bridge/mesh_io.h"
+#include "catalog.h"
+#include "mesh.h"
+#include "shapes.h"
+#include "support/run_cmd.h"
+#include "version.h"
+
+#define PI 3.14159265358979323846
+
+/* ------------------------------------------------------------------------------------
+ * Temporary folder per test
+ * ---------------------------------------------------------------------------------- */
+
+typedef struct env {
+    char dir[64];           /* /tmp/symrec-test-XXXXXX */
+    char db[128];           /* dir/cat.db */
+    char cyl[128];          /* dir/cyl.stl: cylinder r 10, z 0..20, 16 sides */
+    char box[128];          /* dir/box.stl: box 0..10 x 0..20 x 0..30 */
+} env;
+
+static void rm_rf(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0)
+        return;
+    if (S_ISDIR(st.st_mode)) {
+        DIR *d = opendir(path);
+        if (d) {
+            struct dirent *e;
+            while ((e = readdir(d)) != NULL) {
+                if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+                    continue;
+                char sub[1024];
+                snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
+                rm_rf(sub);
+            }
+            closedir(d);
+        }
+        rmdir(path);
+    } else {
+        unlink(path);
+    }
+}
+
+static void path_in(const env *e, const char *name, char *out, size_t size)
+{
+    int n = snprintf(out, size, "%s/%s", e->dir, name);
+    assert_true(n > 0 && (size_t)n < size);
+}
+
+static void write_bytes(const char *path, const void *data, size_t len)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    if (len)
+        assert_int_equal(fwrite(data, 1, len, f), len);
+    assert_int_equal(fclose(f), 0);
+}
+
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *data = NULL;
+    size_t len = 0, cap = 0;
+    for (;;) {
+        if (len + 4096 + 1 > cap) {
+            cap = cap ? 2 * cap : 8192;
+            char *d = realloc(data, cap);
+            assert_non_null(d);
+            data = d;
+        }
+        size_t n = fread(data + len, 1, 4096, f);
+        len += n;
+        if (n == 0)
+            break;
+    }
+    fclose(f);
+    data[len] = '\0';
+    return data;
+}
+
+static bool file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static void write_mesh_file(const char *path, const sr_mesh *mesh)
+{
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st = sr_mesh_write(path, mesh, NULL, &err);
+    if (st != SR_OK)
+        fail_msg("cannot write %s: %s", path, err.msg);
+}
+
+static int setup(void **state)
+{
+    env *e = calloc(1, sizeof *e);
+    assert_non_null(e);
+    strcpy(e->dir, "/tmp/symrec-test-XXXXXX");
+    assert_non_null(mkdtemp(e->dir));
+    path_in(e, "cat.db", e->db, sizeof e->db);
+    path_in(e, "cyl.stl", e->cyl, sizeof e->cyl);
+    path_in(e, "box.stl", e->box, sizeof e->box);
+    sr_mesh m;
+    sr_mesh_init(&m);
+    assert_int_equal(sr_shape_cylinder(10.0, 0.0, 20.0, 16, &m, NULL), SR_OK);
+    write_mesh_file(e->cyl, &m);
+    sr_mesh_release(&m);
+    const double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 30};
+    assert_int_equal(sr_shape_box(lo, hi, &m, NULL), SR_OK);
+    write_mesh_file(e->box, &m);
+    sr_mesh_release(&m);
+    *state = e;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    env *e = *state;
+    rm_rf(e->dir);
+    free(e);
+    return 0;
+}
+
+/* Volume of the 16-sided cylinder r 10 x 20 (a regular prism). */
+static double cyl_volume(void)
+{
+    return 16 / 2.0 * 100.0 * sin(2 * PI / 16) * 20.0;
+}
+
+/* ------------------------------------------------------------------------------------
+ * Running symrec
+ * ---------------------------------------------------------------------------------- */
+
+typedef struct result {
+    int code;
+    char *out;
+    char *err;
+} result;
+
+static void result_free(result *r)
+{
+    free(r->out);
+    free(r->err);
+    r->out = r->err = NULL;
+}
+
+/* Runs symrec with the NULL-terminated words after the binary. */
+static void run_words(result *r, const char *const *words)
+{
+    const char *argv[64];
+    size_t n = 0;
+    argv[n++] = sr_test_bin();
+    for (size_t i = 0; words[i]; i++) {
+        assert_true(n < 63);
+        argv[n++] = words[i];
+    }
+    argv[n] = NULL;
+    r->code = sr_test_run(argv, NULL, &r->out, &r->err);
+    if (r->code < 0)
+        fail_msg("cannot run %s (set SYMREC_BIN)", argv[0]);
+}
+
+#define RUN(r, ...)                                                                       \
+    do {                                                                                  \
+        const char *const words_[] = {__VA_ARGS__, NULL};                                 \
+        run_words((r), words_);                                                           \
+    } while (0)
+
+/* The run succeeded with nothing on stderr. */
+static void expect_ok(const result *r)
+{
+    if (r->code != 0)
+        fail_msg("exit %d, stderr: %s", r->code, r->err);
+}
+
+/* stderr is exactly one line "symrec: <kind>: ...", containing `needle` if given. */
+static void expect_one_line(const char *err, const char *kind, const char *needle)
+{
+    char prefix[32];
+    snprintf(prefix, sizeof prefix, "symrec: %s: ", kind);
+    if (strncmp(err, prefix, strlen(prefix)) != 0)
+        fail_msg("stderr does not start with '%s': %s", prefix, err);
+    const char *nl = strchr(err, '\n');
+    if (!nl || nl[1] != '\0')
+        fail_msg("stderr is not exactly one line: %s", err);
+    if (needle && !strstr(err, needle))
+        fail_msg("stderr lacks '%s': %s", needle, err);
+}
+
+/* Failed with exit 1, one error line, nothing on stdout. */
+static void expect_error(const result *r, const char *needle)
+{
+    if (r->code != 1)
+        fail_msg("expected exit 1, got %d; stderr: %s", r->code, r->err);
+    expect_one_line(r->err, "error", needle);
+    assert_string_equal(r->out, "");
+}
+
+/* Failed with exit 2, one usage line, nothing on stdout. */
+static void expect_usage(const result *r, const char *needle)
+{
+    if (r->code != 2)
+        fail_msg("expected exit 2, got %d; stderr: %s", r->code, r->err);
+    expect_one_line(r->err, "usage", needle);
+    assert_string_equal(r->out, "");
+}
+
+static bool contains(const char *haystack, const char *needle)
+{
+    return strstr(haystack, needle) != NULL;
+}
+
+static void expect_contains(const char *haystack, const char *needle)
+{
+    if (!contains(haystack, needle))
+        fail_msg("'%s' not found in: %s", needle, haystack);
+}
+
+/* ------------------------------------------------------------------------------------
+ * A strict JSON reader (RFC 8259), enough to check --json output
+ * ---------------------------------------------------------------------------------- */
+
+typedef enum jtype { J_NULL, J_BOOL, J_NUM, J_STR, J_ARR, J_OBJ } jtype;
+
+typedef struct jv {
+    jtype type;
+    bool b;
+    double num;
+    char *str;
+    size_t count;
+    struct jv *items;   /* array elements or object values */
+    char **keys;        /* object keys */
+} jv;
+
+typedef struct jparser {
+    const char *p;
+    int depth;
+} jparser;
+
+static void jv_release(jv *v)
+{
+    free(v->str);
+    for (size_t i = 0; i < v->count; i++) {
+        jv_release(&v->items[i]);
+        if (v->keys)
+            free(v->keys[i]);
+    }
+    free(v->items);
+    free(v->keys);
+    memset(v, 0, sizeof *v);
+}
+
+static void skip_ws(jparser *ps)
+{
+    while (*ps->p == ' ' || *ps->p == '\t' || *ps->p == '\n' || *ps->p == '\r')
+        ps->p++;
+}
+
+static void put_utf8(char **out, unsigned cp)
+{
+    char *o = *out;
+    if (cp < 0x80) {
+        *o++ = (char)cp;
+    } else if (cp < 0x800) {
+        *o++ = (char)(0xc0 | (cp >> 6));
+        *o++ = (char)(0x80 | (cp & 0x3f));
+    } else if (cp < 0x10000) {
+        *o++ = (char)(0xe0 | (cp >> 12));
+        *o++ = (char)(0x80 | ((cp >> 6) & 0x3f));
+        *o++ = (char)(0x80 | (cp & 0x3f));
+    } else {
+        *o++ = (char)(0xf0 | (cp >> 18));
+        *o++ = (char)(0x80 | ((cp >> 12) & 0x3f));
+        *o++ = (char)(0x80 | ((cp >> 6) & 0x3f));
+        *o++ = (char)(0x80 | (cp & 0x3f));
+    }
+    *out = o;
+}
+
+static bool hex4(const char *p, unsigned *out)
+{
+    unsigned v = 0;
+    for (int i = 0; i < 4; i++) {
+        char c = p[i];
+        v <<= 4;
+        if (c >= '0' && c <= '9')
+            v |= (unsigned)(c - '0');
+        else if (c >= 'a' && c <= 'f')
+            v |= (unsigned)(c - 'a' + 10);
+        else if (c >= 'A' && c <= 'F')
+            v |= (unsigned)(c - 'A' + 10);
+        else
+            return false;
+    }
+    *out = v;
+    return true;
+}
+
+static bool parse_string(jparser *ps, char **out)
+{
+    if (*ps->p != '"')
+        return false;
+    ps->p++;
+    char *s = malloc(strlen(ps->p) * 4 + 1);   /* \uXXXX is 6 bytes in, at most 4 out */
+    char *o = s;
+    for (;;) {
+        unsigned char c = (unsigned char)*ps->p;
+        if (c == '"') {
+            ps->p++;
+            break;
+        }
+        if (c < 0x20) {     /* raw control characters (and the NUL end) are invalid */
+            free(s);
+            return false;
+        }
+        if (c != '\\') {
+            *o++ = (char)c;
+            ps->p++;
+            continue;
+        }
+        char e = ps->p[1];
+        ps->p += 2;
+        switch (e) {
+        case '"': *o++ = '"'; break;
+        case '\\': *o++ = '\\'; break;
+        case '/': *o++ = '/'; break;
+        case 'b': *o++ = '\b'; break;
+        case 'f': *o++ = '\f'; break;
+        case 'n': *o++ = '\n'; break;
+        case 'r': *o++ = '\r'; break;
+        case 't': *o++ = '\t'; break;
+        case 'u': {
+            unsigned cp, lo;
+            if (!hex4(ps->p, &cp)) {
+                free(s);
+                return false;
+            }
+            ps->p += 4;
+            if (cp >= 0xd800 && cp <= 0xdbff && ps->p[0] == '\\' && ps->p[1] == 'u' &&
+                hex4(ps->p + 2, &lo) && lo >= 0xdc00 && lo <= 0xdfff) {
+                cp = 0x10000 + ((cp - 0xd800) << 10) + (lo - 0xdc00);
+                ps->p += 6;
+            }
+            put_utf8(&o, cp);
+            break;
+        }
+        default:
+            free(s);
+            return false;
+        }
+    }
+    *o = '\0';
+    *out = s;
+    return true;
+}
+
+static bool parse_value(jparser *ps, jv *v);
+
+static bool parse_items(jparser *ps, jv *v, bool object)
+{
+    char close = object ? '}' : ']';
+    ps->p++;
+    skip_ws(ps);
+    if (*ps->p == close) {
+        ps->p++;
+        return true;
+    }
+    for (;;) {
+        jv item = {0};
+        char *key = NULL;
+        if (object) {
+            skip_ws(ps);
+            if (!parse_string(ps, &key))
+                return false;
+            skip_ws(ps);
+            if (*ps->p != ':') {
+                free(key);
+                return false;
+            }
+            ps->p++;
+        }
+        if (!parse_value(ps, &item)) {
+            free(key);
+            jv_release(&item);
+            return false;
+        }
+        v->items = realloc(v->items, (v->count + 1) * sizeof *v->items);
+        if (object)
+            v->keys = realloc(v->keys, (v->count + 1) * sizeof *v->keys);
+        assert_non_null(v->items);
+        v->items[v->count] = item;
+        if (object)
+            v->keys[v->count] = key;
+        v->count++;
+        skip_ws(ps);
+        if (*ps->p == ',') {
+            ps->p++;
+            continue;
+        }
+        if (*ps->p == close) {
+            ps->p++;
+            return true;
+        }
+        return false;
+    }
+}
+
+static bool parse_value(jparser *ps, jv *v)
+{
+    skip_ws(ps);
+    if (++ps->depth > 64)
+        return false;
+    bool ok;
+    const char *p = ps->p;
+    if (*p == '{') {
+        v->type = J_OBJ;
+        ok = parse_items(ps, v, true);
+    } else if (*p == '[') {
+        v->type = J_ARR;
+        ok = parse_items(ps, v, false);
+    } else if (*p == '"') {
+        v->type = J_STR;
+        ok = parse_string(ps, &v->str);
+    } else if (strncmp(p, "null", 4) == 0) {
+        v->type = J_NULL;
+        ps->p += 4;
+        ok = true;
+    } else if (strncmp(p, "true", 4) == 0 || strncmp(p, "false", 5) == 0) {
+        v->type = J_BOOL;
+        v->b = p[0] == 't';
+        ps->p += v->b ? 4 : 5;
+        ok = true;
+    } else {
+        /* -? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)? */
+        const char *q = p;
+        if (*q == '-')
+            q++;
+        if (*q == '0')
+            q++;
+        else if (*q >= '1' && *q <= '9')
+            while (*q >= '0' && *q <= '9')
+                q++;
+        else
+            return false;
+        if (*q == '.') {
+            q++;
+            if (!(*q >= '0' && *q <= '9'))
+                return false;
+            while (*q >= '0' && *q <= '9')
+                q++;
+        }
+        if (*q == 'e' || *q == 'E') {
+            q++;
+            if (*q == '+' || *q == '-')
+                q++;
+            if (!(*q >= '0' && *q <= '9'))
+                return false;
+            while (*q >= '0' && *q <= '9')
+                q++;
+        }
+        v->type = J_NUM;
+        v->num = strtod(p, NULL);
+        ps->p = q;
+        ok = true;
+    }
+    ps->depth--;
+    return ok;
+}
+
+/* Parses text that must be exactly one JSON value followed by one newline. */
+static jv parse_json(const char *text)
+{
+    jparser ps = {text, 0};
+    jv v = {0};
+    if (!parse_value(&ps, &v))
+        fail_msg("invalid JSON near '%.40s' in: %s", ps.p, text);
+    if (strcmp(ps.p, "\n") != 0)
+        fail_msg("JSON not followed by exactly one newline: '%s'", ps.p);
+    return v;
+}
+
+static const jv *jget(const jv *obj, const char *key)
+{
+    assert_int_equal(obj->type, J_OBJ);
+    for (size_t i = 0; i < obj->count; i++)
+        if (strcmp(obj->keys[i], key) == 0)
+            return &obj->items[i];
+    fail_msg("no key '%s' in JSON object", key);
+    return NULL;
+}
+
+static const char *jstr(const jv *obj, const char *key)
+{
+    const jv *v = jget(obj, key);
+    assert_int_equal(v->type, J_STR);
+    return v->str;
+}
+
+static double jnum(const jv *obj, const char *key)
+{
+    const jv *v = jget(obj, key);
+    assert_int_equal(v->type, J_NUM);
+    return v->num;
+}
+
+/* ------------------------------------------------------------------------------------
+ * Shorthands for the common set-up steps
+ * ---------------------------------------------------------------------------------- */
+
+static void init_catalog(const env *e)
+{
+    result r;
+    RUN(&r, "--db", e->db, "catalog", "init");
+    expect_ok(&r);
+    result_free(&r);
+}
+
+/* Adds a part from `mesh` and returns the id it printed. */
+static long add_part(const env *e, const char *number, const char *name, const char *material,
+                     const char *mesh)
+{
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", number, "--name", name, "--material",
+        material, "--mesh", mesh);
+    expect_ok(&r);
+    char *end;
+    long id = strtol(r.out, &end, 10);
+    if (id < 1 || strcmp(end, "\n") != 0)
+        fail_msg("part add printed '%s', expected an id", r.out);
+    result_free(&r);
+    return id;
+}
+
+static long add_instance(const env *e, const char *part, const char *mesh, const char *serial)
+{
+    result r;
+    RUN(&r, "--db", e->db, "instance", "add", "--part", part, "--mesh", mesh, "--serial",
+        serial, "--received", "2024-02-29", "--notes", "dent on the rim");
+    expect_ok(&r);
+    char *end;
+    long id = strtol(r.out, &end, 10);
+    if (id < 1 || strcmp(end, "\n") != 0)
+        fail_msg("instance add printed '%s', expected an id", r.out);
+    result_free(&r);
+    return id;
+}
+
+/* `part list --json` output (caller frees). */
+static char *part_list_json(const env *e)
+{
+    result r;
+    RUN(&r, "--db", e->db, "part", "list", "--json");
+    expect_ok(&r);
+    free(r.err);
+    return r.out;
+}
+
+/* Under $SYMREC_WRAP (valgrind: about a second per run) a table of cases that all take
+ * the same early-exit path runs only its first and last case; natively every case runs. */
+static bool sampled_out(size_t i, size_t n)
+{
+    const char *wrap = getenv("SYMREC_WRAP");
+    return wrap && wrap[0] && i != 0 && i + 1 != n;
+}
+
+/* ------------------------------------------------------------------------------------
+ * Help, version, usage errors
+ * ---------------------------------------------------------------------------------- */
+
+static void top_level_help_lists_commands_and_db_default(void **state)
+{
+    result r;
+    RUN(&r, "--help");
+    expect_ok(&r);
+    assert_string_equal(r.err, "");
+    expect_contains(r.out, "usage: symrec");
+    const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "params",
+                          "demo", "fixtures", "help"};
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+        char line[32];
+        snprintf(line, sizeof line, "\n  %s ", cmds[i]);
+        expect_contains(r.out, line);
+    }
+    expect_contains(r.out, "--db FILE");
+    expect_contains(r.out, "$SYMREC_DB");
+    expect_contains(r.out, "./symrec.db");
+    result_free(&r);
+
+    /* `symrec help` alone is the same text. */
+    result h;
+    RUN(&h, "help");
+    expect_ok(&h);
+    RUN(&r, "--help");
+    assert_string_equal(h.out, r.out);
+    result_free(&h);
+    result_free(&r);
+}
+
+static void every_command_and_subcommand_has_help(void **state)
+{
+    const env *e = *state;
+    static const char *const cmds[][3] = {
+        {"catalog", "--help"},         {"catalog", "init", "--help"},
+        {"catalog", "info", "--help"}, {"part", "--help"},
+        {"part", "add", "--help"},     {"part", "list", "--help"},
+        {"part", "show", "--help"},    {"instance", "--help"},
+        {"instance", "add", "--help"}, {"instance", "list", "--help"},
+        {"instance", "show", "--help"}, {"export", "--help"},
+        {"reconstruct", "--help"},
+        {"params", "--help"},          {"params", "list", "--help"},
+        {"params", "show", "--help"},  {"params", "set", "--help"},
+        {"demo", "--help"},            {"fixtures", "--help"},
+        {"help", "--help"},
+    };
+    const size_t n = sizeof cmds / sizeof cmds[0];
+    for (size_t i = 0; i < n; i++) {
+        if (sampled_out(i, n))
+            continue;
+        const char *words[6] = {"--db", e->db, cmds[i][0], cmds[i][1], cmds[i][2], NULL};
+        result r;
+        run_words(&r, words);
+        if (r.code != 0)
+            fail_msg("'%s %s --help' exited %d: %s", cmds[i][0], cmds[i][1], r.code, r.err);
+        assert_string_equal(r.err, "");
+        if (strncmp(r.out, "usage: symrec", 13) != 0)
+            fail_msg("'%s %s' help does not start with usage: %s", cmds[i][0], cmds[i][1],
+                     r.out);
+        /* A subcommand's help names the subcommand. */
+        if (cmds[i][2]) {
+            char want[64];
+            snprintf(want, sizeof want, "%s %s", cmds[i][0], cmds[i][1]);
+            expect_contains(r.out, want);
+        }
+        result_free(&r);
+    }
+    /* Asking for help never creates the catalogue. */
+    assert_false(file_exists(e->db));
+}
+
+static void help_command_shows_a_commands_help(void **state)
+{
+    result a, b;
+    RUN(&a, "help", "part", "add");
+    RUN(&b, "part", "add", "--help");
+    expect_ok(&a);
+    expect_ok(&b);
+    assert_string_equal(a.out, b.out);
+    expect_contains(a.out, "--number P");
+    result_free(&a);
+    result_free(&b);
+
+    RUN(&a, "help", "export");
+    expect_ok(&a);
+    expect_contains(a.out, "export part P --out FILE");
+    result_free(&a);
+
+    RUN(&a, "help", "frobnicate");
+    expect_usage(&a, "unknown command 'frobnicate'");
+    result_free(&a);
+}
+
+static void version_prints_the_version(void **state)
+{
+    result r;
+    RUN(&r, "--version");
+    expect_ok(&r);
+    assert_string_equal(r.out, "symrec " SR_VERSION "\n");
+    assert_string_equal(r.out, "symrec 0.1.0\n");
+    assert_string_equal(r.err, "");
+    result_free(&r);
+}
+
+static void unknown_command_is_a_usage_error(void **state)
+{
+    result r;
+    RUN(&r, "frobnicate");
+    expect_usage(&r, NULL);
+    assert_string_equal(r.err,
+                        "symrec: usage: unknown command 'frobnicate' (see 'symrec --help')\n");
+    result_free(&r);
+}
+
+static void missing_command_is_a_usage_error(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "--db", e->db);
+    expect_usage(&r, "missing command");
+    result_free(&r);
+    const char *none[] = {NULL};
+    run_words(&r, none);
+    expect_usage(&r, "missing command");
+    result_free(&r);
+}
+
+static void unknown_options_are_usage_errors(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "--bogus", "part", "list");
+    expect_usage(&r, "unknown option '--bogus'");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "list", "--bogus");
+    expect_usage(&r, "unknown option '--bogus' for 'part list'");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "list", "--json=yes");
+    expect_usage(&r, "option '--json' takes no value");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "show", "A", "B");
+    expect_usage(&r, "unexpected argument 'B'");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "show");
+    expect_usage(&r, "'part show' needs a part number or id");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part");
+    expect_usage(&r, "'part' needs a subcommand");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "frob");
+    expect_usage(&r, "unknown subcommand 'instance frob'");
+    result_free(&r);
+
+    /* None of that touched the catalogue path. */
+    assert_false(file_exists(e->db));
+}
+
+static void missing_option_values_are_usage_errors(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "--db");
+    expect_usage(&r, "option '--db' needs a file name");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "add", "--number");
+    expect_usage(&r, "option '--number' needs a value");
+    result_free(&r);
+
+    /* The next option is not taken as the value. */
+    RUN(&r, "--db", e->db, "part", "add", "--number", "--name", "x");
+    expect_usage(&r, "option '--number' needs a value");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "n", "--material", "m");
+    expect_usage(&r, "'part add' needs --mesh");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "add", "--mesh", e->cyl);
+    expect_usage(&r, "'instance add' needs --part");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "export", "part", "P1");
+    expect_usage(&r, "'export' needs --out FILE");
+    result_free(&r);
+
+    RUN(&r, "fixtures");
+    expect_usage(&r, "'fixtures' needs --out DIR");
+    result_free(&r);
+}
+
+/* Runs `part add` with one bad symmetry option and expects the exact usage line. */
+static void expect_bad_symmetry(const env *e, const char *kind, const char *opt,
+                                const char *value, const char *want)
+{
+    result r;
+    if (opt) {
+        RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "n", "--material",
+            "m", "--mesh", e->cyl, "--symmetry", kind, opt, value);
+    } else {
+        RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "n", "--material",
+            "m", "--mesh", e->cyl, "--symmetry", kind);
+    }
+    expect_usage(&r, NULL);
+    char line[256];
+    snprintf(line, sizeof line, "symrec: usage: %s\n", want);
+    assert_string_equal(r.err, line);
+    result_free(&r);
+}
+
+static void bad_numbers_are_usage_errors_naming_the_option(void **state)
+{
+    const env *e = *state;
+    const char *order_want = "expected an integer 2..360 (or 0 for continuous)";
+    const char *bad_orders[] = {"x", "1", "361", "-2", "5abc", "", " 6", "6.0", "99999999999"};
+    const size_t n_orders = sizeof bad_orders / sizeof bad_orders[0];
+    for (size_t i = 0; i < n_orders; i++) {
+        if (sampled_out(i, n_orders))
+            continue;
+        char want[160];
+        snprintf(want, sizeof want, "bad --order '%s': %s", bad_orders[i], order_want);
+        expect_bad_symmetry(e, "axial", "--order", bad_orders[i], want);
+    }
+    const char *shift_want = "expected a shift in mm, 0..1000000 (0 = find by search)";
+    const char *bad_shifts[] = {"nan", "inf", "-1", "0x10", "1e400", "abc", "2mm"};
+    const size_t n_shifts = sizeof bad_shifts / sizeof bad_shifts[0];
+    for (size_t i = 0; i < n_shifts; i++) {
+        if (sampled_out(i, n_shifts))
+            continue;
+        char want[160];
+        snprintf(want, sizeof want, "bad --shift '%s': %s", bad_shifts[i], shift_want);
+        expect_bad_symmetry(e, "glide", "--shift", bad_shifts[i], want);
+    }
+    expect_bad_symmetry(e, "mirror", "--order", "6", "--order applies to --symmetry axial only");
+    expect_bad_symmetry(e, "axial", "--shift", "6", "--shift applies to --symmetry glide only");
+    expect_bad_symmetry(e, "spiral", NULL, NULL,
+                        "bad --symmetry 'spiral': expected axial, mirror or glide");
+
+    result r;
+    RUN(&r, "--db", e->db, "params", "set", "fine", "--layers", "abc");
+    expect_usage(&r, NULL);
+    assert_string_equal(r.err,
+                        "symrec: usage: bad --layers 'abc': expected an integer 1..100000\n");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "show", "abc");
+    expect_usage(&r, "bad ID 'abc': expected a positive integer id");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "show", "0");
+    expect_usage(&r, "bad ID '0'");
+    result_free(&r);
+
+    /* Usage errors are found before the catalogue is opened (it does not exist). */
+    assert_false(file_exists(e->db));
+}
+
+/* ------------------------------------------------------------------------------------
+ * Catalogue
+ * ---------------------------------------------------------------------------------- */
+
+static void catalog_init_creates_then_is_idempotent(void **state)
+{
+    const env *e = *state;
+    char want[256];
+    result r;
+    RUN(&r, "--db", e->db, "catalog", "init");
+    expect_ok(&r);
+    snprintf(want, sizeof want, "created catalogue '%s' (schema version %d)\n", e->db,
+             sr_catalog_schema_latest());
+    assert_string_equal(r.out, want);
+    assert_string_equal(r.err, "");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "catalog", "init");
+    expect_ok(&r);
+    snprintf(want, sizeof want, "catalogue '%s' already exists (schema version %d)\n", e->db,
+             sr_catalog_schema_latest());
+    assert_string_equal(r.out, want);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "catalog", "info", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "path"), e->db);
+    assert_int_equal((int)jnum(&v, "schema_version"), sr_catalog_schema_latest());
+    assert_int_equal((int)jnum(&v, "parts"), 0);
+    assert_int_equal((int)jnum(&v, "instances"), 0);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "catalog", "info");
+    expect_ok(&r);
+    snprintf(want, sizeof want, "schema version:  %d\n", sr_catalog_schema_latest());
+    expect_contains(r.out, want);
+    expect_contains(r.out, "parts:           0\n");
+    result_free(&r);
+}
+
+static void catalog_info_counts_parts_and_instances(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    add_part(e, "P2", "block", "steel", e->box);
+    add_instance(e, "P1", e->cyl, "S1");
+    result r;
+    RUN(&r, "--db", e->db, "catalog", "info", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal((int)jnum(&v, "parts"), 2);
+    assert_int_equal((int)jnum(&v, "instances"), 1);
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void commands_on_a_missing_catalogue_fail_without_creating_it(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "--db", e->db, "part", "list");
+    expect_error(&r, "no catalogue '");
+    expect_contains(r.err, e->db);
+    expect_contains(r.err, "catalog init");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "n", "--material", "m",
+        "--mesh", e->cyl);
+    expect_error(&r, "no catalogue '");
+    result_free(&r);
+    assert_false(file_exists(e->db));
+}
+
+static void garbage_catalogue_file_is_refused(void **state)
+{
+    const env *e = *state;
+    char junk[4096];
+    for (size_t i = 0; i < sizeof junk; i++)
+        junk[i] = (char)(i * 7 + 3);
+    write_bytes(e->db, junk, sizeof junk);
+    result r;
+    RUN(&r, "--db", e->db, "part", "list");
+    expect_error(&r, "not a symrec catalogue");
+    expect_contains(r.err, e->db);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "catalog", "init");
+    expect_error(&r, "not a symrec catalogue");
+    result_free(&r);
+    /* The file is left as it was. */
+    char *back = read_text(e->db);
+    assert_non_null(back);
+    assert_memory_equal(back, junk, sizeof junk);
+    free(back);
+}
+
+static void symrec_db_environment_variable_is_used(void **state)
+{
+    const env *e = *state;
+    char env_db[128], other_db[128];
+    path_in(e, "env.db", env_db, sizeof env_db);
+    path_in(e, "other.db", other_db, sizeof other_db);
+    assert_int_equal(setenv("SYMREC_DB", env_db, 1), 0);
+    result r;
+    RUN(&r, "catalog", "init");
+    expect_ok(&r);
+    expect_contains(r.out, env_db);
+    result_free(&r);
+    assert_true(file_exists(env_db));
+    /* --db wins over the environment. */
+    RUN(&r, "--db", other_db, "catalog", "init");
+    expect_ok(&r);
+    expect_contains(r.out, other_db);
+    result_free(&r);
+    RUN(&r, "catalog", "info", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "path"), env_db);
+    jv_release(&v);
+    result_free(&r);
+    unsetenv("SYMREC_DB");
+    assert_true(file_exists(other_db));
+}
+
+/* ------------------------------------------------------------------------------------
+ * Parts
+ * ---------------------------------------------------------------------------------- */
+
+static void part_add_prints_the_id_and_part_list_shows_it(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "SH-1", "--name", "drive shaft",
+        "--material", "42CrMo4", "--mesh", e->cyl, "--notes", "a note");
+    expect_ok(&r);
+    assert_string_equal(r.out, "1\n");
+    expect_contains(r.err, "added part 'SH-1' (id 1): 64 triangles");
+    expect_contains(r.err, "mm³");
+    result_free(&r);
+
+    char *list = part_list_json(e);
+    jv v = parse_json(list);
+    assert_int_equal(v.type, J_ARR);
+    assert_int_equal(v.count, 1);
+    const jv *p = &v.items[0];
+    assert_int_equal((int)jnum(p, "id"), 1);
+    assert_string_equal(jstr(p, "number"), "SH-1");
+    assert_string_equal(jstr(p, "name"), "drive shaft");
+    assert_string_equal(jstr(p, "material"), "42CrMo4");
+    assert_string_equal(jstr(p, "notes"), "a note");
+    assert_int_equal((int)jnum(p, "triangles"), 64);    /* 16 sides + 2 fans of 16 */
+    assert_int_equal((int)jnum(p, "vertices"), 34);
+    assert_true(fabs(jnum(p, "volume_mm3") - cyl_volume()) < 1e-3);
+    assert_int_equal(jget(p, "symmetry")->type, J_NULL);
+    assert_int_equal((int)jnum(p, "instance_count"), 0);
+    jv_release(&v);
+    free(list);
+
+    RUN(&r, "--db", e->db, "part", "list");
+    expect_ok(&r);
+    assert_string_equal(r.err, "");
+    expect_contains(r.out, "volume mm³");
+    expect_contains(r.out, "SH-1");
+    expect_contains(r.out, "drive shaft");
+    expect_contains(r.out, "42CrMo4");
+    char vol[32];
+    snprintf(vol, sizeof vol, "%.1f", cyl_volume());
+    expect_contains(r.out, vol);
+    result_free(&r);
+}
+
+static void part_add_json_prints_the_part(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "GEAR-20", "--name", "spur gear",
+        "--material", "16MnCr5", "--mesh", e->cyl, "--symmetry", "axial", "--order", "20",
+        "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal((int)jnum(&v, "id"), 1);
+    assert_string_equal(jstr(&v, "number"), "GEAR-20");
+    const jv *sym = jget(&v, "symmetry");
+    assert_string_equal(jstr(sym, "kind"), "axial");
+    assert_int_equal((int)jnum(sym, "order"), 20);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "add", "--number", "RAIL", "--name", "rail", "--material",
+        "steel", "--mesh", e->box, "--symmetry", "glide", "--shift", "10", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    sym = jget(&v, "symmetry");
+    assert_string_equal(jstr(sym, "kind"), "glide");
+    assert_true(jnum(sym, "shift_mm") == 10.0);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "part", "show", "RAIL");
+    expect_ok(&r);
+    expect_contains(r.out, "  symmetry:   glide, shift 10 mm\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "part", "show", "GEAR-20");
+    expect_ok(&r);
+    expect_contains(r.out, "  symmetry:   axial, 20-fold\n");
+    result_free(&r);
+}
+
+static void part_add_duplicate_number_fails_and_changes_nothing(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    char *before = part_list_json(e);
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "other", "--material",
+        "brass", "--mesh", e->box);
+    expect_error(&r, "P1");
+    result_free(&r);
+    /* Part numbers are unique ignoring case. */
+    RUN(&r, "--db", e->db, "part", "add", "--number", "p1", "--name", "other", "--material",
+        "brass", "--mesh", e->box);
+    expect_error(&r, NULL);
+    result_free(&r);
+    char *after = part_list_json(e);
+    assert_string_equal(before, after);
+    free(before);
+    free(after);
+}
+
+static void part_list_filters_by_name_number_and_material(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "SH-100", "Drive Shaft", "42CrMo4", e->cyl);
+    add_part(e, "SH-200", "idler shaft", "C45", e->cyl);
+    add_part(e, "BR-300", "bracket", "C45", e->box);
+
+    struct {
+        const char *opt, *value;
+        size_t count;
+        const char *first;
+    } cases[] = {
+        {"--name", "SHAFT", 2, "SH-100"},   /* case-insensitive substring */
+        {"--name", "brack", 1, "BR-300"},
+        {"--number", "sh-", 2, "SH-100"},
+        {"--number", "300", 1, "BR-300"},
+        {"--material", "c45", 2, "BR-300"}, /* ordered by number */
+        {"--material", "C4", 0, NULL},      /* material matches exactly */
+        {"--name", "nothing", 0, NULL},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        result r;
+        RUN(&r, "--db", e->db, "part", "list", cases[i].opt, cases[i].value, "--json");
+        expect_ok(&r);
+        jv v = parse_json(r.out);
+        assert_int_equal(v.type, J_ARR);
+        if (v.count != cases[i].count)
+            fail_msg("part list %s %s: %zu parts, expected %zu", cases[i].opt, cases[i].value,
+                     v.count, cases[i].count);
+        if (cases[i].first)
+            assert_string_equal(jstr(&v.items[0], "number"), cases[i].first);
+        jv_release(&v);
+        result_free(&r);
+    }
+    result r;
+    RUN(&r, "--db", e->db, "part", "list", "--name", "nothing");
+    expect_ok(&r);
+    assert_string_equal(r.out, "no parts\n");
+    result_free(&r);
+}
+
+static void part_show_by_number_and_by_id(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    long id = add_part(e, "BLK-7", "block", "AlSi10Mg", e->box);
+    char id_text[16];
+    snprintf(id_text, sizeof id_text, "%ld", id);
+
+    result a, b;
+    RUN(&a, "--db", e->db, "part", "show", "BLK-7", "--json");
+    RUN(&b, "--db", e->db, "part", "show", id_text, "--json");
+    expect_ok(&a);
+    expect_ok(&b);
+    assert_string_equal(a.out, b.out);
+    jv v = parse_json(a.out);
+    assert_string_equal(jstr(&v, "number"), "BLK-7");
+    assert_true(jnum(&v, "volume_mm3") == 6000.0);
+    assert_true(jnum(&v, "area_mm2") == 2200.0);
+    const jv *hi = jget(&v, "bbox_max_mm");
+    assert_int_equal(hi->type, J_ARR);
+    assert_int_equal(hi->count, 3);
+    assert_true(hi->items[0].num == 10 && hi->items[1].num == 20 && hi->items[2].num == 30);
+    assert_int_equal(jget(&v, "instances")->type, J_ARR);
+    assert_int_equal(jget(&v, "instances")->count, 0);
+    jv_release(&v);
+    result_free(&a);
+    result_free(&b);
+
+    RUN(&a, "--db", e->db, "part", "show", "BLK-7");
+    expect_ok(&a);
+    assert_string_equal(a.err, "");
+    char head[64];
+    snprintf(head, sizeof head, "part BLK-7 (id %ld)\n", id);
+    assert_true(strncmp(a.out, head, strlen(head)) == 0);
+    expect_contains(a.out, "  name:       block\n");
+    expect_contains(a.out, "  material:   AlSi10Mg\n");
+    expect_contains(a.out, "  symmetry:   -\n");
+    expect_contains(a.out, "  mesh:       8 vertices, 12 triangles\n");
+    expect_contains(a.out, "x 0.000 .. 10.000, y 0.000 .. 20.000, z 0.000 .. 30.000 mm\n");
+    expect_contains(a.out, "  area:       2200.0 mm²\n");
+    expect_contains(a.out, "  volume:     6000.0 mm³\n");
+    expect_contains(a.out, "  instances:  0\n");
+    result_free(&a);
+
+    RUN(&a, "--db", e->db, "part", "show", "NOPE");
+    expect_error(&a, "no part 'NOPE'");
+    result_free(&a);
+}
+
+static void strings_are_escaped_in_json(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    const char *notes = "quote \" backslash \\ tab\t newline\n bell\a del\x7f \xc3\xa9t\xc3\xa9";
+    const char *name = "\"quoted\" name";
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "Q/1", "--name", name, "--material",
+        "steel", "--mesh", e->cyl, "--notes", notes);
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "part", "show", "Q/1", "--json");
+    expect_ok(&r);
+    /* Raw control characters never appear inside JSON text. */
+    for (const char *p = r.out; *p; p++)
+        if ((unsigned char)*p < 0x20 && !(p[0] == '\n' && p[1] == '\0'))
+            fail_msg("raw control character 0x%02x in JSON output", *p);
+    jv v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "notes"), notes);
+    assert_string_equal(jstr(&v, "name"), name);
+    assert_string_equal(jstr(&v, "number"), "Q/1");
+    jv_release(&v);
+    result_free(&r);
+
+    /* The table keeps one row per part even with a newline in a field. */
+    RUN(&r, "--db", e->db, "part", "list");
+    expect_ok(&r);
+    size_t lines = 0;
+    for (const char *p = r.out; *p; p++)
+        lines += *p == '\n';
+    assert_int_equal(lines, 2);
+    result_free(&r);
+}
+
+/* ------------------------------------------------------------------------------------
+ * Bad mesh files
+ * ---------------------------------------------------------------------------------- */
+
+/* part add with `mesh` must fail with one error line naming the file, leaving the
+ * catalogue as it was. */
+static void expect_part_add_refuses(const env *e, const char *mesh, const char *needle)
+{
+    char *before = part_list_json(e);
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "BAD", "--name", "bad", "--material",
+        "steel", "--mesh", mesh);
+    expect_error(&r, needle);
+    /* The file is named by its base name at least. */
+    const char *base = strrchr(mesh, '/');
+    expect_contains(r.err, base ? base + 1 : mesh);
+    result_free(&r);
+    char *after = part_list_json(e);
+    assert_string_equal(before, after);
+    free(before);
+    free(after);
+}
+
+static void part_add_refuses_a_missing_mesh_file(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    char path[128];
+    path_in(e, "missing.stl", path, sizeof path);
+    expect_part_add_refuses(e, path, NULL);
+}
+
+static void part_add_refuses_an_empty_mesh_file(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    char path[128];
+    path_in(e, "empty.stl", path, sizeof path);
+    write_bytes(path, "", 0);
+    expect_part_add_refuses(e, path, NULL);
+}
+
+static void part_add_refuses_a_garbage_mesh_file(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    char path[128];
+    path_in(e, "garbage.stl", path, sizeof path);
+    const char junk[] = "this is not a mesh at all\n\x01\x02\x03 just words\n";
+    write_bytes(path, junk, sizeof junk - 1);
+    expect_part_add_refuses(e, path, NULL);
+    path_in(e, "garbage.obj", path, sizeof path);
+    write_bytes(path, "f 1 2 3\nv nonsense\n", 19);
+    expect_part_add_refuses(e, path, NULL);
+}
+
+static void part_add_refuses_a_truncated_binary_stl(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    /* The cylinder's binary STL is 84 + 50 * 64 bytes; keep the header and 3 triangles. */
+    char path[128];
+    path_in(e, "truncated.stl", path, sizeof path);
+    char *full = read_text(e->cyl);
+    assert_non_null(full);
+    write_bytes(path, full, 84 + 50 * 3);
+    free(full);
+    expect_part_add_refuses(e, path, "truncated");
+}
+
+static void part_add_refuses_an_unknown_extension(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    char path[128];
+    path_in(e, "mesh.xyz", path, sizeof path);
+    write_bytes(path, "1 2 3\n", 6);
+    expect_part_add_refuses(e, path, NULL);
+}
+
+/* ------------------------------------------------------------------------------------
+ * Instances
+ * ---------------------------------------------------------------------------------- */
+
+static void instance_add_list_and_show(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "BLK-1", "block", "steel", e->box);
+    add_part(e, "SH-1", "shaft", "steel", e->cyl);
+    /* A "damaged" block: 10 x 20 x 24 instead of 30 high, 1200 mm³ missing. */
+    char dmg[128];
+    path_in(e, "damaged.stl", dmg, sizeof dmg);
+    sr_mesh m;
+    sr_mesh_init(&m);
+    const double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 24};
+    assert_int_equal(sr_shape_box(lo, hi, &m, NULL), SR_OK);
+    write_mesh_file(dmg, &m);
+    sr_mesh_release(&m);
+
+    result r;
+    RUN(&r, "--db", e->db, "instance", "add", "--part", "BLK-1", "--mesh", dmg, "--serial",
+        "SN-1", "--received", "2024-02-29", "--notes", "top sheared off");
+    expect_ok(&r);
+    assert_string_equal(r.out, "1\n");
+    expect_contains(r.err, "added instance 1 of part 'BLK-1'");
+    result_free(&r);
+    long second = add_instance(e, "SH-1", e->cyl, "SN-2");
+    assert_int_equal(second, 2);
+
+    RUN(&r, "--db", e->db, "instance", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.count, 2);
+    assert_string_equal(jstr(&v.items[0], "part_number"), "BLK-1");
+    assert_string_equal(jstr(&v.items[0], "serial"), "SN-1");
+    assert_string_equal(jstr(&v.items[0], "received"), "2024-02-29");
+    assert_string_equal(jstr(&v.items[0], "notes"), "top sheared off");
+    assert_true(jnum(&v.items[0], "volume_mm3") == 4800.0);
+    assert_string_equal(jstr(&v.items[1], "part_number"), "SH-1");
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "list", "--part", "SH-1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 1);
+    assert_int_equal((int)jnum(&v.items[0], "id"), 2);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "list");
+    expect_ok(&r);
+    expect_contains(r.out, "missing mm³");
+    expect_contains(r.out, "1200.0");
+    expect_contains(r.out, "20.00 %");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "show", "1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal((int)jnum(&v, "id"), 1);
+    assert_string_equal(jstr(&v, "part_number"), "BLK-1");
+    assert_true(jnum(&v, "intact_volume_mm3") == 6000.0);
+    assert_true(jnum(&v, "missing_volume_mm3") == 1200.0);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "instance", "show", "1");
+    expect_ok(&r);
+    expect_contains(r.out, "instance 1 of part BLK-1 (block)\n");
+    expect_contains(r.out, "  serial:     SN-1\n");
+    expect_contains(r.out, "  received:   2024-02-29\n");
+    expect_contains(r.out, "  volume:     4800.0 mm³\n");
+    expect_contains(r.out, "  missing:    1200.0 mm³ (20.00 % of intact)\n");
+    result_free(&r);
+
+    /* The part shows its instances. */
+    RUN(&r, "--db", e->db, "part", "show", "BLK-1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal((int)jnum(&v, "instance_count"), 1);
+    const jv *list = jget(&v, "instances");
+    assert_int_equal(list->count, 1);
+    assert_string_equal(jstr(&list->items[0], "serial"), "SN-1");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "part", "show", "BLK-1");
+    expect_ok(&r);
+    expect_contains(r.out, "SN-1");
+    expect_contains(r.out, "2024-02-29");
+    result_free(&r);
+}
+
+static void instance_add_for_an_unknown_part_fails(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    result r;
+    RUN(&r, "--db", e->db, "instance", "add", "--part", "NOPE", "--mesh", e->cyl);
+    expect_error(&r, "no part 'NOPE'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "instance", "list", "--part", "NOPE");
+    expect_error(&r, "no part 'NOPE'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "instance", "list", "--json");
+    expect_ok(&r);
+    assert_string_equal(r.out, "[]\n");
+    result_free(&r);
+}
+
+static void instance_add_validates_the_date(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    const char *bad[] = {"2024-02-30", "2023-02-29", "2024-13-01", "2024-00-10", "24-01-01",
+                         "2024-1-01", "2024/01/01", "2024-01-01x", "", "2024-04-31"};
+    const size_t n = sizeof bad / sizeof bad[0];
+    for (size_t i = 0; i < n; i++) {
+        if (sampled_out(i, n))
+            continue;
+        result r;
+        RUN(&r, "--db", e->db, "instance", "add", "--part", "P1", "--mesh", e->cyl,
+            "--received", bad[i]);
+        char want[128];
+        snprintf(want, sizeof want,
+                 "symrec: usage: bad --received '%s': expected a date YYYY-MM-DD\n", bad[i]);
+        expect_usage(&r, NULL);
+        assert_string_equal(r.err, want);
+        result_free(&r);
+    }
+    result r;
+    RUN(&r, "--db", e->db, "instance", "add", "--part", "P1", "--mesh", e->cyl, "--received",
+        "2000-02-29");
+    expect_ok(&r);
+    result_free(&r);
+}
+
+static void instance_show_of_an_unknown_id_fails(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "instance", "show", "42");
+    expect_error(&r, "no instance 42");
+    result_free(&r);
+}
+
+static void instance_symmetry_override_is_shown(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "shaft", "--material",
+        "steel", "--mesh", e->cyl, "--symmetry", "axial");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "instance", "add", "--part", "P1", "--mesh", e->cyl, "--symmetry",
+        "mirror", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_string_equal(jstr(jget(&v, "symmetry"), "kind"), "mirror");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "instance", "add", "--part", "P1", "--mesh", e->cyl, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    const jv *sym = jget(&v, "symmetry");
+    assert_string_equal(jstr(sym, "kind"), "axial");    /* the part's */
+    assert_int_equal((int)jnum(sym, "order"), 0);
+    jv_release(&v);
+    result_free(&r);
+}
+
+/* ------------------------------------------------------------------------------------
+ * Export
+ * ---------------------------------------------------------------------------------- */
+
+/* Triangles as 9 coordinates, rotated so the smallest vertex comes first (keeps the
+ * orientation), then sorted: a form that ignores vertex and triangle order. */
+static int cmp_tri(const void *a, const void *b)
+{
+    const double *x = a, *y = b;
+    for (int i = 0; i < 9; i++)
+        if (x[i] != y[i])
+            return x[i] < y[i] ? -1 : 1;
+    return 0;
+}
+
+static int cmp_vertex(const double *a, const double *b)
+{
+    for (int i = 0; i < 3; i++)
+        if (a[i] != b[i])
+            return a[i] < b[i] ? -1 : 1;
+    return 0;
+}
+
+static double *canonical_tris(const sr_mesh *m)
+{
+    double *t = malloc(m->tri_count * 9 * sizeof *t);
+    assert_non_null(t);
+    for (size_t i = 0; i < m->tri_count; i++) {
+        const double *v[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = &m->xyz[3 * m->tri[3 * i + k]];
+        int first = 0;
+        for (int k = 1; k < 3; k++)
+            if (cmp_vertex(v[k], v[first]) < 0)
+                first = k;
+        for (int k = 0; k < 3; k++)
+            memcpy(&t[9 * i + 3 * k], v[(first + k) % 3], 3 * sizeof(double));
+    }
+    qsort(t, m->tri_count, 9 * sizeof *t, cmp_tri);
+    return t;
+}
+
+static void assert_same_geometry(const sr_mesh *a, const sr_mesh *b, const char *what)
+{
+    if (a->tri_count != b->tri_count || a->vertex_count != b->vertex_count)
+        fail_msg("%s: %zu vertices %zu triangles, stored %zu and %zu", what, a->vertex_count,
+                 a->tri_count, b->vertex_count, b->tri_count);
+    double *ta = canonical_tris(a), *tb = canonical_tris(b);
+    if (memcmp(ta, tb, a->tri_count * 9 * sizeof *ta) != 0)
+        fail_msg("%s: triangles differ from the stored mesh", what);
+    free(ta);
+    free(tb);
+}
+
+static void export_round_trips_through_every_format(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    add_instance(e, "P1", e->box, "SN-1");
+
+    sr_catalog *cat;
+    sr_err err;
+    sr_err_clear(&err);
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    sr_mesh part_mesh, inst_mesh;
+    sr_mesh_init(&part_mesh);
+    sr_mesh_init(&inst_mesh);
+    sr_part_info info;
+    assert_int_equal(sr_catalog_part_find(cat, "P1", &info, &err), SR_OK);
+    assert_int_equal(sr_catalog_part_mesh(cat, info.id, &part_mesh, &err), SR_OK);
+    assert_int_equal(sr_catalog_instance_mesh(cat, 1, &inst_mesh, &err), SR_OK);
+    sr_catalog_close(cat);
+
+    const char *exts[] = {"stl", "obj", "ply", "off", "gltf", "glb"};
+    for (size_t i = 0; i < sizeof exts / sizeof exts[0]; i++) {
+        for (int inst = 0; inst < 2; inst++) {
+            char name[32], path[160];
+            snprintf(name, sizeof name, "out_%s.%s", inst ? "inst" : "part", exts[i]);
+            path_in(e, name, path, sizeof path);
+            result r;
+            if (inst)
+                RUN(&r, "--db", e->db, "export", "instance", "1", "--out", path, "--json");
+            else
+                RUN(&r, "--db", e->db, "export", "part", "P1", "--out", path, "--json");
+            expect_ok(&r);
+            jv v = parse_json(r.out);
+            assert_string_equal(jstr(&v, "format"), exts[i]);
+            assert_string_equal(jstr(&v, "path"), path);
+            const sr_mesh *stored = inst ? &inst_mesh : &part_mesh;
+            assert_int_equal((size_t)jnum(&v, "triangles"), stored->tri_count);
+            jv_release(&v);
+            result_free(&r);
+
+            sr_mesh back;
+            sr_mesh_init(&back);
+            sr_status st = sr_mesh_read(path, &back, &err);
+            if (st != SR_OK)
+                fail_msg("cannot read back %s: %s", path, err.msg);
+            assert_same_geometry(&back, stored, path);
+            sr_mesh_release(&back);
+        }
+    }
+    sr_mesh_release(&part_mesh);
+    sr_mesh_release(&inst_mesh);
+
+    /* The human form says what went where. */
+    char path[160];
+    path_in(e, "p.stl", path, sizeof path);
+    result r;
+    RUN(&r, "--db", e->db, "export", "part", "P1", "--out", path);
+    expect_ok(&r);
+    char want[256];
+    snprintf(want, sizeof want, "wrote part P1 to '%s' (stl, 34 vertices, 64 triangles)\n",
+             path);
+    assert_string_equal(r.out, want);
+    result_free(&r);
+}
+
+static void export_of_an_unknown_id_fails(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "P1", "shaft", "steel", e->cyl);
+    char path[160];
+    path_in(e, "x.stl", path, sizeof path);
+    result r;
+    RUN(&r, "--db", e->db, "export", "part", "NOPE", "--out", path);
+    expect_error(&r, "no part 'NOPE'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "export", "instance", "99", "--out", path);
+    expect_error(&r, "no instance 99");
+    result_free(&r);
+    assert_false(file_exists(path));
+
+    path_in(e, "x.xyz", path, sizeof path);
+    RUN(&r, "--db", e->db, "export", "part", "P1", "--out", path);
+    expect_usage(&r, "expected a file ending in .stl, .obj, .ply, .off, .gltf or .glb");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "export", "model", "P1", "--out", path);
+    expect_usage(&r, "bad 'export model'");
+    result_free(&r);
+}
+
+/* ------------------------------------------------------------------------------------
+ * Parameter sets
+ * ---------------------------------------------------------------------------------- */
+
+static void params_list_show_and_set(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "params", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.type, J_ARR);
+    bool has_default = false;
+    for (size_t i = 0; i < v.count; i++)
+        has_default |= strcmp(jstr(&v.items[i], "name"), "default") == 0;
+    assert_true(has_default);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "params", "show", "default", "--json");
+    expect_ok(&r);
+    jv def = parse_json(r.out);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "params", "set", "fine", "--layers", "240", "--sectors", "320",
+        "--json");
+    expect_ok(&r);
+    expect_contains(r.err, "created parameter set 'fine'");
+    v = parse_json(r.out);
+    assert_int_equal((int)jnum(&v, "layers"), 240);
+    assert_int_equal((int)jnum(&v, "sectors"), 320);
+    /* Fields not given come from "default". */
+    assert_true(jnum(&v, "gamma_axis") == jnum(&def, "gamma_axis"));
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "params", "set", "fine", "--gamma-axis", "0.5");
+    expect_ok(&r);
+    expect_contains(r.err, "updated parameter set 'fine'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "params", "show", "fine", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal((int)jnum(&v, "layers"), 240);     /* kept */
+    assert_true(jnum(&v, "gamma_axis") == 0.5);
+    jv_release(&v);
+    result_free(&r);
+    jv_release(&def);
+
+    RUN(&r, "--db", e->db, "params", "set", "fine", "--gamma-axis", "0");
+    expect_usage(&r, "bad --gamma-axis '0'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "params", "show", "nonesuch");
+    expect_error(&r, "no parameter set 'nonesuch'");
+    result_free(&r);
+}
+
+/* ------------------------------------------------------------------------------------
+ * Demo and fixtures
+ * ---------------------------------------------------------------------------------- */
+
+static size_t json_array_count(const char *text)
+{
+    jv v = parse_json(text);
+    assert_int_equal(v.type, J_ARR);
+    size_t n = v.count;
+    jv_release(&v);
+    return n;
+}
+
+static void demo_builds_the_catalogue_and_is_idempotent(void **state)
+{
+    const env *e = *state;
+    size_t count = sr_demo_part_count();
+    assert_true(count > 0);
+    result r;
+    RUN(&r, "--db", e->db, "demo");
+    expect_ok(&r);
+    for (size_t i = 0; i < count; i++) {
+        const sr_demo_part *dp = sr_demo_part_get(i);
+        char head[96];
+        snprintf(head, sizeof head, "\npart %s (id ", dp->number);
+        expect_contains(r.out, head);
+        expect_contains(r.out, dp->serial);
+        expect_contains(r.out, dp->material);
+    }
+    expect_contains(r.out, "volume mm³");
+    expect_contains(r.out, "missing mm³");
+    char added[128];
+    snprintf(added, sizeof added, "added %zu parts and %zu damaged instances", count, count);
+    expect_contains(r.err, added);
+    char *first_out = r.out;
+    free(r.err);
+
+    char *parts1 = part_list_json(e);
+    assert_int_equal(json_array_count(parts1), count);
+    RUN(&r, "--db", e->db, "instance", "list", "--json");
+    expect_ok(&r);
+    assert_int_equal(json_array_count(r.out), count);
+    result_free(&r);
+
+    /* Again: nothing added, the same catalogue shown. */
+    RUN(&r, "--db", e->db, "demo");
+    expect_ok(&r);
+    expect_contains(r.err, "added 0 parts and 0 damaged instances");
+    assert_string_equal(r.out, first_out);
+    result_free(&r);
+    free(first_out);
+    char *parts2 = part_list_json(e);
+    assert_string_equal(parts1, parts2);
+    free(parts1);
+    free(parts2);
+
+    /* Each demo part carries its symmetry and its missing volume is positive. */
+    for (size_t i = 0; i < count; i++) {
+        const sr_demo_part *dp = sr_demo_part_get(i);
+        RUN(&r, "--db", e->db, "part", "show", dp->number, "--json");
+        expect_ok(&r);
+        jv v = parse_json(r.out);
+        const jv *sym = jget(&v, "symmetry");
+        assert_string_equal(jstr(sym, "kind"), sr_sym_kind_name((sr_sym_kind)dp->sym_kind));
+        const jv *insts = jget(&v, "instances");
+        assert_int_equal(insts->count, 1);
+        assert_string_equal(jstr(&insts->items[0], "serial"), dp->serial);
+        assert_true(jnum(&v, "volume_mm3") > jnum(&insts->items[0], "volume_mm3"));
+        jv_release(&v);
+        result_free(&r);
+    }
+}
+
+static void fixtures_write_meshes_whose_volumes_match_volumes_json(void **state)
+{
+    const env *e = *state;
+    char dir[160], path[512];
+    path_in(e, "fx/nested", dir, sizeof dir);
+    result r;
+    RUN(&r, "fixtures", "--out", dir);
+    expect_ok(&r);
+    expect_contains(r.out, "missing mm³");
+    result_free(&r);
+
+    snprintf(path, sizeof path, "%s/volumes.json", dir);
+    char *text = read_text(path);
+    assert_non_null(text);
+    jv v = parse_json(text);
+    free(text);
+    assert_string_equal(jstr(&v, "units"), "mm3");
+    const jv *parts = jget(&v, "parts");
+    size_t count = sr_demo_part_count();
+    assert_int_equal(parts->count, count);
+    for (size_t i = 0; i < count; i++) {
+        const sr_demo_part *dp = sr_demo_part_get(i);
+        const jv *p = &parts->items[i];
+        assert_string_equal(jstr(p, "number"), dp->number);
+        sr_mesh mi, md, bi, bd;
+        sr_mesh_init(&mi);
+        sr_mesh_init(&md);
+        sr_mesh_init(&bi);
+        sr_mesh_init(&bd);
+        char want[160];
+        snprintf(want, sizeof want, "%s_intact.stl", dp->number);
+        assert_string_equal(jstr(p, "intact_file"), want);
+        snprintf(path, sizeof path, "%s/%s", dir, want);
+        assert_int_equal(sr_mesh_read(path, &mi, NULL), SR_OK);
+        snprintf(want, sizeof want, "%s_damaged.stl", dp->number);
+        assert_string_equal(jstr(p, "damaged_file"), want);
+        snprintf(path, sizeof path, "%s/%s", dir, want);
+        assert_int_equal(sr_mesh_read(path, &md, NULL), SR_OK);
+
+        /* The numbers are those of the files, to the last bit. */
+        double vi = sr_mesh_volume(&mi), vd = sr_mesh_volume(&md);
+        assert_true(jnum(p, "intact_mm3") == vi);
+        assert_true(jnum(p, "damaged_mm3") == vd);
+        assert_true(jnum(p, "missing_mm3") == vi - vd);
+        assert_true(vi - vd > 0);
+        assert_int_equal((size_t)jnum(p, "intact_triangles"), mi.tri_count);
+
+        /* And they are the demo part's volumes up to float32 rounding of the STL. */
+        assert_int_equal(sr_demo_part_build(i, &bi, &bd, NULL), SR_OK);
+        assert_true(fabs(vi - sr_mesh_volume(&bi)) <= 1e-5 * vi);
+        assert_true(fabs(vd - sr_mesh_volume(&bd)) <= 1e-5 * vd);
+        sr_mesh_release(&mi);
+        sr_mesh_release(&md);
+        sr_mesh_release(&bi);
+        sr_mesh_release(&bd);
+    }
+    jv_release(&v);
+}
+
+int main(void)
+{
+#define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
+    const struct CMUnitTest tests[] = {
+        T(top_level_help_lists_commands_and_db_default),
+        T(every_command_and_subcommand_has_help),
+        T(help_command_shows_a_commands_help),
+        T(version_prints_the_version),
+        T(unknown_command_is_a_usage_error),
+        T(missing_command_is_a_usage_error),
+        T(unknown_options_are_usage_errors),
+        T(missing_option_values_are_usage_errors),
+        T(bad_numbers_are_usage_errors_naming_the_option),
+        T(catalog_init_creates_then_is_idempotent),
+        T(catalog_info_counts_parts_and_instances),
+        T(commands_on_a_missing_catalogue_fail_without_creating_it),
+        T(garbage_catalogue_file_is_refused),
+        T(symrec_db_environment_variable_is_used),
+        T(part_add_prints_the_id_and_part_list_shows_it),
+        T(part_add_json_prints_the_part),
+        T(part_add_duplicate_number_fails_and_changes_nothing),
+        T(part_list_filters_by_name_number_and_material),
+        T(part_show_by_number_and_by_id),
+        T(strings_are_escaped_in_json),
+        T(part_add_refuses_a_missing_mesh_file),
+        T(part_add_refuses_an_empty_mesh_file),
+        T(part_add_refuses_a_garbage_mesh_file),
+        T(part_add_refuses_a_truncated_binary_stl),
+        T(part_add_refuses_an_unknown_extension),
+        T(instance_add_list_and_show),
+        T(instance_add_for_an_unknown_part_fails),
+        T(instance_add_validates_the_date),
+        T(instance_show_of_an_unknown_id_fails),
+        T(instance_symmetry_override_is_shown),
+        T(export_round_trips_through_every_format),
+        T(export_of_an_unknown_id_fails),
+        T(params_list_show_and_set),
+        T(demo_builds_the_catalogue_and_is_idempotent),
+        T(fixtures_write_meshes_whose_volumes_match_volumes_json),
+    };
+#undef T
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
