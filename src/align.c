@@ -21,8 +21,8 @@
 #include <string.h>
 
 #define SCREEN_SAMPLES 600
-#define COARSE_SAMPLES 3000
-#define FINE_SAMPLES 20000
+#define COARSE_SAMPLES 2000
+#define FINE_SAMPLES 10000
 #define TOL_OF_DIAG 0.004
 
 /* Index of a vector's first clearly non-zero component, to fix signs deterministically. */
@@ -230,8 +230,6 @@ sr_status sr_align(const sr_mesh *mesh, const sr_symmetry *sym, const sr_align_o
             for (int k = 0; k < 3; k++)
                 m.a[k] = -m.a[k];
         frame_axial(mesh, m.a, m.c, &res);
-        if (o.method == 0)
-            res.symmetric_layers = al_paper_count_axial(&surf, &o, res.axis_dir, res.axis_point);
     } else {
         if (sign_of(m.a, 0) < 0)
             for (int k = 0; k < 3; k++)
@@ -263,6 +261,8 @@ sr_status sr_align(const sr_mesh *mesh, const sr_symmetry *sym, const sr_align_o
         frame_planar(mesh, m.a, m.t, m.c, &res);
         res.glide_shift_mm = m.kind == AL_GLIDE ? fabs(m.shift) : 0;
     }
+    if (o.method == 0)
+        res.symmetric_layers = al_paper_count(&surf, sym, &o, res.xform);
     res.fit_rms_mm = isfinite(fit.inlier_rms) ? fit.inlier_rms : 0;
     res.fit_score = fit.score;
     *out = res;

@@ -132,9 +132,11 @@ bool al_axial_normal_lines(const al_surface *s, double a_out[3], double c_out[3]
         for (int k = 0; k < 3; k++)
             abar[k] -= da * a[k];
         ok = true;
-        /* new cut-off from the area-weighted median residual */
+        /* new cut-off from the area-weighted median residual of at most ~20000
+         * evenly spread triangles (sorting them all would dominate on big scans) */
         double wsum = 0;
-        for (size_t i = 0; i < s->count; i++) {
+        size_t stride = s->count > 20000 ? s->count / 20000 : 1, nres = 0;
+        for (size_t i = 0; i < s->count; i += stride) {
             const uint32_t *f = s->mesh->tri + 3 * (size_t)s->tri[i];
             const double *pa = s->mesh->xyz + 3 * (size_t)f[0],
                          *pb = s->mesh->xyz + 3 * (size_t)f[1],
@@ -144,13 +146,14 @@ bool al_axial_normal_lines(const al_surface *s, double a_out[3], double c_out[3]
                 p[k] = (pa[k] + pb[k] + pc[k]) / 3 - g[k];
             const double *n = s->nrm + 3 * i;
             v3_cross(p, n, z);
-            res[i].r = fabs(v3_dot(a, z) + v3_dot(abar, n));
-            res[i].w = s->area[i];
+            res[nres].r = fabs(v3_dot(a, z) + v3_dot(abar, n));
+            res[nres].w = s->area[i];
             wsum += s->area[i];
+            nres++;
         }
-        qsort(res, s->count, sizeof *res, wres_cmp);
+        qsort(res, nres, sizeof *res, wres_cmp);
         double acc = 0, med = 0;
-        for (size_t i = 0; i < s->count; i++) {
+        for (size_t i = 0; i < nres; i++) {
             acc += res[i].w;
             if (acc >= 0.5 * wsum) {
                 med = res[i].r;

@@ -10,9 +10,10 @@
  * Guibas & Pauly 2006 use the same idea for symmetry refinement):
  *   - for each sample, x = T(p), q = closest surface point, m = its triangle normal,
  *     point-to-plane residual r = m.(x - q) (fast, exact on flat pieces);
- *   - Tukey biweights on the distance |x - q| with a cut-off c that follows the robust
- *     scale 1.4826 * median and never grows, so damage, fracture faces and protruding
- *     features (a key on a shaft) get weight 0 once the fit has settled;
+ *   - Tukey biweights on the distance |x - q| with a cut-off c annealed from the
+ *     starting radius towards 4.685 x the robust scale 1.4826 * median (at most 4x per
+ *     settled step, never below 0.1 % of the part), so damage, fracture faces and
+ *     protruding features (a key on a shaft) get weight 0 once the fit has settled;
  *   - a Gauss-Newton step on the model's local parameters (2 tilt angles of the axis or
  *     normal, position(s) in units of the part size, glide: the in-plane angle of t and
  *     the shift), the Jacobian by central differences of the model's 3x4 matrices
@@ -190,7 +191,7 @@ void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double
     for (size_t i = 0; i < smp->count; i++) {
         double x[3], q[3], n[3], dist;
         apply(mats + 12 * (i % (size_t)V), smp->p + 3 * i, x);
-        if (!al_surface_closest(s, x, 2 * tol, q, n, &dist))
+        if (!al_surface_closest(s, x, tol, q, n, &dist))
             dist = INFINITY;
         d[i] = dist;
         if (dist <= tol) {
@@ -206,6 +207,30 @@ void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double
     *fit = f;
 }
 
+/* Largest displacement of a corner of the box (min xyz, max xyz) under a parameter
+ * step, over up to four variants (spread over the list). */
+static double step_displacement(const al_model *m, const double *step, int V,
+                                const double box[6])
+{
+    double worst = 0;
+    for (int q = 0; q < 4 && q < V; q++) {
+        int v = q * V / 4;
+        double m0[12], m1[12];
+        al_model_matrix(m, NULL, v, m0);
+        al_model_matrix(m, step, v, m1);
+        for (int c = 0; c < 8; c++) {
+            double p[3] = {box[c & 1 ? 3 : 0], box[c & 2 ? 4 : 1], box[c & 4 ? 5 : 2]};
+            double x0[3], x1[3];
+            apply(m0, p, x0);
+            apply(m1, p, x1);
+            double d = sqrt((x1[0] - x0[0]) * (x1[0] - x0[0]) + (x1[1] - x0[1]) * (x1[1] - x0[1]) +
+                            (x1[2] - x0[2]) * (x1[2] - x0[2]));
+            worst = d > worst ? d : worst;
+        }
+    }
+    return worst;
+}
+
 void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, double tau0,
             double tol, al_fit *fit)
 {
@@ -219,8 +244,18 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
     int it = 0;
     if (!mats || !rows || !d)
         goto done;
+    double box[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            double x = smp->p[3 * i + k];
+            box[k] = x < box[k] ? x : box[k];
+            box[3 + k] = x > box[3 + k] ? x : box[3 + k];
+        }
     double cut = tau0;
-    double floor_cut = 1e-5 * (m->scale > 0 ? m->scale : 1);
+    /* below 0.1 % of the part size every residual counts (a faceted CAD cylinder turned
+     * by an arbitrary angle misses itself by its sagitta, symmetrically) */
+    double floor_cut = 1e-3 * (m->scale > 0 ? m->scale : 1);
+    int at_level = 0;
     for (it = 0; it < max_iter; it++) {
         for (int v = 0; v < V; v++) {
             double *mv = mats + (size_t)v * nm * 12;
@@ -257,8 +292,6 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
         double want = 4.685 * 1.4826 * med;
         if (want < floor_cut)
             want = floor_cut;
-        if (want < cut)
-            cut = want;
         double H[AL_MAX_PARAMS * AL_MAX_PARAMS] = {0}, g[AL_MAX_PARAMS] = {0};
         size_t used = 0;
         for (size_t i = 0; i < n; i++) {
@@ -273,7 +306,9 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
             }
             used++;
         }
-        if (used < (size_t)np * 4)
+        /* too few matches to say anything, or a hopeless candidate (under a quarter of
+         * the samples matched after 5 steps): stop spending queries on it */
+        if (used < (size_t)np * 4 || (it >= 5 && used * 4 < n))
             break;
         double trace = 0;
         for (int a = 0; a < np; a++) {
@@ -294,14 +329,35 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
         if (big > 0.05) /* trust region: at most ~3 deg or 5 % of the part per step */
             for (int a = 0; a < np; a++)
                 step[a] *= 0.05 / big;
+        /* and no sample may move by more than half the cut-off: the linearisation only
+         * holds within the matching radius, and a parameter that few samples constrain
+         * (a glide's shift: only faces across the shift direction see it) would
+         * otherwise take a wild step */
+        double disp = step_displacement(m, step, V, box);
+        if (disp > 0.5 * cut) {
+            for (int a = 0; a < np; a++)
+                step[a] *= 0.5 * cut / disp;
+            big *= 0.5 * cut / disp;
+        }
         al_model_step(m, step);
-        /* converged: the step is below 1e-7 rad / 1e-7 of the part size */
-        if (big < 1e-7)
-            break;
+#ifdef AL_DEBUG
+        if (getenv("AL_ICP")) fprintf(stderr, "   it %d cut %.4f med %.4f used %zu shift %.4f big %.2e\n", it, cut, med, used, m->shift, big);
+#endif
+        /* anneal: once the fit has settled at this cut-off (or after 4 steps), shrink it
+         * by at most 4x towards the robust scale; shrinking faster would drop the
+         * residuals that still carry the error when most of the surface is blind to it
+         * (a flange's flat faces turned about a shifted axis stay on themselves) */
+        at_level++;
+        if (want < 0.8 * cut && (big < 1e-4 || at_level >= 4)) {
+            cut = want > 0.25 * cut ? want : 0.25 * cut;
+            at_level = 0;
+        } else if (big < 1e-7 && !(want < 0.8 * cut)) {
+            break; /* converged at the final cut-off */
+        }
     }
 done:
 #ifdef AL_DEBUG
-    fprintf(stderr, "icp kind %d n %zu iters %d cut %g\n", m->kind, n, it, 0.0);
+    fprintf(stderr, "icp kind %d n %zu iters %d\n", m->kind, n, it);
 #endif
     free(mats);
     free(rows);

@@ -99,6 +99,8 @@ typedef struct al_surface {
     int dim[3];
     uint32_t *cell_start;  /* dim[0]*dim[1]*dim[2] + 1 offsets into cell_items */
     uint32_t *cell_items;
+    uint8_t *empty_rings;  /* per cell: Chebyshev distance (in cells, <= 255) to the
+                            * nearest cell holding a triangle */
     uint32_t *stamp;       /* count: last query that tested the triangle */
     uint32_t stamp_id;
 } al_surface;
@@ -187,6 +189,13 @@ int al_refine_candidates(al_surface *s, const al_samples *screen, const al_sampl
 /* True when fit a is better than fit b (higher score; near-equal scores: lower RMS). */
 bool al_fit_better(const al_fit *a, const al_fit *b);
 
+/* ---- align_egi.c ---- */
+
+/* Up to max_out unit normals (best first, at least 12 deg apart) about which the
+ * area-weighted distribution of the surface normals is most nearly
+ * reflection-symmetric: candidate mirror/glide plane normals. Returns how many. */
+int al_egi_mirror_normals(const al_surface *s, double (*out)[3], int max_out);
+
 /* ---- align_axial.c / align_planar.c ---- */
 
 /* Shared inputs of a search. */
@@ -223,9 +232,9 @@ typedef struct al_paper_result {
 sr_status al_paper_align(const al_surface *s, const sr_symmetry *sym,
                          const sr_align_opts *opts, al_paper_result *out);
 
-/* Number of Alg. 3 symmetric layers of the given axial model (used to report
- * symmetric_layers for the refined axis). */
-int al_paper_count_axial(const al_surface *s, const sr_align_opts *opts, const double dir[3],
-                         const double point[3]);
+/* Number of Alg. 3 symmetric layers of the scan in the canonical frame given by
+ * xform (axial: round about the z axis; planar: mirror-symmetric about x = 0). */
+int al_paper_count(const al_surface *s, const sr_symmetry *sym, const sr_align_opts *opts,
+                   const double xform[12]);
 
 #endif

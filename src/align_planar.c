@@ -21,6 +21,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include "/tmp/al/phase.h"
 #ifdef AL_DEBUG
 #include <stdio.h>
 #endif
@@ -63,11 +64,11 @@ typedef struct plane_cand {
 /* Moves the plane of m along its normal to the offset (within +-10 % of the part
  * size) where most screening samples find a mirror partner: the centroid the
  * candidates start from is pulled off the plane by the damage. */
-static void scan_offset(al_ctx *ctx, al_model *m)
+static double scan_offset(al_ctx *ctx, al_model *m)
 {
     al_surface *s = ctx->surf;
-    double loose = 0.02 * s->diag, step = 0.5 * loose;
-    int half = 10;
+    double loose = 0.02 * s->diag, step = loose;
+    int half = 5;
     double c0[3], best_off = 0, best = -1;
     memcpy(c0, m->c, sizeof c0);
     for (int r = 0; r <= 2 * half; r++) {
@@ -85,6 +86,7 @@ static void scan_offset(al_ctx *ctx, al_model *m)
     }
     for (int k = 0; k < 3; k++)
         m->c[k] = c0[k] + best_off * m->a[k];
+    return best;
 }
 
 static double spread_along(const al_surface *s, const double n[3])
@@ -96,25 +98,78 @@ static double spread_along(const al_surface *s, const double n[3])
     return v;
 }
 
-/* The three principal planes, each moved to its best offset and refined as a mirror
- * on the coarse samples. */
-static void principal_planes(al_ctx *ctx, plane_cand out[3])
+/* Plane candidates: the three principal planes of the area covariance and the
+ * reflection-symmetric directions of the normals (align_egi.c), each moved to its
+ * best offset; those screening at least 0.8 of the best are refined as mirrors on the
+ * coarse samples (a plane is only chosen when it scores 0.8 of the best). Returns the number of refined candidates written to out (<= 9). */
+static int plane_candidates(al_ctx *ctx, plane_cand *out)
 {
     al_surface *s = ctx->surf;
     double w[3], v[9];
     al_eig_sym(3, s->cov, w, v);
+    double normals[9][3];
+    int nn = 0;
     for (int k = 0; k < 3; k++) {
-        double n[3] = {v[k], v[3 + k], v[6 + k]};
-        plane_model(s, AL_MIRROR, n, s->centroid, &out[k].m);
-        scan_offset(ctx, &out[k].m);
-        al_icp(s, &ctx->coarse, &out[k].m, 25, 0.03 * s->diag, ctx->tol, &out[k].f);
-        out[k].spread = spread_along(s, out[k].m.a);
+        normals[nn][0] = v[k];
+        normals[nn][1] = v[3 + k];
+        normals[nn][2] = v[6 + k];
+        nn++;
+    }
+    double egi[6][3];
+    PHASE("start");
+    int ne = al_egi_mirror_normals(s, egi, 6);
+    for (int i = 0; i < ne; i++) {
+        bool near = false;
+        for (int j = 0; j < nn; j++)
+            near = near || fabs(v3_dot(egi[i], normals[j])) > cos(10 * M_PI / 180);
+        if (!near)
+            memcpy(normals[nn++], egi[i], sizeof egi[i]);
+    }
+    PHASE("egi");
+    al_model m[9];
+    double sc[9], med[9], top = 0;
+    int order[9];
+    for (int i = 0; i < nn; i++) {
+        /* screening: best offset, a few ICP steps on the screening samples (a normal a
+         * few degrees off, as damage tilts the principal axes, misses the loose
+         * tolerance far from the plane), then the loose score */
+        plane_model(s, AL_MIRROR, normals[i], s->centroid, &m[i]);
+        scan_offset(ctx, &m[i]);
+        al_fit f;
+        al_icp(s, &ctx->screen, &m[i], 6, 0.03 * s->diag, 0.02 * s->diag, &f);
+        sc[i] = f.score;
+        med[i] = f.median;
+        top = sc[i] > top ? sc[i] : top;
+        order[i] = i;
+    }
+    PHASE("screen");
+    for (int i = 0; i < nn; i++)
+        for (int j = i + 1; j < nn; j++)
+            if (sc[order[j]] > sc[order[i]]) {
+                int t = order[i];
+                order[i] = order[j];
+                order[j] = t;
+            }
+    int count = 0;
+    for (int r = 0; r < nn; r++) {
+        int i = order[r];
+        if (count > 0 && sc[i] < 0.8 * top)
+            break;
+        plane_cand *pc = &out[count++];
+        pc->m = m[i];
+        /* start from the screening fit's scale: large radii cost much on dense scans */
+        double tau = 4 * med[i];
+        tau = tau < ctx->tol ? ctx->tol : (tau < 0.03 * s->diag ? tau : 0.03 * s->diag);
+        al_icp(s, &ctx->coarse, &pc->m, 25, tau, ctx->tol, &pc->f);
+        pc->spread = spread_along(s, pc->m.a);
 #ifdef AL_DEBUG
-        fprintf(stderr, "plane %d score %.4f rms %.4f spread %.1f n %.4f %.4f %.4f\n", k,
-                out[k].f.score, out[k].f.inlier_rms, out[k].spread, out[k].m.a[0],
-                out[k].m.a[1], out[k].m.a[2]);
+        fprintf(stderr, "plane %d screen %.3f score %.4f rms %.4f spread %.1f n %.4f %.4f %.4f\n",
+                i, sc[i], pc->f.score, pc->f.inlier_rms, pc->spread, pc->m.a[0], pc->m.a[1],
+                pc->m.a[2]);
 #endif
     }
+    PHASE("planeicp");
+    return count;
 }
 
 static void finish(al_ctx *ctx, al_model *m, const al_fit *cf, al_fit *fit)
@@ -130,50 +185,31 @@ static void finish(al_ctx *ctx, al_model *m, const al_fit *cf, al_fit *fit)
 
 static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
-    al_surface *s = ctx->surf;
-    plane_cand pc[3];
-    principal_planes(ctx, pc);
+    plane_cand pc[9];
+    int np = plane_candidates(ctx, pc);
     double top = 0;
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < np; k++)
         top = pc[k].f.score > top ? pc[k].f.score : top;
     /* several planes can be mirror planes of most of the part (a bracket's y = 0 as
      * well as its x = 0, a plate's mid-plane): among the good ones take the plane
      * across which the part spreads widest, the one whose halves say most about each
-     * other */
+     * other; when none is good, simply the best */
     int pick = -1;
-    for (int k = 0; k < 3; k++) {
-        bool good = pc[k].f.score >= 0.5 && pc[k].f.score >= top - 0.25;
+    for (int k = 0; k < np; k++) {
+        bool good = pc[k].f.score >= 0.5 && pc[k].f.score >= 0.8 * top;
         if (good && (pick < 0 || pc[k].spread > pc[pick].spread))
             pick = k;
     }
-    al_model best;
-    al_fit bfit;
-    if (pick >= 0) {
-        best = pc[pick].m;
-        bfit = pc[pick].f;
-    } else {
-        /* no principal plane fits: normals spread over a hemisphere (Fibonacci) */
-        enum { NDIR = 64 };
-        al_model cand[NDIR];
-        double golden = M_PI * (3 - sqrt(5.0));
-        for (int i = 0; i < NDIR; i++) {
-            double z = 1 - (i + 0.5) / NDIR;
-            double r = sqrt(1 - z * z), ph = golden * i;
-            double n[3] = {r * cos(ph), r * sin(ph), z};
-            plane_model(s, AL_MIRROR, n, s->centroid, &cand[i]);
-        }
-        al_refine_candidates(s, &ctx->screen, &ctx->coarse, cand, NDIR, 0.02 * s->diag,
-                             0.03 * s->diag, ctx->tol, &best, &bfit);
-        int k = 0;
-        for (int j = 1; j < 3; j++)
-            if (al_fit_better(&pc[j].f, &pc[k].f))
-                k = j;
-        if (al_fit_better(&pc[k].f, &bfit)) {
-            best = pc[k].m;
-            bfit = pc[k].f;
-        }
+    if (pick < 0) {
+        pick = 0;
+        for (int k = 1; k < np; k++)
+            if (al_fit_better(&pc[k].f, &pc[pick].f))
+                pick = k;
     }
-    finish(ctx, &best, &bfit, fit);
+    al_model best = pc[pick].m;
+    PHASE("coarse");
+    finish(ctx, &best, &pc[pick].f, fit);
+    PHASE("fine");
     *out = best;
     return SR_OK;
 }
@@ -201,67 +237,96 @@ static double glide_score(al_surface *s, const double *p, const double *n, size_
     return count ? (double)in / (double)count : 0;
 }
 
-/* Scans the shift of glide model m (plane and t set) over (0, smax] on the coarse
- * samples whose faces look along t (only they can tell one shift from another; a
- * prismatic surface along t matches any shift), leaving the best in m->shift. */
-static sr_status scan_shift(al_ctx *ctx, al_model *m, double smax)
+/* The coarse samples whose faces look along t (|n.t| > 0.5): only they can tell one
+ * shift along t from another, since a prismatic surface along t matches any shift.
+ * All samples when fewer than 30 do; at most FACING_MAX (evenly thinned). */
+#define FACING_MAX 400
+
+typedef struct facing {
+    double *p, *n;
+    size_t count;
+} facing;
+
+static sr_status facing_samples(const al_samples *c, const double t[3], facing *out)
 {
-    const al_samples *c = &ctx->coarse;
-    double *p = malloc((c->count ? c->count : 1) * 6 * sizeof *p);
-    if (!p)
+    out->p = malloc((c->count ? c->count : 1) * 6 * sizeof *out->p);
+    if (!out->p)
         return SR_E_NOMEM;
-    double *n = p + 3 * c->count;
+    out->n = out->p + 3 * c->count;
     size_t cnt = 0;
     for (size_t i = 0; i < c->count; i++) {
-        if (fabs(v3_dot(c->n + 3 * i, m->t)) > 0.5) {
-            memcpy(p + 3 * cnt, c->p + 3 * i, 3 * sizeof *p);
-            memcpy(n + 3 * cnt, c->n + 3 * i, 3 * sizeof *n);
+        if (fabs(v3_dot(c->n + 3 * i, t)) > 0.5) {
+            memcpy(out->p + 3 * cnt, c->p + 3 * i, 3 * sizeof *out->p);
+            memcpy(out->n + 3 * cnt, c->n + 3 * i, 3 * sizeof *out->n);
             cnt++;
         }
     }
-    if (cnt < 30) { /* nothing faces along t: use every sample */
-        memcpy(p, c->p, c->count * 3 * sizeof *p);
-        memcpy(n, c->n, c->count * 3 * sizeof *n);
+    if (cnt < 30) {
+        memcpy(out->p, c->p, c->count * 3 * sizeof *out->p);
+        memcpy(out->n, c->n, c->count * 3 * sizeof *out->n);
         cnt = c->count;
     }
-    double tol = ctx->tol, step = tol / 2;
-    int nstep = (int)(smax / step);
+    if (cnt > FACING_MAX) { /* every k-th: enough to tell shifts apart, and cheap */
+        size_t stride = (cnt + FACING_MAX - 1) / FACING_MAX, k = 0;
+        for (size_t i = 0; i < cnt; i += stride, k++) {
+            memmove(out->p + 3 * k, out->p + 3 * i, 3 * sizeof *out->p);
+            memmove(out->n + 3 * k, out->n + 3 * i, 3 * sizeof *out->n);
+        }
+        cnt = k;
+    }
+    out->count = cnt;
+    return SR_OK;
+}
+
+/* Scans the shift of glide model m (plane and t set) over [4 tol, smax] on the facing
+ * samples, leaving the best in m->shift. Shifts below 4 tol are not a glide but a
+ * mirror (a face across t, such as the end of a rail, matches itself under any shift
+ * smaller than the tolerance). */
+static double scan_shift(al_ctx *ctx, al_model *m, const facing *fc, double smax)
+{
+    double tol = ctx->tol, step = tol / 2, s0 = 4 * tol;
+    int nstep = smax > s0 ? (int)((smax - s0) / step) : 0;
     if (nstep > 400) {
         nstep = 400;
-        step = smax / nstep;
+        step = (smax - s0) / nstep;
     }
-    double best_s = step, best = -1;
-    for (int i = 1; i <= nstep; i++) {
-        m->shift = i * step;
-        double sc = glide_score(ctx->surf, p, n, cnt, m, tol);
+    double best_s = s0, best = -1;
+    for (int i = 0; i <= nstep; i++) {
+        m->shift = s0 + i * step;
+        double sc = glide_score(ctx->surf, fc->p, fc->n, fc->count, m, tol);
+#ifdef AL_DEBUG
+        if (getenv("AL_SCAN")) fprintf(stderr, "   s %.3f score %.3f (n=%zu) t %.3f %.3f %.3f\n", m->shift, sc, fc->count, m->t[0], m->t[1], m->t[2]);
+#endif
         if (sc > best) {
             best = sc;
             best_s = m->shift;
         }
     }
     m->shift = best_s;
-    free(p);
-    return SR_OK;
+    return best;
 }
 
 static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     al_surface *s = ctx->surf;
-    plane_cand pc[3];
-    principal_planes(ctx, pc);
+    plane_cand pc[9];
+    int np = plane_candidates(ctx, pc);
     double top = 0;
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < np; k++)
         top = pc[k].f.score > top ? pc[k].f.score : top;
     double w[3], v[9];
     al_eig_sym(3, s->cov, w, v);
     bool given = ctx->sym->shift_mm > 0;
-    al_model best = {0};
-    al_fit bfit = {0};
-    bool have = false;
-    for (int k = 0; k < 3; k++) {
-        if (pc[k].f.score < 0.5 * top)
+    double smin = 4 * ctx->tol;
+    /* (plane, direction) combinations with their scanned shift and its score on the
+     * facing samples; the planes must be fair mirrors of the bulk of the part */
+    al_model combo[27];
+    double csc[27], ctop = 0;
+    int ncombo = 0;
+    for (int k = 0; k < np; k++) {
+        if (pc[k].f.score < 0.8 * top)
             continue;
-        /* in-plane directions: the two principal directions least along the normal */
+        /* in-plane directions: the principal directions not along the normal */
         for (int j = 0; j < 3; j++) {
             double e[3] = {v[j], v[3 + j], v[6 + j]};
             double dn = v3_dot(e, pc[k].m.a);
@@ -270,60 +335,95 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
             for (int q = 0; q < 3; q++)
                 e[q] -= dn * pc[k].m.a[q];
             v3_normalize(e);
-            al_model m = pc[k].m;
-            m.kind = AL_GLIDE;
-            m.variant_count = 2;
-            memcpy(m.t, e, sizeof e);
+            al_model *m = &combo[ncombo];
+            *m = pc[k].m;
+            m->kind = AL_GLIDE;
+            m->variant_count = 2;
+            memcpy(m->t, e, sizeof e);
+            csc[ncombo] = 1;
             if (given) {
-                m.shift = ctx->sym->shift_mm;
-                m.fix_shift = 1;
+                m->shift = ctx->sym->shift_mm;
+                m->fix_shift = 1;
             } else {
                 double smax = 0.5 * extent_along(s, e);
                 if (smax > 0.5 * s->diag)
                     smax = 0.5 * s->diag;
-                if (scan_shift(ctx, &m, smax) != SR_OK)
+                facing fc;
+                if (facing_samples(&ctx->coarse, e, &fc) != SR_OK)
                     return SR_E_NOMEM;
+                csc[ncombo] = scan_shift(ctx, m, &fc, smax);
+                free(fc.p);
             }
-            al_fit f;
-#ifdef AL_DEBUG
-            fprintf(stderr, "glide plane %d dir %d shift %g\n", k, j, m.shift);
-#endif
-            al_icp(s, &ctx->coarse, &m, 25, 0.03 * s->diag, ctx->tol, &f);
-#ifdef AL_DEBUG
-            fprintf(stderr, "  -> shift %g score %g rms %g\n", m.shift, f.score, f.inlier_rms);
-#endif
-            if (!have || al_fit_better(&f, &bfit)) {
-                best = m;
-                bfit = f;
-                have = true;
-            }
+            ctop = csc[ncombo] > ctop ? csc[ncombo] : ctop;
+            ncombo++;
         }
     }
-    if (!have)
-        return SR_E_INTERNAL;
+    PHASE("shiftscan");
+    al_model best = {0};
+    al_fit bfit = {0};
+    bool have = false;
+    for (int i = 0; i < ncombo; i++) {
+        if (csc[i] < 0.7 * ctop)
+            continue;
+        al_model m = combo[i];
+        al_fit f;
+        /* the plane is refined and the shift scanned to tol / 4: start at 2 tol, so
+         * the part's ends (which the shift moves off the part) cannot pull the shift,
+         * which only the faces across t see */
+        al_icp(s, &ctx->coarse, &m, 25, 2 * ctx->tol, ctx->tol, &f);
+#ifdef AL_DEBUG
+        fprintf(stderr, "glide combo %d scan %.3f -> shift %g score %g rms %g\n", i, csc[i],
+                m.shift, f.score, f.inlier_rms);
+#endif
+        if (!given && fabs(m.shift) < smin)
+            continue; /* slid back to a mirror */
+        if (!have || al_fit_better(&f, &bfit)) {
+            best = m;
+            bfit = f;
+            have = true;
+        }
+    }
+    PHASE("glideicp");
+    if (!have) {
+        /* no glide at all: report the best plane as a glide with the smallest shift */
+        best = pc[0].m;
+        best.kind = AL_GLIDE;
+        best.variant_count = 2;
+        al_perp_frame(best.a, best.t, w);
+        best.shift = given ? ctx->sym->shift_mm : smin;
+        best.fix_shift = 1;
+        bfit = pc[0].f;
+    }
     if (best.shift < 0) {
         best.shift = -best.shift;
         for (int k = 0; k < 3; k++)
             best.t[k] = -best.t[k];
     }
-    if (!given) {
-        /* a glide by s is also one by 3s, 5s, ...: the smallest odd fraction that fits
-         * as well */
+    if (!given && have) {
+        /* a glide by s is also one by 3s, 5s, ...: take the smallest odd fraction of s
+         * that matches the faces along t about as well (90 %) */
+        facing fc;
+        if (facing_samples(&ctx->coarse, best.t, &fc) != SR_OK)
+            return SR_E_NOMEM;
+        double ref = glide_score(s, fc.p, fc.n, fc.count, &best, ctx->tol);
         for (int q = 9; q >= 3; q -= 2) {
             al_model m = best;
             m.shift = best.shift / q;
-            if (m.shift < ctx->tol)
+            if (m.shift < smin)
                 continue;
-            al_fit f;
-            al_icp(s, &ctx->coarse, &m, 25, 0.03 * s->diag, ctx->tol, &f);
-            if (f.score >= bfit.score - 0.02) {
+            if (glide_score(s, fc.p, fc.n, fc.count, &m, ctx->tol) >= 0.9 * ref) {
+                al_fit f;
+                al_icp(s, &ctx->coarse, &m, 25, ctx->tol, ctx->tol, &f);
                 best = m;
                 bfit = f;
                 break;
             }
         }
+        free(fc.p);
     }
+    PHASE("fraction");
     finish(ctx, &best, &bfit, fit);
+    PHASE("fine");
     if (best.shift < 0) {
         best.shift = -best.shift;
         for (int k = 0; k < 3; k++)

@@ -13,7 +13,10 @@
  *    slivers of CAD meshes do not flood the grid. Queries visit cubic shells of cells
  *    around p and stop once the best distance found is below the shell's inner
  *    distance (or past max_dist). A per-triangle stamp skips triangles already tested
- *    through another cell. The cell size follows the mean triangle size, capped so the
+ *    through another cell. A chessboard distance transform of the occupied cells (two
+ *    raster passes over the 26-neighbourhood, exact for that metric) lets a query far
+ *    from the surface skip its empty shells, or give up at once when even the nearest
+ *    occupied cell is beyond max_dist. The cell size follows the mean triangle size, capped so the
  *    grid has at most about 16M cells.
  */
 #include "align_internal.h"
@@ -22,6 +25,9 @@
 #include <string.h>
 
 #define MAX_CELLS 16000000.0
+#ifndef CELLS_PER_DIAG
+#define CELLS_PER_DIAG 250.0
+#endif
 
 static const double *vtx(const al_surface *s, size_t i, int k)
 {
@@ -38,6 +44,7 @@ void al_surface_release(al_surface *s)
     free(s->cell_start);
     free(s->cell_items);
     free(s->stamp);
+    free(s->empty_rings);
     memset(s, 0, sizeof *s);
 }
 
@@ -89,6 +96,46 @@ static void file_triangle(al_surface *s, size_t i, int pass, uint32_t *cursor)
                 else
                     s->cell_items[cursor[cidx]++] = (uint32_t)i;
             }
+}
+
+/* Chessboard distance from every cell to the nearest occupied cell, saturated at 255:
+ * a forward and a backward raster pass, each taking the minimum over the 13 already
+ * visited neighbours + 1 (exact for the 26-neighbourhood metric). */
+static void distance_transform(al_surface *s)
+{
+    int nx = s->dim[0], ny = s->dim[1], nz = s->dim[2];
+    uint8_t *d = s->empty_rings;
+    for (size_t c = 0; c < (size_t)nx * ny * nz; c++)
+        d[c] = s->cell_start[c + 1] > s->cell_start[c] ? 0 : 255;
+    for (int pass = 0; pass < 2; pass++) {
+        int dir = pass == 0 ? 1 : -1;
+        for (int zi = 0; zi < nz; zi++) {
+            int z = pass == 0 ? zi : nz - 1 - zi;
+            for (int yi = 0; yi < ny; yi++) {
+                int y = pass == 0 ? yi : ny - 1 - yi;
+                for (int xi = 0; xi < nx; xi++) {
+                    int x = pass == 0 ? xi : nx - 1 - xi;
+                    size_t c = (size_t)x + (size_t)nx * ((size_t)y + (size_t)ny * z);
+                    int best = d[c];
+                    if (best == 0)
+                        continue;
+                    /* the 13 neighbours before (x, y, z) in this pass's raster order */
+                    for (int dz = -1; dz <= 0; dz++)
+                        for (int dy = -1; dy <= 1; dy++)
+                            for (int dx = -1; dx <= 1; dx++) {
+                                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0)))
+                                    continue;
+                                int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
+                                if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz)
+                                    continue;
+                                int v = d[(size_t)X + (size_t)nx * ((size_t)Y + (size_t)ny * Z)] + 1;
+                                best = v < best ? v : best;
+                            }
+                    d[c] = (uint8_t)(best > 255 ? 255 : best);
+                }
+            }
+        }
+    }
 }
 
 sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
@@ -155,6 +202,8 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
 
     /* grid */
     double h = 1.5 * sqrt(s->total_area / (double)s->count);
+    if (h < s->diag / CELLS_PER_DIAG)
+        h = s->diag / CELLS_PER_DIAG;
     double vol = (ext[0] + h) * (ext[1] + h) * (ext[2] + h);
     double hmin = cbrt(vol / MAX_CELLS);
     if (h < hmin)
@@ -196,6 +245,12 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
     for (size_t i = 0; i < s->count; i++)
         file_triangle(s, i, 1, cursor);
     free(cursor);
+    s->empty_rings = malloc(ncell);
+    if (!s->empty_rings) {
+        al_surface_release(s);
+        return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for the search grid");
+    }
+    distance_transform(s);
     return SR_OK;
 }
 
@@ -264,6 +319,20 @@ unsigned long al_dbg_queries, al_dbg_tris, al_dbg_cells;
 static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *best2,
                       size_t *best)
 {
+    if (s->cell_start[cidx + 1] == s->cell_start[cidx])
+        return;
+    /* the cell's box is already farther than the best triangle: nothing to gain */
+    size_t nxy = (size_t)s->dim[0] * (size_t)s->dim[1];
+    int idx[3] = {(int)(cidx % (size_t)s->dim[0]), (int)((cidx / (size_t)s->dim[0]) % (size_t)s->dim[1]),
+                  (int)(cidx / nxy)};
+    double box2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double lo = s->origin[k] + idx[k] * s->cell, hi = lo + s->cell;
+        double e = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0);
+        box2 += e * e;
+    }
+    if (box2 >= *best2)
+        return;
 #ifdef AL_DEBUG
     al_dbg_cells++;
     al_dbg_tris += s->cell_start[cidx + 1] - s->cell_start[cidx];
@@ -273,6 +342,11 @@ static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *bes
         if (s->stamp[i] == s->stamp_id)
             continue;
         s->stamp[i] = s->stamp_id;
+        /* the distance to the triangle's plane bounds the distance to the triangle */
+        const double *a = vtx(s, i, 0), *n = s->nrm + 3 * (size_t)i;
+        double hp = n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]) + n[2] * (p[2] - a[2]);
+        if (hp * hp >= *best2)
+            continue;
         double q[3];
         closest_on_triangle(p, vtx(s, i, 0), vtx(s, i, 1), vtx(s, i, 2), q);
         double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
@@ -314,7 +388,14 @@ bool al_surface_closest(al_surface *s, const double p[3], double max_dist, doubl
     double best2 = max_dist * max_dist;
     size_t best = SIZE_MAX;
     int kmax = s->dim[0] + s->dim[1] + s->dim[2];
-    for (int k = 0; k <= kmax; k++) {
+    /* shells closer than the nearest occupied cell are empty: skip them, or give up
+     * when that cell is out of reach: it is >= (k0 - 1) cells from pc, and for p
+     * outside the grid box |p - x|^2 >= |pc - x|^2 + |p - pc|^2 for any x in the box */
+    int k0 = s->empty_rings[(size_t)c0[0] + (size_t)s->dim[0] * ((size_t)c0[1] + (size_t)s->dim[1] * c0[2])];
+    double gap = (k0 - 1) * s->cell;
+    if (k0 < 255 && k0 >= 2 && out2 + gap * gap > max_dist * max_dist)
+        return false;
+    for (int k = k0 < 255 ? k0 : 0; k <= kmax; k++) {
         int zlo = c0[2] - k, zhi = c0[2] + k;
         for (int z = zlo < 0 ? 0 : zlo; z <= zhi && z < s->dim[2]; z++) {
             int ylo = c0[1] - k, yhi = c0[1] + k;

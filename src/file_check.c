@@ -122,10 +122,18 @@ static int next_token(const char **p, const char *e, const char **ts, const char
     return 1;
 }
 
+/* Token equals word, ignoring case (STL keywords). */
 static int token_is(const char *s, const char *e, const char *word)
 {
     size_t n = strlen(word);
     return (size_t)(e - s) == n && strncasecmp(s, word, n) == 0;
+}
+
+/* Token equals word exactly (OBJ and PLY keywords: their readers are case-sensitive). */
+static int token_eq(const char *s, const char *e, const char *word)
+{
+    size_t n = strlen(word);
+    return (size_t)(e - s) == n && memcmp(s, word, n) == 0;
 }
 
 /* Copies a token for messages (shortened, NUL-terminated). */
@@ -456,6 +464,18 @@ typedef struct corner_buf {
     size_t cap;
 } corner_buf;
 
+/* After a vertex reference's index: nothing, "/t", "/t/n" or "//n" with integers t, n. */
+static int obj_ref_tail(const char *slash, const char *e)
+{
+    long long v;
+    if (!slash)
+        return 1;
+    const char *s2 = memchr(slash + 1, '/', (size_t)(e - slash - 1));
+    if (!s2)
+        return parse_int(slash + 1, e, &v);
+    return (s2 == slash + 1 || parse_int(slash + 1, s2, &v)) && parse_int(s2 + 1, e, &v);
+}
+
 sr_status sr_file_check_obj(const unsigned char *data, size_t size, const char *name,
                             sr_file_facts *out, sr_err *err)
 {
@@ -477,7 +497,7 @@ sr_status sr_file_check_obj(const unsigned char *data, size_t size, const char *
         const char *p = s;
         if (!next_token(&p, e, &ts, &te, 1))
             continue;
-        if (token_is(ts, te, "v")) {
+        if (token_eq(ts, te, "v")) {
             if (f.vertex_count >= UINT32_MAX) {
                 st = fail(err, SR_E_FORMAT, name, "more than %u vertices", UINT32_MAX);
                 goto out;
@@ -502,12 +522,12 @@ sr_status sr_file_check_obj(const unsigned char *data, size_t size, const char *
                 f.xyz[3 * f.vertex_count + j] = v;
             }
             f.vertex_count++;
-        } else if (token_is(ts, te, "f")) {
+        } else if (token_eq(ts, te, "f")) {
             size_t k = 0;
             while (next_token(&p, e, &ts, &te, 1)) {
                 const char *slash = memchr(ts, '/', (size_t)(te - ts));
                 long long i;
-                if (!parse_int(ts, slash ? slash : te, &i)) {
+                if (!parse_int(ts, slash ? slash : te, &i) || !obj_ref_tail(slash, te)) {
                     st = fail(err, SR_E_FORMAT, name, "line %zu: bad vertex reference '%s'",
                               r.number, token_str(ts, te, tok));
                     goto out;
@@ -577,7 +597,7 @@ void sr_file_obj_drop_mtllib(unsigned char *data, size_t size)
     const char *s, *e, *ts, *te;
     while (next_line(&r, &s, &e)) {
         const char *p = s;
-        if (next_token(&p, e, &ts, &te, 1) && token_is(ts, te, "mtllib"))
+        if (next_token(&p, e, &ts, &te, 1) && token_eq(ts, te, "mtllib"))
             data[ts - (const char *)data] = '#';
     }
 }
@@ -763,6 +783,7 @@ static ply_type ply_type_of(const char *s, const char *e)
 typedef struct ply_prop {
     ply_type type;        /* scalar type, or the list's item type */
     ply_type count_type;  /* T_NONE for a scalar */
+    char count_name[PLY_NAME];   /* the list length's type as written */
     char name[PLY_NAME];
 } ply_prop;
 
@@ -800,7 +821,7 @@ static sr_status ply_read_header(const unsigned char *data, size_t size, const c
     memset(h, 0, sizeof *h);
     h->format = -1;
     if (!next_line(&r, &s, &e) || !(p = s, next_token(&p, e, &ts, &te, 0)) ||
-        !token_is(ts, te, "ply") || next_token(&p, e, &ts, &te, 0))
+        !token_eq(ts, te, "ply") || next_token(&p, e, &ts, &te, 0))
         return fail(err, SR_E_FORMAT, name, "not a PLY file (first line is not 'ply')");
     for (;;) {
         if (!next_line(&r, &s, &e))
@@ -809,15 +830,15 @@ static sr_status ply_read_header(const unsigned char *data, size_t size, const c
         p = s;
         if (!next_token(&p, e, &ts, &te, 0))
             return fail(err, SR_E_FORMAT, name, "PLY header line %zu is blank", ln);
-        if (token_is(ts, te, "comment") || token_is(ts, te, "obj_info"))
+        if (token_eq(ts, te, "comment") || token_eq(ts, te, "obj_info"))
             continue;
-        if (token_is(ts, te, "end_header")) {
+        if (token_eq(ts, te, "end_header")) {
             if (next_token(&p, e, &ts, &te, 0))
                 return fail(err, SR_E_FORMAT, name, "PLY header line %zu: text after end_header",
                             ln);
             break;
         }
-        if (token_is(ts, te, "format")) {
+        if (token_eq(ts, te, "format")) {
             const char *fs, *fe, *vs, *ve;
             if (h->format >= 0 || h->elem_count)
                 return fail(err, SR_E_FORMAT, name, "PLY header line %zu: misplaced 'format'", ln);
@@ -825,16 +846,16 @@ static sr_status ply_read_header(const unsigned char *data, size_t size, const c
                 next_token(&p, e, &ts, &te, 0))
                 return fail(err, SR_E_FORMAT, name,
                             "PLY header line %zu: 'format' needs a type and a version", ln);
-            if (token_is(fs, fe, "ascii"))
+            if (token_eq(fs, fe, "ascii"))
                 h->format = PLY_ASCII;
-            else if (token_is(fs, fe, "binary_little_endian"))
+            else if (token_eq(fs, fe, "binary_little_endian"))
                 h->format = PLY_LE;
-            else if (token_is(fs, fe, "binary_big_endian"))
+            else if (token_eq(fs, fe, "binary_big_endian"))
                 h->format = PLY_BE;
             else
                 return fail(err, SR_E_FORMAT, name, "PLY header line %zu: unknown format '%s'",
                             ln, token_str(fs, fe, tok));
-            if (!token_is(vs, ve, "1.0"))
+            if (!token_eq(vs, ve, "1.0"))
                 return fail(err, SR_E_UNSUPPORTED, name, "PLY version '%s' (only 1.0)",
                             token_str(vs, ve, tok));
             continue;
@@ -842,7 +863,7 @@ static sr_status ply_read_header(const unsigned char *data, size_t size, const c
         if (h->format < 0)
             return fail(err, SR_E_FORMAT, name, "PLY header line %zu: 'format' must come first",
                         ln);
-        if (token_is(ts, te, "element")) {
+        if (token_eq(ts, te, "element")) {
             const char *ns, *ne, *cs, *ce;
             long long count;
             if (!next_token(&p, e, &ns, &ne, 0) || !next_token(&p, e, &cs, &ce, 0) ||
@@ -871,7 +892,7 @@ static sr_status ply_read_header(const unsigned char *data, size_t size, const c
             h->elem_count++;
             continue;
         }
-        if (token_is(ts, te, "property")) {
+        if (token_eq(ts, te, "property")) {
             if (!h->elem_count)
                 return fail(err, SR_E_FORMAT, name,
                             "PLY header line %zu: 'property' before any element", ln);
@@ -884,13 +905,15 @@ static sr_status ply_read_header(const unsigned char *data, size_t size, const c
                 return fail(err, SR_E_FORMAT, name, "PLY header line %zu: 'property' needs a type",
                             ln);
             pr->count_type = T_NONE;
-            if (token_is(as, ae, "list")) {
+            if (token_eq(as, ae, "list")) {
                 const char *cs2, *ce2, *is, *ie;
                 if (!next_token(&p, e, &cs2, &ce2, 0) || !next_token(&p, e, &is, &ie, 0))
                     return fail(err, SR_E_FORMAT, name,
                                 "PLY header line %zu: 'property list' needs two types", ln);
                 pr->count_type = ply_type_of(cs2, ce2);
                 pr->type = ply_type_of(is, ie);
+                if (pr->count_type != T_NONE)
+                    copy_name(pr->count_name, cs2, ce2);
                 if (pr->count_type == T_NONE || pr->count_type >= T_F32 || pr->type == T_NONE)
                     return fail(err, SR_E_FORMAT, name,
                                 "PLY header line %zu: bad list types '%s'", ln,
@@ -1040,6 +1063,14 @@ sr_status sr_file_check_ply(const unsigned char *data, size_t size, const char *
             if (face_list < 0 || h->prop[face_list].type >= T_F32) {
                 st = fail(err, SR_E_FORMAT, name,
                           "PLY face element has no integer list 'vertex_indices'");
+                goto out;
+            }
+            /* OpenMesh 9 knows only these names for a list length ("Unsupported Index
+             * type for property list"), not even their synonyms int8 or int32. */
+            const char *cn = h->prop[face_list].count_name;
+            if (strcmp(cn, "uchar") != 0 && strcmp(cn, "uint8") != 0 && strcmp(cn, "int") != 0) {
+                st = fail(err, SR_E_UNSUPPORTED, name,
+                          "PLY face list length type '%s' (OpenMesh reads uchar, uint8 or int)", cn);
                 goto out;
             }
         }

@@ -18,14 +18,18 @@ if [ $# -lt 1 ] || [ $# -gt 2 ] || { [ $# -eq 2 ] && [ "$2" != cli ]; }; then
     echo "usage: sh tests/run_tests.sh BUILD_DIR [cli]" >&2
     exit 2
 fi
-build=$1
 only=${2:-}
+# Paths given relative to the caller's directory stay valid after the cd below.
+build=$(cd "$1" 2>/dev/null && pwd) || { echo "run_tests.sh: no build directory '$1'" >&2; exit 2; }
+SYMREC_BIN=${SYMREC_BIN:-$build/symrec}
+case $SYMREC_BIN in
+    /*) ;;
+    *) [ -e "$SYMREC_BIN" ] && SYMREC_BIN=$(pwd)/$SYMREC_BIN ;;
+esac
+export SYMREC_BIN
 
 # Tests assume the repository root as the working directory.
 cd "$(dirname "$0")/.." || exit 2
-
-SYMREC_BIN=${SYMREC_BIN:-$build/symrec}
-export SYMREC_BIN
 # cmocka prints its per-test lines to stdout in this mode.
 CMOCKA_MESSAGE_OUTPUT=stdout
 export CMOCKA_MESSAGE_OUTPUT
@@ -80,7 +84,8 @@ for bin in $bins; do
     fi
     printf '%-14s %3d passed, %d failed  %s  (%ss)\n' "$name" "$pass" "$fail" "$status" "$secs"
     if [ "$status" != ok ]; then
-        sed 's/^/    | /' "$out" "$err"
+        # Its log, without the lines of the tests that passed.
+        grep -v '^\[ RUN      \] \|^\[       OK \] ' "$out" "$err" | sed 's/^[^:]*:/    | /'
     fi
     total_pass=$((total_pass + pass))
     total_fail=$((total_fail + fail))

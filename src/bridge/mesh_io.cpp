@@ -21,9 +21,10 @@
  * Every write is serialised in memory, checked, written to a temporary file in the
  * target's folder, fsync'ed and renamed over the target.
  *
- * OpenMesh's log streams (omerr/omlog/omout) are global: they are disconnected from
- * the console once and captured per call, under one mutex that also serialises
- * OpenMesh's reader registry. Every extern "C" entry point catches all exceptions.
+ * OpenMesh prints to omerr/omlog (connected to std::cerr/std::clog): during each call
+ * those two streams write into a buffer of ours instead, which becomes the detail of an
+ * error; nothing reaches the console. That swap and OpenMesh's global reader registry
+ * are guarded by one mutex. Every extern "C" entry point catches all exceptions.
  */
 extern "C" {
 #include "bridge/mesh_io.h"
@@ -283,41 +284,36 @@ sr_status write_file_atomic(const char *path, const void *bytes, size_t size, sr
 
 std::mutex om_mutex;
 
-/* Holds the OpenMesh lock and captures everything OpenMesh prints meanwhile. */
+/* Holds the OpenMesh lock and captures everything OpenMesh prints meanwhile. omerr and
+ * omlog are connected to std::cerr and std::clog (omout to std::cout), whose buffers are
+ * swapped for ours during the session. (Reconnecting the mostreams instead would leak:
+ * OpenMesh's disconnect forgets a target without deleting it.) */
 class OmSession {
 public:
     OmSession() : lock_(om_mutex)
     {
         static std::once_flag once;
         std::call_once(once, [] {
-            omerr().disconnect(std::cerr);
-            omlog().disconnect(std::clog);
-            omout().disconnect(std::cout);
+            omout().disable();   /* std::cout is the CLI's; nothing of OpenMesh goes there */
+            omlog().enable();
         });
-        omerr().connect(log_);
-        omlog().connect(log_);
-        omout().connect(log_);
-        cerr_ = std::cerr.rdbuf(log_.rdbuf());
-        clog_ = std::clog.rdbuf(log_.rdbuf());
+        cerr_ = std::cerr.rdbuf(text_.rdbuf());
+        clog_ = std::clog.rdbuf(text_.rdbuf());
     }
     ~OmSession()
     {
-        omerr().flush();
+        omerr().flush();   /* a last line without '\n' lands here, not on the console later */
         omlog().flush();
-        omout().flush();
-        omerr().disconnect(log_);
-        omlog().disconnect(log_);
-        omout().disconnect(log_);
         std::cerr.rdbuf(cerr_);
         std::clog.rdbuf(clog_);
     }
     OmSession(const OmSession &) = delete;
     OmSession &operator=(const OmSession &) = delete;
-    std::string text() const { return log_.str(); }
+    std::string text() const { return text_.str(); }
 
 private:
     std::lock_guard<std::mutex> lock_;
-    std::ostringstream log_;
+    std::ostringstream text_;
     std::streambuf *cerr_ = nullptr, *clog_ = nullptr;
 };
 
@@ -550,22 +546,27 @@ sr_status indexed_result(const char *path, const sr_file_facts &f, const Collect
             return rfail(err, SR_E_FORMAT, path,
                          "OpenMesh read vertex %zu as %.9g, the file says %.17g", i / 3,
                          c.xyz[i], f.xyz[i]);
-    if (c.n_faces() != f.face_count) {
-        if (c.n_faces() < f.face_count)
-            return rfail(err, SR_E_FORMAT, path, "OpenMesh lost %zu of %zu faces",
-                         f.face_count - c.n_faces(), f.face_count);
-        return rfail(err, SR_E_FORMAT, path, "OpenMesh read %zu faces, the file holds %zu",
-                     c.n_faces(), f.face_count);
-    }
-    size_t at = 0;
+    /* Readers may skip a face that repeats a vertex (OpenMesh's OBJ reader does, its
+     * OFF and PLY readers deliver it); every other face must arrive, in order. */
+    size_t j = 0, at = 0, at_c = 0, lost = 0, first_lost = 0;
     for (size_t i = 0; i < f.face_count; i++) {
         uint32_t k = f.face_size[i];
-        if (c.face_size[i] != k ||
-            memcmp(&c.face_index[at], f.face_index + at, k * sizeof(uint32_t)) != 0)
-            return rfail(err, SR_E_FORMAT, path, "OpenMesh read face %zu differently from the file",
-                         i);
+        const uint32_t *idx = f.face_index + at;
         at += k;
+        if (j < c.n_faces() && c.face_size[j] == k &&
+            memcmp(&c.face_index[at_c], idx, k * sizeof(uint32_t)) == 0) {
+            at_c += c.face_size[j++];
+        } else if (!repeats_vertex(idx, k)) {
+            if (!lost++)
+                first_lost = i;
+        }
     }
+    if (j != c.n_faces())
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh read face %zu differently from the file",
+                     first_lost);
+    if (lost)
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh lost %zu of %zu faces (first: face %zu)",
+                     lost, f.face_count, first_lost);
     size_t tris = f.tri_count - f.degenerate_tris;
     MeshGuard g;
     if (sr_mesh_alloc(&g.m, f.vertex_count, tris) != SR_OK)
@@ -1460,6 +1461,16 @@ tinygltf::Value to_value(const nlohmann::json &j)
     }
 }
 
+/* The shortest decimal that reads back as f (0.8f is written 0.8, not 0.800000011920929). */
+double float_decimal(float f)
+{
+    char b[32];
+    auto r = std::to_chars(b, b + sizeof b, f);
+    double d = f;
+    std::from_chars(b, r.ptr, d);
+    return d;
+}
+
 void append_bytes(std::vector<unsigned char> &buf, const void *p, size_t n)
 {
     const unsigned char *b = (const unsigned char *)p;
@@ -1478,6 +1489,10 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
     model.asset.version = "2.0";
     model.asset.generator = "symrec";
     if (extras_json) {
+        if (sr_file_check_json_depth((const unsigned char *)extras_json, strlen(extras_json),
+                                     JSON_DEPTH_MAX, path, nullptr) != SR_OK)
+            return wfail(err, SR_E_INVALID, path, "extras nest deeper than %zu levels",
+                         JSON_DEPTH_MAX);
         nlohmann::json j = nlohmann::json::parse(extras_json, nullptr, false);
         if (j.is_discarded() || !j.is_object())
             return wfail(err, SR_E_INVALID, path, "extras are not a JSON object");
@@ -1556,7 +1571,8 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
 
         tinygltf::Material mat;
         mat.name = sm.name ? sm.name : "";
-        mat.pbrMetallicRoughness.baseColorFactor = {sm.rgba[0], sm.rgba[1], sm.rgba[2], sm.rgba[3]};
+        mat.pbrMetallicRoughness.baseColorFactor = {float_decimal(sm.rgba[0]), float_decimal(sm.rgba[1]),
+                                                     float_decimal(sm.rgba[2]), float_decimal(sm.rgba[3])};
         mat.pbrMetallicRoughness.metallicFactor = 0.0;   /* plain colour, readable in any viewer */
         mat.doubleSided = false;
         mat.alphaMode = sm.rgba[3] < 1.0f ? "BLEND" : "OPAQUE";
@@ -1763,18 +1779,22 @@ sr_status mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts 
 
 /* ---- the C interface ------------------------------------------------------------------------ */
 
-#define CATCH_ALL(err, label)                                                                  \
+/* The end of every entry point: no exception crosses into C. */
+#define CATCH_ALL(err, verb, path)                                                             \
     catch (const std::bad_alloc &)                                                             \
     {                                                                                          \
-        return sr_err_set(err, SR_E_NOMEM, "%s: out of memory", label);                        \
+        return sr_err_set(err, SR_E_NOMEM, "cannot %s '%s': out of memory", verb,              \
+                          path ? path : "");                                                   \
     }                                                                                          \
     catch (const std::exception &ex)                                                           \
     {                                                                                          \
-        return sr_err_set(err, SR_E_INTERNAL, "%s: unexpected exception: %s", label, ex.what()); \
+        return sr_err_set(err, SR_E_INTERNAL, "cannot %s '%s': unexpected exception: %s", verb, \
+                          path ? path : "", ex.what());                                        \
     }                                                                                          \
     catch (...)                                                                                \
     {                                                                                          \
-        return sr_err_set(err, SR_E_INTERNAL, "%s: unexpected exception", label);              \
+        return sr_err_set(err, SR_E_INTERNAL, "cannot %s '%s': unexpected exception", verb,    \
+                          path ? path : "");                                                   \
     }
 
 extern "C" sr_format sr_format_from_path(const char *path)
@@ -1815,7 +1835,7 @@ extern "C" sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err)
     try {
         return mesh_read(path, out, err);
     }
-    CATCH_ALL(err, path ? path : "mesh read")
+    CATCH_ALL(err, "read", path)
 }
 
 extern "C" sr_status sr_mesh_write(const char *path, const sr_mesh *mesh,
@@ -1824,7 +1844,7 @@ extern "C" sr_status sr_mesh_write(const char *path, const sr_mesh *mesh,
     try {
         return mesh_write(path, mesh, opts, err);
     }
-    CATCH_ALL(err, path ? path : "mesh write")
+    CATCH_ALL(err, "write", path)
 }
 
 extern "C" sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
@@ -1835,7 +1855,7 @@ extern "C" sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshe
             return sr_err_set(err, SR_E_INVALID, "no file name given");
         return scene_write(path, meshes, count, extras_json, err);
     }
-    CATCH_ALL(err, path ? path : "scene write")
+    CATCH_ALL(err, "write", path)
 }
 
 extern "C" sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err)
@@ -1845,7 +1865,7 @@ extern "C" sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err)
             return sr_err_set(err, SR_E_INVALID, "no file name given");
         return scene_read(path, out, err);
     }
-    CATCH_ALL(err, path ? path : "scene read")
+    CATCH_ALL(err, "read", path)
 }
 
 extern "C" void sr_scene_release(sr_scene *scene)

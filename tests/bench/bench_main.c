@@ -17,13 +17,17 @@
  *     time, alignment error against truth.json's pose, patch volume against the true
  *     missing volume, surface deviation restored <-> intact in the canonical frame.
  *  3. A full reconstruct of a posed 1M-triangle instance at 240/320 in a child process
- *     (this binary re-run with --big-instance) so that its peak RSS (ru_maxrss) is its
- *     own: time per phase and peak memory against the mesh's in-memory size.
+ *     (this binary re-run with --big-instance) so that its memory is its own: time per
+ *     phase and peak RSS (VmHWM, the high-water mark behind ru_maxrss, reset through
+ *     /proc/self/clear_refs just before the reconstruct) against the mesh's in-memory
+ *     size; then the same without the alignment search and the union, to show where
+ *     the time and memory go.
  *  4. The catalogue figures, if tests/bench/bench_catalog.c provides bench_catalog().
  *
  * Runs from the repository root (the Makefile does). About 3-6 minutes on 2 cores.
  */
 #include <errno.h>
+#include <malloc.h>
 #include <math.h>
 #include <spawn.h>
 #include <stdint.h>
@@ -267,9 +271,40 @@ typedef struct setting {
     size_t sectors, layers;
 } setting;
 
-/* One row: reconstruct `scan` and measure it against `truth` and `intact`. */
+/* Where the patches lie, canonical frame: *outside = volume of the patches outside the
+ * intact part (filled where there was no material), *hit = volume of the patches inside
+ * the true missing volume. 0 if a boolean fails (then the columns show '-'). */
+static int patch_overlap(const sr_recon_result *r, const double m[12], const sr_mesh *intact,
+                         const sr_mesh *missing, double *outside, double *hit)
+{
+    double out = 0, in = 0;
+    for (size_t i = 0; i < r->section_count; i++) {
+        sr_mesh p = {0}, d = {0}, x = {0};
+        if (sr_mesh_copy(&p, &r->sections[i].patch) != SR_OK)
+            return 0;
+        sr_mesh_transform(&p, m);
+        int ok = sr_boolean_difference(&p, intact, &d, NULL) == SR_OK &&
+                 sr_boolean_intersection(&p, missing, &x, NULL) == SR_OK;
+        if (ok) {
+            out += sr_mesh_volume(&d);
+            in += sr_mesh_volume(&x);
+        }
+        sr_mesh_release(&p);
+        sr_mesh_release(&d);
+        sr_mesh_release(&x);
+        if (!ok)
+            return 0;
+    }
+    *outside = out;
+    *hit = in;
+    return 1;
+}
+
+/* One row: reconstruct `scan` and measure it against `truth`, `intact` and `missing`
+ * (may be NULL). */
 static void part_row(const char *name, const char *input, const sr_mesh *scan,
-                     const sr_truth *truth, const sr_mesh *intact, setting s)
+                     const sr_truth *truth, const sr_mesh *intact, const sr_mesh *missing,
+                     setting s)
 {
     sr_recon_opts o;
     memset(&o, 0, sizeof o);
@@ -297,11 +332,16 @@ static void part_row(const char *name, const char *input, const sr_mesh *scan,
     double vol_err = 100.0 * (r.patch_volume_mm3 - truth->missing_volume) / truth->missing_volume;
 
     /* restored back to the canonical frame with the true pose */
+    double m[12];
+    sr_truth_to_canonical(truth, m);
+    char fill[32] = "     -      -";
+    double outside, hit;
+    if (missing && patch_overlap(&r, m, intact, missing, &outside, &hit))
+        snprintf(fill, sizeof fill, "%6.1f %6.1f", 100 * outside / truth->missing_volume,
+                 100 * (truth->missing_volume - hit) / truth->missing_volume);
     char dev[96] = "";
     sr_mesh can = {0};
     if (sr_mesh_copy(&can, &r.restored) == SR_OK) {
-        double m[12];
-        sr_truth_to_canonical(truth, m);
         sr_mesh_transform(&can, m);
         sr_deviation d1, d2;
         sr_err derr = {{0}};
@@ -313,13 +353,17 @@ static void part_row(const char *name, const char *input, const sr_mesh *scan,
             snprintf(dev, sizeof dev, "deviation failed: %.60s", derr.msg);
         sr_mesh_release(&can);
     }
-    char shift[24] = "";
+    char shift[48] = "";
     if (truth->symmetry.kind == SR_SYM_GLIDE)
-        snprintf(shift, sizeof shift, " shift %.2f", r.analysis.shift_mm);
-    printf("%7.2f %5.2f %5.2f %5.2f %5.2f %5.2f  %6.3f %6.3f  %3zu %9.1f %+8.1f  %s  %s%s\n",
+        snprintf(shift, sizeof shift, " shift found %.2f used %.2f", r.alignment.glide_shift_mm,
+                 r.analysis.shift_mm);
+    printf("%7.2f %5.2f %5.2f %5.2f %5.2f %5.2f  %6.3f %6.3f  %3zu %9.1f %+8.1f %s  %s  %s%s\n",
            r.timings.total_s, r.timings.align_s, r.timings.slice_s, r.timings.analyse_s,
            r.timings.patch_s, r.timings.union_s, ae.angle_deg, ae.offset_mm, r.section_count,
-           r.patch_volume_mm3, vol_err, dev, r.restored_by_union ? "union" : "CONCAT", shift);
+           r.patch_volume_mm3, vol_err, fill, dev, r.restored_by_union ? "union" : "CONCAT",
+           shift);
+    if (!r.restored_by_union && r.union_note[0])
+        printf("  %41s union fell back: %.110s\n", "", r.union_note);
     fflush(stdout);
     sr_recon_result_release(&r);
 }
@@ -345,15 +389,19 @@ static void bench_parts(const char *dir)
     printf("  times in s: total = sr_reconstruct; then align, slice, analyse, patch, union\n");
     printf("  align err: angle between found and true axis (axial) / plane normal "
            "(mirror, glide) in deg; offset in mm at the part's centre\n");
-    printf("  patch: sections found, patch volume mm^3, error %% vs truth missing_volume\n");
+    printf("  patch: sections found, patch volume mm^3, error %% vs truth missing_volume; "
+           "out %% = patch volume outside the intact part, missed %% = true missing volume "
+           "no patch covers (both %% of missing_volume)\n");
     printf("  dev R->I / I->R: restored (mapped back with the true pose) to intact and "
            "back, max and mean mm; 'union' = restored is one closed surface (CGAL), "
            "'CONCAT' = union fell back\n");
     printf("  missing / damage baseline per part: truth missing_volume; intact->damaged "
            "max and mean deviation (what an untouched part scores)\n\n");
-    printf("  %-23s %-6s %-7s %7s %5s %5s %5s %5s %5s  %6s %6s  %3s %9s %8s  %-13s  %-13s\n",
+    printf("  %-23s %-6s %-7s %7s %5s %5s %5s %5s %5s  %6s %6s  %3s %9s %8s %6s %6s  %-13s  "
+           "%-13s\n",
            "part", "input", "sec/lay", "total", "align", "slice", "anal", "patch", "union",
-           "ang°", "off mm", "sec", "patch", "err %", "R->I max mean", "I->R max mean");
+           "angle", "off mm", "sec", "patch", "err %", "out %", "missed", "R->I max mean",
+           "I->R max mean");
     static const setting settings[3] = {{60, 80}, {120, 160}, {240, 320}};
     double t_all = now_s();
     for (size_t p = 0; p < PART_COUNT; p++) {
@@ -366,10 +414,10 @@ static void bench_parts(const char *dir)
             printf("  %-23s %s\n", name, err.msg);
             continue;
         }
-        sr_mesh intact = {0}, damaged = {0}, posed = {0}, scan = {0};
-        if (!load(dir, name, "intact.stl", &intact)) {
+        sr_mesh intact = {0}, damaged = {0}, posed = {0}, scan = {0}, missing = {0};
+        if (!load(dir, name, "intact.stl", &intact))
             continue;
-        }
+        int have_missing = load(dir, name, "missing.stl", &missing);
         char base[96] = "n/a";
         if (load(dir, name, "damaged.stl", &damaged)) {
             sr_deviation d;
@@ -388,14 +436,17 @@ static void bench_parts(const char *dir)
                100 * truth.missing_volume / truth.intact_volume, base);
         if (load(dir, name, "damaged_posed.stl", &posed)) {
             for (int s = 0; s < 3; s++)
-                part_row(name, "posed", &posed, &truth, &intact, settings[s]);
+                part_row(name, "posed", &posed, &truth, &intact, have_missing ? &missing : NULL,
+                         settings[s]);
             sr_mesh_release(&posed);
         }
         if (load(dir, name, "damaged_scan.stl", &scan)) {
-            part_row(name, "scan", &scan, &truth, &intact, settings[2]);
+            part_row(name, "scan", &scan, &truth, &intact, have_missing ? &missing : NULL,
+                     settings[2]);
             sr_mesh_release(&scan);
         }
         sr_mesh_release(&intact);
+        sr_mesh_release(&missing);
     }
     printf("  (section 2 took %.1f s)\n\n", now_s() - t_all);
 }
@@ -420,7 +471,7 @@ static int big_child(void)
     sr_mesh_transform(&m, pose);
     double size = mesh_bytes(&m);
     double rss_before = proc_status_bytes("VmRSS");
-    /* Reset the high-water mark so ru_maxrss covers the reconstruct only (Linux >= 4.0;
+    /* Reset the high-water mark so VmHWM covers the reconstruct only (Linux >= 4.0;
      * if it cannot be reset the peak also covers building the mesh). */
     int reset = 0;
     FILE *f = fopen("/proc/self/clear_refs", "w");
@@ -442,9 +493,13 @@ static int big_child(void)
     double t0 = now_s();
     sr_status st = sr_reconstruct(&m, &o, &r, &err);
     double wall = now_s() - t0;
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    double peak = (double)ru.ru_maxrss * 1024.0;
+    /* VmHWM is the high-water mark clear_refs resets; ru_maxrss need not follow it */
+    double peak = proc_status_bytes("VmHWM");
+    if (peak < 0) {
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        peak = (double)ru.ru_maxrss * 1024.0;
+    }
     if (st != SR_OK) {
         printf("  reconstruct FAILED after %.2f s (%s): %s\n", wall, sr_status_str(st), err.msg);
     } else {
@@ -460,14 +515,43 @@ static int big_child(void)
                r.restored.tri_count);
         if (!r.restored_by_union && r.union_note[0])
             printf("  union note: %s\n", r.union_note);
-        sr_recon_result_release(&r);
     }
     printf("  memory: process RSS %.1f MiB at start, %.1f MiB with the mesh built; peak RSS "
-           "(ru_maxrss%s) %.1f MiB = %.2fx the mesh's in-memory size (%.2fx counting only "
+           "(VmHWM%s) %.1f MiB = %.2fx the mesh's in-memory size (%.2fx counting only "
            "above the start) — target < 3x: %s\n",
            mib(rss_start), mib(rss_before), reset ? ", reset before the reconstruct" : "",
            mib(peak), peak / size, (peak - rss_start) / size,
            peak / size < 3.0 ? "met" : "MISSED");
+    if (st == SR_OK && reset) {
+        /* What the union costs: the same run with the alignment found above given and
+         * the union skipped (slice + analyse + patch + concatenation only). */
+        o.have_alignment = 1;
+        o.alignment = r.alignment;
+        o.skip_union = 1;
+        sr_recon_result_release(&r);
+        malloc_trim(0); /* give back what the first run freed (glibc) */
+        f = fopen("/proc/self/clear_refs", "w");
+        if (f) {
+            fputs("5", f);
+            fclose(f);
+        }
+        double rss_reset = proc_status_bytes("VmRSS");
+        t0 = now_s();
+        sr_recon_result r2;
+        if (sr_reconstruct(&m, &o, &r2, &err) == SR_OK) {
+            wall = now_s() - t0;
+            double peak2 = proc_status_bytes("VmHWM");
+            printf("  without the alignment search and the union (alignment given, "
+                   "skip_union): %.2f s, peak RSS %.1f MiB = %.2fx the mesh (RSS %.1f MiB "
+                   "when it started)\n",
+                   wall, mib(peak2), peak2 / size, mib(rss_reset));
+            sr_recon_result_release(&r2);
+        } else {
+            printf("  rerun without union FAILED: %s\n", err.msg);
+        }
+    } else if (st == SR_OK) {
+        sr_recon_result_release(&r);
+    }
     fflush(stdout);
     sr_mesh_release(&m);
     return st == SR_OK ? 0 : 1;
@@ -486,14 +570,11 @@ static void bench_big(const char *self)
         return;
     }
     int status = 0;
-    struct rusage ru;
-    memset(&ru, 0, sizeof ru);
-    while (wait4(pid, &status, 0, &ru) < 0 && errno == EINTR)
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
         ;
     if (WIFSIGNALED(status))
         printf("  child killed by signal %d\n", WTERMSIG(status));
-    printf("  child total (build + pose + reconstruct) %.1f s, its peak RSS %.1f MiB\n\n",
-           now_s() - t0, mib((double)ru.ru_maxrss * 1024.0));
+    printf("  child total (build + pose + reconstructs) %.1f s\n\n", now_s() - t0);
 }
 
 /* ---------------------------------------------------------------------- main ---- */

@@ -10,8 +10,8 @@
  *   ...
  *   tmpdir_remove(&d);                              // the directory and all inside it
  *
- * Paths longer than TMPDIR_PATH_MAX - 1 are a test bug (asserted). Functions that can
- * fail return 0 on success and -1 on failure (errno set).
+ * Paths longer than TMPDIR_PATH_MAX - 1 are a test bug (tmpdir_join aborts).
+ * Functions that can fail return 0 on success and -1 on failure (errno set).
  */
 #ifndef SR_TEST_TMPDIR_H
 #define SR_TEST_TMPDIR_H
