@@ -59,6 +59,8 @@ TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 BENCH   := $(BUILD)/bench/symrec_bench
 
 .PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built
+# keep test objects: they are intermediates of the test binaries, not throwaways
+.SECONDARY:
 all: $(LIB) $(BIN)
 
 deps:
