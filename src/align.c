@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define PROBE_SAMPLES 300
 #define SCREEN_SAMPLES 600
 #define COARSE_SAMPLES 2000
 #define FINE_SAMPLES 10000
@@ -145,6 +146,8 @@ static sr_status check_opts(const sr_align_opts *in, sr_align_opts *o, sr_err *e
     if (!isfinite(o->delta_d) || o->delta_d < 0 || o->delta_d >= 1)
         return sr_err_set(err, SR_E_RANGE, "bad alignment delta_d %g: expected 0 or (0, 1)",
                           o->delta_d);
+    if (!isfinite(o->hint[0]) || !isfinite(o->hint[1]) || !isfinite(o->hint[2]))
+        return sr_err_set(err, SR_E_RANGE, "bad alignment hint: expected 3 finite numbers");
     if (!isfinite(o->coarse_step_deg) || o->coarse_step_deg < 0 || o->coarse_step_deg > 45)
         return sr_err_set(err, SR_E_RANGE,
                           "bad alignment coarse_step_deg %g: expected 0 or (0, 45]",
@@ -182,7 +185,10 @@ sr_status sr_align(const sr_mesh *mesh, const sr_symmetry *sym, const sr_align_o
     ctx.sym = sym;
     ctx.opts = &o;
     ctx.tol = TOL_OF_DIAG * surf.diag;
-    if (al_samples_make(&surf, SCREEN_SAMPLES, 0x5eed0003u, &ctx.screen) != SR_OK ||
+    memcpy(ctx.hint, o.hint, sizeof ctx.hint);
+    ctx.have_hint = v3_normalize(ctx.hint) > 0;
+    if (al_samples_make(&surf, PROBE_SAMPLES, 0x5eed0004u, &ctx.probe) != SR_OK ||
+        al_samples_make(&surf, SCREEN_SAMPLES, 0x5eed0003u, &ctx.screen) != SR_OK ||
         al_samples_make(&surf, COARSE_SAMPLES, 0x5eed0001u, &ctx.coarse) != SR_OK ||
         al_samples_make(&surf, FINE_SAMPLES, 0x5eed0002u, &ctx.fine) != SR_OK) {
         st = sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for samples");
@@ -268,6 +274,7 @@ sr_status sr_align(const sr_mesh *mesh, const sr_symmetry *sym, const sr_align_o
     *out = res;
     st = SR_OK;
 cleanup:
+    al_samples_release(&ctx.probe);
     al_samples_release(&ctx.screen);
     al_samples_release(&ctx.coarse);
     al_samples_release(&ctx.fine);

@@ -14,10 +14,12 @@
  *     out. Flat faces normal to the axis and cylinders are consistent with it;
  *  2. the three principal axes of the surface's area covariance through its area
  *     centroid (a gear's or flange's axis is its distinct principal axis);
- *  3. only when all of these fit poorly (score < 0.5): the paper's Algorithm 3 axis.
- * Each candidate is refined on a few thousand samples; the best (highest share of
- * samples whose rotated image lies on the scan, then lowest inlier RMS) is refined
- * again on tens of thousands. Continuous symmetry uses 11 rotation angles (30 deg
+ *  3. the caller's hint (opts->hint), if any, through the centroid;
+ *  4. only when all of these fit poorly (score < 0.5): the paper's Algorithm 3 axis.
+ * Candidates are screened on a few hundred samples, the promising ones refined on a
+ * few thousand; the best (highest share of samples whose rotated image lies on the
+ * scan, then lowest inlier RMS; with a hint, the nearest to it among those scoring 0.8
+ * of the best) is refined again on ten thousand. Continuous symmetry uses 11 rotation angles (30 deg
  * steps), n-fold symmetry the n - 1 rotations by multiples of 360/n.
  */
 #include "align_internal.h"
@@ -201,6 +203,57 @@ static void axial_model(const al_surface *s, const sr_symmetry *sym, const doubl
     }
 }
 
+/* Screens the candidate axes on the screening samples (loose tolerance), refines by
+ * ICP on the coarse samples those screening at least 0.6 of the best (best first; the
+ * hint's candidate, the last one, always), and returns the best refined - or, with a
+ * hint, the one nearest the hint among those scoring 0.8 of the best. */
+static void refine_axes(al_ctx *ctx, al_model *cand, int count, al_model *best,
+                        al_fit *best_fit)
+{
+    al_surface *s = ctx->surf;
+    double sc[8], top = -1;
+    int order[8];
+    for (int i = 0; i < count; i++) {
+        al_fit f;
+        al_evaluate(s, &ctx->screen, &cand[i], 0.02 * s->diag, &f);
+        sc[i] = f.score;
+        order[i] = i;
+        top = f.score > top ? f.score : top;
+    }
+    for (int i = 0; i < count; i++)
+        for (int j = i + 1; j < count; j++)
+            if (sc[order[j]] > sc[order[i]]) {
+                int t = order[i];
+                order[i] = order[j];
+                order[j] = t;
+            }
+    al_model rm[8];
+    al_fit rf[8];
+    int nr = 0, ib = 0;
+    for (int r = 0; r < count; r++) {
+        int i = order[r];
+        bool hinted = ctx->have_hint && i == count - 1;
+        if (nr > 0 && sc[i] < 0.6 * top && !hinted)
+            continue;
+        rm[nr] = cand[i];
+        al_icp(s, &ctx->coarse, &rm[nr], 25, 0.03 * s->diag, ctx->tol, &rf[nr]);
+        if (nr == 0 || al_fit_better(&rf[nr], &rf[ib]))
+            ib = nr;
+        nr++;
+    }
+    if (ctx->have_hint) {
+        int ih = -1;
+        for (int i = 0; i < nr; i++)
+            if (rf[i].score >= 0.8 * rf[ib].score &&
+                (ih < 0 || fabs(v3_dot(rm[i].a, ctx->hint)) > fabs(v3_dot(rm[ih].a, ctx->hint))))
+                ih = i;
+        if (ih >= 0)
+            ib = ih;
+    }
+    *best = rm[ib];
+    *best_fit = rf[ib];
+}
+
 sr_status al_axial_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     al_surface *s = ctx->surf;
@@ -216,13 +269,17 @@ sr_status al_axial_search(al_ctx *ctx, al_model *out, al_fit *fit)
         memcpy(cand_c[nc], s->centroid, sizeof e);
         nc++;
     }
+    if (ctx->have_hint) { /* last, see refine_axes */
+        memcpy(cand_a[nc], ctx->hint, sizeof cand_a[nc]);
+        memcpy(cand_c[nc], s->centroid, sizeof cand_c[nc]);
+        nc++;
+    }
     al_model models[6], best;
     al_fit bfit;
     for (int i = 0; i < nc; i++)
         axial_model(s, ctx->sym, cand_a[i], cand_c[i], &models[i]);
     double tau0 = 0.03 * s->diag;
-    al_refine_candidates(s, &ctx->screen, &ctx->coarse, models, nc, 0.02 * s->diag, tau0,
-                         ctx->tol, &best, &bfit);
+    refine_axes(ctx, models, nc, &best, &bfit);
     if (bfit.score < 0.5) {
         al_paper_result pr;
         if (al_paper_align(s, ctx->sym, ctx->opts, &pr) == SR_OK) {

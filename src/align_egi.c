@@ -24,9 +24,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#ifdef AL_DEBUG
-#include <stdio.h>
-#endif
 
 #define NSIDE 24
 #define NBIN (6 * NSIDE * NSIDE)
@@ -169,9 +166,6 @@ int al_egi_mirror_normals(const al_surface *s, double (*out)[3], int max_out)
             dup = dup || fabs(v3_dot(out[j], cm[best])) >= csame;
         if (!dup) {
             memcpy(out[found++], cm[best], sizeof cm[best]);
-#ifdef AL_DEBUG
-            fprintf(stderr, "egi %.4f n %.4f %.4f %.4f\n", cs[best], cm[best][0], cm[best][1], cm[best][2]);
-#endif
         }
         cs[best] = -1;
     }

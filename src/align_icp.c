@@ -17,7 +17,11 @@
  *   - a Gauss-Newton step on the model's local parameters (2 tilt angles of the axis or
  *     normal, position(s) in units of the part size, glide: the in-plane angle of t and
  *     the shift), the Jacobian by central differences of the model's 3x4 matrices
- *     (a handful of matrices per iteration, so it costs nothing per sample).
+ *     (a handful of matrices per iteration, so it costs nothing per sample), limited
+ *     so that no sample moves by more than half the cut-off (the linearisation only
+ *     holds within the matching radius);
+ *   - a candidate that matches under a quarter of its samples after 5 steps is dropped
+ *     early (its evaluation says how poor it is).
  * Several variants of a model (rotation angles; +s and -s of a glide) are used at once:
  * sample i uses variant i mod V, so a continuous axis is constrained by many angles at
  * the cost of one closest-point query per sample.
@@ -26,9 +30,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#ifdef AL_DEBUG
-#include <stdio.h>
-#endif
 
 #define FD_EPS 1e-6
 
@@ -340,9 +341,6 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
             big *= 0.5 * cut / disp;
         }
         al_model_step(m, step);
-#ifdef AL_DEBUG
-        if (getenv("AL_ICP")) fprintf(stderr, "   it %d cut %.4f med %.4f used %zu shift %.4f big %.2e\n", it, cut, med, used, m->shift, big);
-#endif
         /* anneal: once the fit has settled at this cut-off (or after 4 steps), shrink it
          * by at most 4x towards the robust scale; shrinking faster would drop the
          * residuals that still carry the error when most of the surface is blind to it
@@ -351,62 +349,14 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
         if (want < 0.8 * cut && (big < 1e-4 || at_level >= 4)) {
             cut = want > 0.25 * cut ? want : 0.25 * cut;
             at_level = 0;
-        } else if (big < 1e-7 && !(want < 0.8 * cut)) {
+        } else if (big < 1e-6 && !(want < 0.8 * cut)) {
             break; /* converged at the final cut-off */
         }
     }
 done:
-#ifdef AL_DEBUG
-    fprintf(stderr, "icp kind %d n %zu iters %d\n", m->kind, n, it);
-#endif
     free(mats);
     free(rows);
     free(d);
     al_evaluate(s, smp, m, tol, fit);
     fit->iterations = it;
-}
-
-int al_refine_candidates(al_surface *s, const al_samples *screen, const al_samples *coarse,
-                         al_model *cand, int count, double loose, double tau0, double tol,
-                         al_model *best, al_fit *best_fit)
-{
-    double sc[64];
-    int order[64];
-    double top = -1;
-    if (count > 64)
-        count = 64;
-    for (int i = 0; i < count; i++) {
-        al_fit f;
-        al_evaluate(s, screen, &cand[i], loose, &f);
-        sc[i] = f.score;
-        order[i] = i;
-        top = f.score > top ? f.score : top;
-    }
-    for (int i = 0; i < count; i++) /* best screening score first */
-        for (int j = i + 1; j < count; j++)
-            if (sc[order[j]] > sc[order[i]]) {
-                int t = order[i];
-                order[i] = order[j];
-                order[j] = t;
-            }
-    int refined = 0;
-    for (int r = 0; r < count; r++) {
-        int i = order[r];
-#ifndef AL_DEBUG
-        if (refined > 0 && sc[i] < 0.6 * top)
-            break;
-#endif
-        al_model m = cand[i];
-        al_fit f;
-        al_icp(s, coarse, &m, 25, tau0, tol, &f);
-#ifdef AL_DEBUG
-        fprintf(stderr, "cand %d screen %.3f -> score %.4f rms %.4f med %.4f a %.3f %.3f %.3f\n", i, sc[i], f.score, f.inlier_rms, f.median, m.a[0], m.a[1], m.a[2]);
-#endif
-        if (refined == 0 || al_fit_better(&f, best_fit)) {
-            *best = m;
-            *best_fit = f;
-        }
-        refined++;
-    }
-    return refined;
 }

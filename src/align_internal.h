@@ -10,6 +10,8 @@
  *                    plane, glide reflection) and one robust ICP engine that fits any
  *                    of them: the model maps the surface to itself, so each sample's
  *                    image must lie on the surface
+ *   align_egi.c      candidate plane normals from the normals alone (reflection
+ *                    symmetry of the extended Gaussian image)
  *   align_axial.c    axial: normal-line (Pottmann-Randrup) estimate + candidates + ICP
  *   align_planar.c   mirror and glide: plane candidates, shift search, ICP
  *   align_paper.c    the paper's Algorithm 1 (fast layer) and Algorithm 3 (heuristic
@@ -167,24 +169,18 @@ typedef struct al_fit {
     int iterations;        /* ICP iterations run */
 } al_fit;
 
-/* Robust ICP (Tukey weights, scale from the median distance, shrinking threshold)
- * starting at *m; point-to-plane residuals, Gauss-Newton steps. tau0 is the first
- * iteration's match radius (mm). Leaves the refined model in *m and its evaluation
- * against tol in *fit. */
+/* Robust ICP starting at *m (see align_icp.c): point-to-plane residuals, Tukey weights
+ * with a cut-off annealed from tau0 (mm, the first match radius) towards the robust
+ * scale, Gauss-Newton steps limited so no sample moves by more than half the cut-off.
+ * At most max_iter iterations. Leaves the refined model in *m and its evaluation
+ * against tol in *fit (a failed allocation leaves *m as it was). */
 void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, double tau0,
             double tol, al_fit *fit);
 
-/* Evaluation only: share of samples within tol, inlier RMS, median. */
+/* Evaluation only: share of samples within tol, inlier RMS, median (distances beyond
+ * tol are not searched: they count as infinite). */
 void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double tol,
                  al_fit *fit);
-
-/* Screens candidate models on `screen` samples with the loose tolerance, refines by
- * ICP on `coarse` those scoring at least 0.6 of the best screening score (best first),
- * and returns the best refined model and its fit. count <= 64, >= 1. Returns the
- * number refined. */
-int al_refine_candidates(al_surface *s, const al_samples *screen, const al_samples *coarse,
-                         al_model *cand, int count, double loose, double tau0, double tol,
-                         al_model *best, al_fit *best_fit);
 
 /* True when fit a is better than fit b (higher score; near-equal scores: lower RMS). */
 bool al_fit_better(const al_fit *a, const al_fit *b);
@@ -201,12 +197,15 @@ int al_egi_mirror_normals(const al_surface *s, double (*out)[3], int max_out);
 /* Shared inputs of a search. */
 typedef struct al_ctx {
     al_surface *surf;
+    al_samples probe;      /* a few hundred samples for rough scans (plane offsets) */
     al_samples screen;     /* a few hundred samples to screen candidates */
-    al_samples coarse;     /* a few thousand samples for candidates */
-    al_samples fine;       /* tens of thousands for the final refinement */
+    al_samples coarse;     /* a few thousand samples to refine candidates */
+    al_samples fine;       /* ten thousand for the final refinement */
     const sr_symmetry *sym;
     const sr_align_opts *opts; /* defaults filled in */
     double tol;            /* inlier tolerance for scores, mm */
+    bool have_hint;        /* opts->hint given: */
+    double hint[3];        /* its unit direction */
 } al_ctx;
 
 /* Axis direction and point minimising the normal-line residuals (Pottmann & Randrup

@@ -2,29 +2,39 @@
  * align_planar.c: finding the plane of a mirror- or glide-symmetric scan
  * (align_internal.h).
  *
- * Mirror: the candidates are the three principal planes of the surface's area
- * covariance through its area centroid; each is refined by the symmetry ICP
- * (align_icp.c: reflect the samples, closest points on the scan, robust point-to-plane
- * Gauss-Newton on the normal and offset), which trims the damage because a broken-off
- * piece has no mirror partner. When none fits (score < 0.6), normals spread over a
- * hemisphere (Fibonacci lattice) are tried as well.
+ * Plane candidates: the three principal planes of the surface's area covariance and
+ * the directions about which the normals are reflection-symmetric (align_egi.c; the
+ * principal axes miss a mirror plane when damage tilts them), all through the area
+ * centroid. Each is moved along its normal to the offset where most samples find a
+ * mirror partner (damage pulls the centroid off the plane), given a few ICP steps on
+ * the screening samples and scored with a loose tolerance; those scoring 0.8 of the
+ * best are refined by the symmetry ICP (align_icp.c: reflect the samples, closest
+ * points on the scan, robust point-to-plane Gauss-Newton on the normal and offset),
+ * which trims the damage because a broken-off piece has no mirror partner.
+ *
+ * Mirror: several planes can be mirror planes of most of the part (a bracket is
+ * symmetric about x = 0 and y = 0, a plate about its mid-plane, a U clamp about its
+ * half-length). Among the refined planes scoring at least 0.8 of the best, the one
+ * across which the part spreads widest (largest variance of the surface along the
+ * normal) is taken: the plane whose two halves say most about each other; this is a
+ * heuristic, and the caller's hint (opts->hint) overrides it - the hint joins the
+ * candidates and the good plane nearest it is taken.
  *
  * Glide: reflection in the plane plus a shift s along a direction t in the plane. For
- * every principal plane and both principal directions within it, s is scanned over
- * (0, half the part's length along t] on a small sample set (score with a loose
- * tolerance), then the best (plane, t, s) are refined together by the ICP with both
- * the +s and the -s transform. A glide with shift s is also one with 3s, 5s, ... (its
- * square is a translation by 2s), so the smallest odd fraction of s that fits as well
- * is reported. A given shift (sym->shift_mm > 0) is kept fixed.
+ * the good planes (within 30 deg of the hint, if given) and the principal directions
+ * within them, s is scanned from 4 tol (smaller shifts are a mirror) to half the part's
+ * length along t in tol / 2 steps, scored on the samples whose faces look along t (only
+ * they tell one shift from another) with the normals required to match; the best
+ * (plane, t, s) are refined together by the ICP with both the +s and the -s transform,
+ * starting at a small cut-off so the part's ends (which the shift moves off the part)
+ * cannot pull the shift. A glide by s is also one by 3s, 5s, ... (its square is a
+ * translation by 2s), so the smallest odd fraction of s that matches the facing samples
+ * about as well is reported. A given shift (sym->shift_mm > 0) is kept fixed.
  */
 #include "align_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include "/tmp/al/phase.h"
-#ifdef AL_DEBUG
-#include <stdio.h>
-#endif
 
 static void plane_model(const al_surface *s, int kind, const double n[3], const double c[3],
                         al_model *m)
@@ -54,6 +64,8 @@ static double extent_along(const al_surface *s, const double t[3])
     return hi > lo ? hi - lo : 0;
 }
 
+#define MAX_PLANES 10 /* 3 principal + 6 EGI + the hint */
+
 /* A plane candidate after refinement. */
 typedef struct plane_cand {
     al_model m;
@@ -78,7 +90,7 @@ static double scan_offset(al_ctx *ctx, al_model *m)
         for (int k = 0; k < 3; k++)
             t.c[k] = c0[k] + i * step * m->a[k];
         al_fit f;
-        al_evaluate(s, &ctx->screen, &t, loose, &f);
+        al_evaluate(s, &ctx->probe, &t, loose, &f);
         if (f.score > best) {
             best = f.score;
             best_off = i * step;
@@ -107,7 +119,7 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
     al_surface *s = ctx->surf;
     double w[3], v[9];
     al_eig_sym(3, s->cov, w, v);
-    double normals[9][3];
+    double normals[MAX_PLANES][3];
     int nn = 0;
     for (int k = 0; k < 3; k++) {
         normals[nn][0] = v[k];
@@ -116,7 +128,6 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
         nn++;
     }
     double egi[6][3];
-    PHASE("start");
     int ne = al_egi_mirror_normals(s, egi, 6);
     for (int i = 0; i < ne; i++) {
         bool near = false;
@@ -125,10 +136,14 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
         if (!near)
             memcpy(normals[nn++], egi[i], sizeof egi[i]);
     }
-    PHASE("egi");
-    al_model m[9];
-    double sc[9], med[9], top = 0;
-    int order[9];
+    int hinted = -1;
+    if (ctx->have_hint) {
+        hinted = nn;
+        memcpy(normals[nn++], ctx->hint, sizeof normals[0]);
+    }
+    al_model m[MAX_PLANES];
+    double sc[MAX_PLANES], med[MAX_PLANES], top = 0;
+    int order[MAX_PLANES];
     for (int i = 0; i < nn; i++) {
         /* screening: best offset, a few ICP steps on the screening samples (a normal a
          * few degrees off, as damage tilts the principal axes, misses the loose
@@ -136,13 +151,12 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
         plane_model(s, AL_MIRROR, normals[i], s->centroid, &m[i]);
         scan_offset(ctx, &m[i]);
         al_fit f;
-        al_icp(s, &ctx->screen, &m[i], 6, 0.03 * s->diag, 0.02 * s->diag, &f);
+        al_icp(s, &ctx->screen, &m[i], 5, 0.03 * s->diag, 0.02 * s->diag, &f);
         sc[i] = f.score;
         med[i] = f.median;
         top = sc[i] > top ? sc[i] : top;
         order[i] = i;
     }
-    PHASE("screen");
     for (int i = 0; i < nn; i++)
         for (int j = i + 1; j < nn; j++)
             if (sc[order[j]] > sc[order[i]]) {
@@ -153,8 +167,8 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
     int count = 0;
     for (int r = 0; r < nn; r++) {
         int i = order[r];
-        if (count > 0 && sc[i] < 0.8 * top)
-            break;
+        if (count > 0 && sc[i] < 0.8 * top && i != hinted)
+            continue;
         plane_cand *pc = &out[count++];
         pc->m = m[i];
         /* start from the screening fit's scale: large radii cost much on dense scans */
@@ -162,13 +176,7 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
         tau = tau < ctx->tol ? ctx->tol : (tau < 0.03 * s->diag ? tau : 0.03 * s->diag);
         al_icp(s, &ctx->coarse, &pc->m, 25, tau, ctx->tol, &pc->f);
         pc->spread = spread_along(s, pc->m.a);
-#ifdef AL_DEBUG
-        fprintf(stderr, "plane %d screen %.3f score %.4f rms %.4f spread %.1f n %.4f %.4f %.4f\n",
-                i, sc[i], pc->f.score, pc->f.inlier_rms, pc->spread, pc->m.a[0], pc->m.a[1],
-                pc->m.a[2]);
-#endif
     }
-    PHASE("planeicp");
     return count;
 }
 
@@ -185,7 +193,7 @@ static void finish(al_ctx *ctx, al_model *m, const al_fit *cf, al_fit *fit)
 
 static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
-    plane_cand pc[9];
+    plane_cand pc[MAX_PLANES];
     int np = plane_candidates(ctx, pc);
     double top = 0;
     for (int k = 0; k < np; k++)
@@ -193,11 +201,17 @@ static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
     /* several planes can be mirror planes of most of the part (a bracket's y = 0 as
      * well as its x = 0, a plate's mid-plane): among the good ones take the plane
      * across which the part spreads widest, the one whose halves say most about each
-     * other; when none is good, simply the best */
+     * other (with a hint: the one nearest the hint); when none is good, the best */
     int pick = -1;
     for (int k = 0; k < np; k++) {
         bool good = pc[k].f.score >= 0.5 && pc[k].f.score >= 0.8 * top;
-        if (good && (pick < 0 || pc[k].spread > pc[pick].spread))
+        if (!good)
+            continue;
+        if (pick < 0)
+            pick = k;
+        else if (ctx->have_hint ? fabs(v3_dot(pc[k].m.a, ctx->hint)) >
+                                      fabs(v3_dot(pc[pick].m.a, ctx->hint))
+                                : pc[k].spread > pc[pick].spread)
             pick = k;
     }
     if (pick < 0) {
@@ -207,9 +221,7 @@ static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
                 pick = k;
     }
     al_model best = pc[pick].m;
-    PHASE("coarse");
     finish(ctx, &best, &pc[pick].f, fit);
-    PHASE("fine");
     *out = best;
     return SR_OK;
 }
@@ -294,9 +306,6 @@ static double scan_shift(al_ctx *ctx, al_model *m, const facing *fc, double smax
     for (int i = 0; i <= nstep; i++) {
         m->shift = s0 + i * step;
         double sc = glide_score(ctx->surf, fc->p, fc->n, fc->count, m, tol);
-#ifdef AL_DEBUG
-        if (getenv("AL_SCAN")) fprintf(stderr, "   s %.3f score %.3f (n=%zu) t %.3f %.3f %.3f\n", m->shift, sc, fc->count, m->t[0], m->t[1], m->t[2]);
-#endif
         if (sc > best) {
             best = sc;
             best_s = m->shift;
@@ -309,7 +318,7 @@ static double scan_shift(al_ctx *ctx, al_model *m, const facing *fc, double smax
 static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     al_surface *s = ctx->surf;
-    plane_cand pc[9];
+    plane_cand pc[MAX_PLANES];
     int np = plane_candidates(ctx, pc);
     double top = 0;
     for (int k = 0; k < np; k++)
@@ -320,11 +329,15 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
     double smin = 4 * ctx->tol;
     /* (plane, direction) combinations with their scanned shift and its score on the
      * facing samples; the planes must be fair mirrors of the bulk of the part */
-    al_model combo[27];
-    double csc[27], ctop = 0;
+    al_model combo[3 * MAX_PLANES];
+    double csc[3 * MAX_PLANES], ctop = 0;
     int ncombo = 0;
+    bool near_hint = false; /* with a hint: only planes within 30 deg of it */
+    for (int k = 0; k < np && ctx->have_hint; k++)
+        near_hint = near_hint || fabs(v3_dot(pc[k].m.a, ctx->hint)) >= cos(M_PI / 6);
     for (int k = 0; k < np; k++) {
-        if (pc[k].f.score < 0.8 * top)
+        if (near_hint ? fabs(v3_dot(pc[k].m.a, ctx->hint)) < cos(M_PI / 6)
+                      : pc[k].f.score < 0.8 * top)
             continue;
         /* in-plane directions: the principal directions not along the normal */
         for (int j = 0; j < 3; j++) {
@@ -358,7 +371,6 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
             ncombo++;
         }
     }
-    PHASE("shiftscan");
     al_model best = {0};
     al_fit bfit = {0};
     bool have = false;
@@ -371,10 +383,6 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
          * the part's ends (which the shift moves off the part) cannot pull the shift,
          * which only the faces across t see */
         al_icp(s, &ctx->coarse, &m, 25, 2 * ctx->tol, ctx->tol, &f);
-#ifdef AL_DEBUG
-        fprintf(stderr, "glide combo %d scan %.3f -> shift %g score %g rms %g\n", i, csc[i],
-                m.shift, f.score, f.inlier_rms);
-#endif
         if (!given && fabs(m.shift) < smin)
             continue; /* slid back to a mirror */
         if (!have || al_fit_better(&f, &bfit)) {
@@ -383,7 +391,6 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
             have = true;
         }
     }
-    PHASE("glideicp");
     if (!have) {
         /* no glide at all: report the best plane as a glide with the smallest shift */
         best = pc[0].m;
@@ -421,9 +428,7 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
         }
         free(fc.p);
     }
-    PHASE("fraction");
     finish(ctx, &best, &bfit, fit);
-    PHASE("fine");
     if (best.shift < 0) {
         best.shift = -best.shift;
         for (int k = 0; k < 3; k++)

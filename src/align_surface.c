@@ -313,9 +313,6 @@ static void closest_on_triangle(const double p[3], const double a[3], const doub
         q[k] = a[k] + ab[k] * v + ac[k] * w;
 }
 
-#ifdef AL_DEBUG
-unsigned long al_dbg_queries, al_dbg_tris, al_dbg_cells;
-#endif
 static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *best2,
                       size_t *best)
 {
@@ -333,10 +330,6 @@ static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *bes
     }
     if (box2 >= *best2)
         return;
-#ifdef AL_DEBUG
-    al_dbg_cells++;
-    al_dbg_tris += s->cell_start[cidx + 1] - s->cell_start[cidx];
-#endif
     for (uint32_t j = s->cell_start[cidx]; j < s->cell_start[cidx + 1]; j++) {
         uint32_t i = s->cell_items[j];
         if (s->stamp[i] == s->stamp_id)
@@ -361,9 +354,6 @@ static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *bes
 bool al_surface_closest(al_surface *s, const double p[3], double max_dist, double q[3],
                         double n[3], double *dist)
 {
-#ifdef AL_DEBUG
-    al_dbg_queries++;
-#endif
     if (++s->stamp_id == 0) { /* wrapped: reset the stamps */
         memset(s->stamp, 0, s->count * sizeof *s->stamp);
         s->stamp_id = 1;

@@ -731,8 +731,9 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
                 goto out;
             }
             if (idx < 0 || (unsigned long long)idx >= nv) {
-                st = fail(err, SR_E_INVALID, name, "face %zu (line %zu) uses vertex %lld, file has %zu",
-                          i, r.number, idx, nv);
+                st = fail(err, SR_E_INVALID, name,
+                          "face %zu (line %zu) uses vertex %lld, file has %zu", i, r.number, idx,
+                          nv);
                 goto out;
             }
             cb.v[c] = (uint32_t)idx;
@@ -1051,7 +1052,8 @@ sr_status sr_file_check_ply(const unsigned char *data, size_t size, const char *
         } else if (strcmp(el->name, "face") == 0) {
             face_el = (long)i;
             if (vertex_el < 0) {
-                st = fail(err, SR_E_UNSUPPORTED, name, "PLY face element before the vertex element");
+                st =
+                    fail(err, SR_E_UNSUPPORTED, name, "PLY face element before the vertex element");
                 goto out;
             }
             for (size_t k = 0; k < el->prop_count; k++) {
@@ -1069,8 +1071,9 @@ sr_status sr_file_check_ply(const unsigned char *data, size_t size, const char *
              * type for property list"), not even their synonyms int8 or int32. */
             const char *cn = h->prop[face_list].count_name;
             if (strcmp(cn, "uchar") != 0 && strcmp(cn, "uint8") != 0 && strcmp(cn, "int") != 0) {
-                st = fail(err, SR_E_UNSUPPORTED, name,
-                          "PLY face list length type '%s' (OpenMesh reads uchar, uint8 or int)", cn);
+                st =
+                    fail(err, SR_E_UNSUPPORTED, name,
+                         "PLY face list length type '%s' (OpenMesh reads uchar, uint8 or int)", cn);
                 goto out;
             }
         }
@@ -1092,9 +1095,10 @@ sr_status sr_file_check_ply(const unsigned char *data, size_t size, const char *
         }
         need += el->count * row;
         if (need > (unsigned long long)body + 1) {
-            st = fail(err, SR_E_FORMAT, name,
-                      "PLY header declares %llu '%s' elements, more than the %zu-byte body can hold",
-                      el->count, el->name, body);
+            st =
+                fail(err, SR_E_FORMAT, name,
+                     "PLY header declares %llu '%s' elements, more than the %zu-byte body can hold",
+                     el->count, el->name, body);
             goto out;
         }
     }

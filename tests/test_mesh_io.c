@@ -437,7 +437,8 @@ static void garbage_bytes_are_refused(void **state)
         {"junk.gltf", SR_E_FORMAT, "malformed glTF JSON"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        assert_int_equal(tmpdir_write_file(path_in(state, cases[i].name, path), junk, sizeof junk), 0);
+        assert_int_equal(tmpdir_write_file(path_in(state, cases[i].name, path), junk, sizeof junk),
+                         0);
         expect_read_error(path, cases[i].st, cases[i].part);
     }
 }
@@ -469,7 +470,8 @@ static void binary_stl_count_too_big_is_truncation(void **state)
     size_t n = octa_stl_binary(buf, "binary", 9, 0);
     char path[TMPDIR_PATH_MAX];
     assert_int_equal(tmpdir_write_file(path_in(state, "lie.stl", path), buf, n), 0);
-    expect_read_error(path, SR_E_FORMAT, "truncated binary STL (header says 9 triangles, file holds 8)");
+    expect_read_error(path, SR_E_FORMAT,
+                      "truncated binary STL (header says 9 triangles, file holds 8)");
 }
 
 static void binary_stl_count_too_small_is_refused(void **state)
@@ -516,7 +518,8 @@ static void binary_stl_starting_with_solid_loads_as_binary(void **state)
     sr_mesh_release(&m);
     /* the same file cut short is a truncated binary STL, never an empty ASCII one */
     assert_int_equal(tmpdir_write_file(path, buf, n - 50), 0);
-    expect_read_error(path, SR_E_FORMAT, "truncated binary STL (header says 8 triangles, file holds 7)");
+    expect_read_error(path, SR_E_FORMAT,
+                      "truncated binary STL (header says 8 triangles, file holds 7)");
 }
 
 static void nan_in_binary_stl_is_invalid(void **state)
@@ -628,7 +631,8 @@ static void ascii_stl_cut_inside_a_facet_is_refused(void **state)
 static void empty_ascii_stl_has_no_triangles(void **state)
 {
     char path[TMPDIR_PATH_MAX];
-    assert_int_equal(tmpdir_write_text(path_in(state, "none.stl", path), "solid x\nendsolid x\n"), 0);
+    assert_int_equal(tmpdir_write_text(path_in(state, "none.stl", path), "solid x\nendsolid x\n"),
+                     0);
     expect_read_error(path, SR_E_INVALID, "contains no triangles");
 }
 
@@ -784,12 +788,13 @@ static void nonfinite_coordinates_in_off_ply_are_invalid(void **state)
                                        "OFF\n3 1 0\n0 0 0\n1 NaN 0\n0 1 0\n3 0 1 2\n"),
                      0);
     expect_read_error(path, SR_E_INVALID, "vertex 1 has a NaN coordinate (line 4)");
-    assert_int_equal(tmpdir_write_text(path_in(state, "inf.ply", path),
-                                       "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\n"
-                                       "property double y\nproperty double z\nelement face 1\n"
-                                       "property list uchar int vertex_indices\nend_header\n"
-                                       "0 0 0\n1 0 0\n0 1 -inf\n3 0 1 2\n"),
-                     0);
+    assert_int_equal(
+        tmpdir_write_text(path_in(state, "inf.ply", path),
+                          "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\n"
+                          "property double y\nproperty double z\nelement face 1\n"
+                          "property list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n0 1 -inf\n3 0 1 2\n"),
+        0);
     expect_read_error(path, SR_E_INVALID, "PLY vertex 2 has an infinite coordinate");
 }
 
@@ -850,19 +855,20 @@ static void write_tri_gltf(const char *path, const char *uri, const char *byte_l
                            unsigned position_count)
 {
     char text[2048];
-    snprintf(text, sizeof text,
-             "{\"asset\": {\"version\": \"2.0\"},\n"
-             " \"buffers\": [{\"uri\": \"%s\", \"byteLength\": %s}],\n"
-             " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 36},\n"
-             "                   {\"buffer\": 0, \"byteOffset\": 36, \"byteLength\": 12}],\n"
-             " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": %u,\n"
-             "                  \"type\": \"VEC3\", \"min\": [0,0,0], \"max\": [1,1,0]},\n"
-             "                 {\"bufferView\": 1, \"componentType\": 5125, \"count\": 3,\n"
-             "                  \"type\": \"SCALAR\"}],\n"
-             " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": 1}]}],\n"
-             " \"nodes\": [{\"mesh\": 0, \"translation\": [5, 0, 0]}],\n"
-             " \"scenes\": [{\"nodes\": [0]}], \"scene\": 0}\n",
-             uri, byte_length, position_count);
+    snprintf(
+        text, sizeof text,
+        "{\"asset\": {\"version\": \"2.0\"},\n"
+        " \"buffers\": [{\"uri\": \"%s\", \"byteLength\": %s}],\n"
+        " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 36},\n"
+        "                   {\"buffer\": 0, \"byteOffset\": 36, \"byteLength\": 12}],\n"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": %u,\n"
+        "                  \"type\": \"VEC3\", \"min\": [0,0,0], \"max\": [1,1,0]},\n"
+        "                 {\"bufferView\": 1, \"componentType\": 5125, \"count\": 3,\n"
+        "                  \"type\": \"SCALAR\"}],\n"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": 1}]}],\n"
+        " \"nodes\": [{\"mesh\": 0, \"translation\": [5, 0, 0]}],\n"
+        " \"scenes\": [{\"nodes\": [0]}], \"scene\": 0}\n",
+        uri, byte_length, position_count);
     assert_int_equal(tmpdir_write_text(path, text), 0);
 }
 
@@ -887,12 +893,17 @@ static void gltf_strips_short_indices_and_unindexed_triangles_read(void **state)
             " \"buffers\": [{\"uri\": \"strip.bin\", \"byteLength\": 56}],\n"
             " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48},\n"
             "                   {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 8}],\n"
-            " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\"},\n"
-            "                 {\"bufferView\": 1, \"componentType\": 5123, \"count\": 4, \"type\": \"SCALAR\"},\n"
-            "                 {\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\"}],\n"
-            " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": 1, \"mode\": 5},\n"
+            " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": "
+            "\"VEC3\"},\n"
+            "                 {\"bufferView\": 1, \"componentType\": 5123, \"count\": 4, \"type\": "
+            "\"SCALAR\"},\n"
+            "                 {\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": "
+            "\"VEC3\"}],\n"
+            " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, \"indices\": 1, "
+            "\"mode\": 5},\n"
             "                                {\"attributes\": {\"POSITION\": 2}},\n"
-            "                                {\"attributes\": {\"POSITION\": 0}, \"mode\": 0}]}]}\n"),
+            "                                {\"attributes\": {\"POSITION\": 0}, \"mode\": "
+            "0}]}]}\n"),
         0);
     sr_mesh m = {0};
     sr_err err = {{0}};

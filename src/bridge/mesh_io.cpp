@@ -504,8 +504,8 @@ sr_status stl_result(const char *path, const sr_file_facts &f, const Collector &
             facet++;
         }
         for (int k = 0; k < 3; k++)
-            if (facet >= f.tri_count ||
-                !same_corner(&c.xyz[3 * (size_t)c.face_index[3 * i + k]], f.xyz + 9 * facet + 3 * k))
+            if (facet >= f.tri_count || !same_corner(&c.xyz[3 * (size_t)c.face_index[3 * i + k]],
+                                                     f.xyz + 9 * facet + 3 * k))
                 return rfail(err, SR_E_FORMAT, path,
                              "OpenMesh read triangle %zu differently from the file", facet);
     }
@@ -659,16 +659,24 @@ struct FsGuard {
     sr_status refusal_status = SR_OK;
 };
 
+int hex_value(unsigned char c)
+{
+    return c >= '0' && c <= '9' ? c - '0'
+           : c >= 'a' && c <= 'f' ? c - 'a' + 10
+           : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                  : 0;   /* as tinygltf: "%zz" decodes to a NUL byte */
+}
+
+/* Exactly as tinygltf's dlib::urldecode, so that we check the name it will open. */
 std::string url_decode(const std::string &s)
 {
-    /* as tinygltf's dlib::urldecode, so that we check the name it will open */
     std::string o;
     for (size_t i = 0; i < s.size(); i++) {
         if (s[i] == '+') {
             o += ' ';
-        } else if (s[i] == '%' && i + 2 < s.size() && isxdigit((unsigned char)s[i + 1]) &&
-                   isxdigit((unsigned char)s[i + 2])) {
-            o += (char)std::stoi(s.substr(i + 1, 2), nullptr, 16);
+        } else if (s[i] == '%' && s.size() > i + 2) {
+            o += (char)(hex_value((unsigned char)s[i + 1]) << 4 |
+                        hex_value((unsigned char)s[i + 2]));
             i += 2;
         } else {
             o += s[i];
@@ -711,7 +719,7 @@ sr_status check_external(const FsGuard &g, const std::string &rel, std::string *
     std::string p = g.folder + "/" + rel;
     char *real = realpath(p.c_str(), nullptr);
     if (!real) {
-        *why = errno_text(errno);
+        *why = errno == ENOENT ? "does not exist" : "cannot be opened: " + errno_text(errno);
         return SR_E_IO;
     }
     std::string r(real);
@@ -722,7 +730,7 @@ sr_status check_external(const FsGuard &g, const std::string &rel, std::string *
     }
     struct stat st;
     if (stat(r.c_str(), &st) != 0) {
-        *why = errno_text(errno);
+        *why = "cannot be opened: " + errno_text(errno);
         return SR_E_IO;
     }
     if (S_ISDIR(st.st_mode)) {
@@ -861,11 +869,13 @@ sr_status gltf_precheck(const char *path, const unsigned char *json, size_t n,
             if (!glb || i != 0)
                 return rfail(err, SR_E_FORMAT, path, "buffer %zu has no uri", i);
             if (!glb->has_bin)
-                return rfail(err, SR_E_FORMAT, path, "buffer 0 needs the GLB BIN chunk, there is none");
-            if (len > (double)glb->bin_size)
                 return rfail(err, SR_E_FORMAT, path,
-                             "buffer 0 declares byteLength %.0f but the GLB BIN chunk holds %zu bytes",
-                             len, glb->bin_size);
+                             "buffer 0 needs the GLB BIN chunk, there is none");
+            if (len > (double)glb->bin_size)
+                return rfail(
+                    err, SR_E_FORMAT, path,
+                    "buffer 0 declares byteLength %.0f but the GLB BIN chunk holds %zu bytes", len,
+                    glb->bin_size);
             continue;
         }
         std::string uri = u->get<std::string>();
@@ -874,9 +884,10 @@ sr_status gltf_precheck(const char *path, const unsigned char *json, size_t n,
             if (have < 0)
                 return rfail(err, SR_E_FORMAT, path, "buffer %zu data URI is not base64", i);
             if (len != (double)have)
-                return rfail(err, SR_E_FORMAT, path,
-                             "buffer %zu declares byteLength %.0f but its data URI holds %lld bytes",
-                             i, len, have);
+                return rfail(
+                    err, SR_E_FORMAT, path,
+                    "buffer %zu declares byteLength %.0f but its data URI holds %lld bytes", i, len,
+                    have);
             continue;
         }
         std::string rel = url_decode(uri), full, why;
@@ -892,7 +903,8 @@ sr_status gltf_precheck(const char *path, const unsigned char *json, size_t n,
     return SR_OK;
 }
 
-const char *const IGNORABLE_EXTENSIONS[] = {"KHR_materials_", "KHR_texture_", "KHR_lights_punctual"};
+const char *const IGNORABLE_EXTENSIONS[] = {"KHR_materials_", "KHR_texture_",
+                                            "KHR_lights_punctual"};
 
 sr_status gltf_load(const char *path, sr_format fmt, tinygltf::Model &model, sr_err *err)
 {
@@ -987,9 +999,10 @@ sr_status accessor_view(const char *path, const tinygltf::Model &m, int index, c
     default: break;
     }
     bool position = strcmp(what, "POSITION") == 0;
-    if (position ? (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.type != TINYGLTF_TYPE_VEC3)
-                 : (comp == 0 || a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-                    a.type != TINYGLTF_TYPE_SCALAR))
+    if (position
+            ? (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.type != TINYGLTF_TYPE_VEC3)
+            : (comp == 0 || a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+               a.type != TINYGLTF_TYPE_SCALAR))
         return rfail(err, SR_E_FORMAT, path,
                      "mesh %zu: %s accessor %d has component type %d, type %d (need %s)", mesh,
                      what, index, a.componentType, a.type,
@@ -1000,7 +1013,8 @@ sr_status accessor_view(const char *path, const tinygltf::Model &m, int index, c
         return rfail(err, SR_E_FORMAT, path, "bufferView %d has a bad byteStride %zu",
                      a.bufferView, bv.byteStride);
     if (a.count == 0)
-        return rfail(err, SR_E_FORMAT, path, "mesh %zu: %s accessor %d is empty", mesh, what, index);
+        return rfail(err, SR_E_FORMAT, path, "mesh %zu: %s accessor %d is empty", mesh, what,
+                     index);
     /* offset + (count - 1) * stride + elem <= byteLength, without overflow */
     if (a.byteOffset > bv.byteLength || elem > bv.byteLength - a.byteOffset ||
         (a.count - 1) > (bv.byteLength - a.byteOffset - elem) / stride)
@@ -1033,7 +1047,8 @@ uint32_t view_index(const View &v, size_t i)
 /* The triangles of glTF mesh `mi` (all its triangle primitives; points and lines are
  * not surfaces and are skipped), untransformed. Triangles that repeat a vertex are
  * dropped, as the other readers do. */
-sr_status gltf_mesh(const char *path, const tinygltf::Model &m, size_t mi, sr_mesh *out, sr_err *err)
+sr_status gltf_mesh(const char *path, const tinygltf::Model &m, size_t mi, sr_mesh *out,
+                    sr_err *err)
 {
     const tinygltf::Mesh &mesh = m.meshes[mi];
     std::vector<double> xyz;
@@ -1091,9 +1106,10 @@ sr_status gltf_mesh(const char *path, const tinygltf::Model &m, size_t mi, sr_me
                          "mesh %zu primitive %zu has %zu indices, not a multiple of 3", mi, pi, n);
         for (size_t i = 0; i < n; i++)
             if (corner(i) >= pv.count)
-                return rfail(err, SR_E_INVALID, path,
-                             "mesh %zu primitive %zu index %zu is %u, not below the vertex count %zu",
-                             mi, pi, i, corner(i), pv.count);
+                return rfail(
+                    err, SR_E_INVALID, path,
+                    "mesh %zu primitive %zu index %zu is %u, not below the vertex count %zu", mi,
+                    pi, i, corner(i), pv.count);
         size_t tcount = mode == TINYGLTF_MODE_TRIANGLES ? n / 3 : (n >= 3 ? n - 2 : 0);
         for (size_t t = 0; t < tcount; t++) {
             uint32_t a, b, c;
@@ -1377,7 +1393,8 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
         imp.reserve((unsigned)m.vertex_count, (unsigned)(3 * m.tri_count), (unsigned)m.tri_count);
         std::vector<OpenMesh::VertexHandle> vh(m.vertex_count);
         for (size_t v = 0; v < m.vertex_count; v++)
-            vh[v] = imp.add_vertex(OpenMesh::Vec3d(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]));
+            vh[v] =
+                imp.add_vertex(OpenMesh::Vec3d(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]));
         OpenMesh::IO::BaseImporter::VHandles f(3);
         for (size_t t = 0; t < m.tri_count; t++) {
             if (repeats_vertex(m.tri + 3 * t, 3))
@@ -1399,13 +1416,15 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
                      first_line(log).c_str());
     *out = os.str();
     if (!ascii) {
-        if (out->size() != 84 + 50 * expect || rd_le32((const unsigned char *)out->data() + 80) != expect)
+        if (out->size() != 84 + 50 * expect ||
+            rd_le32((const unsigned char *)out->data() + 80) != expect)
             return wfail(err, SR_E_INTERNAL, path,
                          "OpenMesh wrote %zu bytes of binary STL, %zu triangles need %zu",
                          out->size(), expect, 84 + 50 * expect);
     } else {
         size_t n = 0;
-        for (size_t at = out->find("endfacet"); at != std::string::npos; at = out->find("endfacet", at + 8))
+        for (size_t at = out->find("endfacet"); at != std::string::npos;
+             at = out->find("endfacet", at + 8))
             n++;
         if (n != expect)
             return wfail(err, SR_E_INTERNAL, path, "OpenMesh wrote %zu of %zu facets", n, expect);
@@ -1423,8 +1442,9 @@ sr_status check_for_write(const char *path, const sr_mesh *mesh, const char *wha
     sr_mesh_report r;
     if (sr_mesh_validate(mesh, what, &r, nullptr) != SR_OK) {
         if (r.nonfinite_vertices)
-            return wfail(err, SR_E_INVALID, path, "%s has %zu vertices with NaN or infinite coordinates",
-                         what, r.nonfinite_vertices);
+            return wfail(err, SR_E_INVALID, path,
+                         "%s has %zu vertices with NaN or infinite coordinates", what,
+                         r.nonfinite_vertices);
         return wfail(err, SR_E_INVALID, path, "%s has %zu triangles with an index out of range",
                      what, r.bad_indices);
     }
@@ -1438,8 +1458,9 @@ tinygltf::Value to_value(const nlohmann::json &j)
     case nlohmann::json::value_t::boolean: return tinygltf::Value(j.get<bool>());
     case nlohmann::json::value_t::number_integer:
     case nlohmann::json::value_t::number_unsigned: {
-        if (j.is_number_unsigned() ? j.get<unsigned long long>() <= (unsigned long long)INT_MAX
-                                   : (j.get<long long>() >= INT_MIN && j.get<long long>() <= INT_MAX))
+        if (j.is_number_unsigned()
+                ? j.get<unsigned long long>() <= (unsigned long long)INT_MAX
+                : (j.get<long long>() >= INT_MIN && j.get<long long>() <= INT_MAX))
             return tinygltf::Value(j.get<int>());
         return tinygltf::Value(j.get<double>());
     }
@@ -1509,13 +1530,14 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
             return st;
         for (int k = 0; k < 4; k++)
             if (!(sm.rgba[k] >= 0.0f && sm.rgba[k] <= 1.0f))
-                return wfail(err, SR_E_RANGE, path, "mesh %zu colour component %d is %g, not in 0..1",
-                             i, k, (double)sm.rgba[k]);
+                return wfail(err, SR_E_RANGE, path,
+                             "mesh %zu colour component %d is %g, not in 0..1", i, k,
+                             (double)sm.rgba[k]);
         const sr_mesh &m = *sm.mesh;
         size_t pos_bytes = m.vertex_count * 12, idx_bytes = m.tri_count * 12;
         if (bin.size() + pos_bytes + idx_bytes > (size_t)INT32_MAX)
-            return wfail(err, SR_E_RANGE, path, "scene too large for glTF (over %d bytes of geometry)",
-                         INT32_MAX);
+            return wfail(err, SR_E_RANGE, path,
+                         "scene too large for glTF (over %d bytes of geometry)", INT32_MAX);
         /* positions, float32, with min/max as the spec requires */
         std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
         size_t pos_off = bin.size();
@@ -1571,8 +1593,9 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
 
         tinygltf::Material mat;
         mat.name = sm.name ? sm.name : "";
-        mat.pbrMetallicRoughness.baseColorFactor = {float_decimal(sm.rgba[0]), float_decimal(sm.rgba[1]),
-                                                     float_decimal(sm.rgba[2]), float_decimal(sm.rgba[3])};
+        mat.pbrMetallicRoughness.baseColorFactor = {
+            float_decimal(sm.rgba[0]), float_decimal(sm.rgba[1]), float_decimal(sm.rgba[2]),
+            float_decimal(sm.rgba[3])};
         mat.pbrMetallicRoughness.metallicFactor = 0.0;   /* plain colour, readable in any viewer */
         mat.doubleSided = false;
         mat.alphaMode = sm.rgba[3] < 1.0f ? "BLEND" : "OPAQUE";

@@ -357,7 +357,7 @@ static void part_row(const char *name, const char *input, const sr_mesh *scan,
     if (truth->symmetry.kind == SR_SYM_GLIDE)
         snprintf(shift, sizeof shift, " shift found %.2f used %.2f", r.alignment.glide_shift_mm,
                  r.analysis.shift_mm);
-    printf("%7.2f %5.2f %5.2f %5.2f %5.2f %5.2f  %6.3f %6.3f  %3zu %9.1f %+8.1f %s  %s  %s%s\n",
+    printf("%7.2f %5.2f %5.2f %5.2f %5.2f %5.2f  %6.4f %6.4f  %3zu %9.1f %+8.1f %s  %s  %s%s\n",
            r.timings.total_s, r.timings.align_s, r.timings.slice_s, r.timings.analyse_s,
            r.timings.patch_s, r.timings.union_s, ae.angle_deg, ae.offset_mm, r.section_count,
            r.patch_volume_mm3, vol_err, fill, dev, r.restored_by_union ? "union" : "CONCAT",
