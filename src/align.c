@@ -26,7 +26,8 @@
 #define FINE_SAMPLES 10000
 #define TOL_OF_DIAG 0.004
 
-/* Index of a vector's first clearly non-zero component, to fix signs deterministically. */
+/* Sign (+1 / -1) of component `pref` of d, or of its first clearly non-zero component
+ * when that one is ~0: fixes the signs of directions deterministically. */
 static int sign_of(const double d[3], int pref)
 {
     if (fabs(d[pref]) > 1e-12)
@@ -269,7 +270,8 @@ sr_status sr_align(const sr_mesh *mesh, const sr_symmetry *sym, const sr_align_o
     }
     if (o.method == 0)
         res.symmetric_layers = al_paper_count(&surf, sym, &o, res.xform);
-    res.fit_rms_mm = isfinite(fit.inlier_rms) ? fit.inlier_rms : 0;
+    /* no inlier at all: the tolerance itself, the best that can be said */
+    res.fit_rms_mm = isfinite(fit.inlier_rms) ? fit.inlier_rms : ctx.tol;
     res.fit_score = fit.score;
     *out = res;
     st = SR_OK;

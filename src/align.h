@@ -54,7 +54,8 @@ typedef struct sr_alignment {
                             * the equivalent s, 3s, 5s...; 0 otherwise */
     double fit_rms_mm;     /* residual of the symmetry fit, mm (lower is better): RMS
                             * distance from the surface of the images of the inlier
-                            * samples under the symmetry transform(s) */
+                            * samples under the symmetry transform(s); the inlier
+                            * tolerance itself when no sample fits */
     double fit_score;      /* 0..1 share of the surface consistent with the symmetry: area
                             * samples whose image lies within 0.4 % of the bounding-box
                             * diagonal of the surface (a wrong kind scores low) */

@@ -19,8 +19,8 @@
  * Candidates are screened on a few hundred samples, the promising ones refined on a
  * few thousand; the best (highest share of samples whose rotated image lies on the
  * scan, then lowest inlier RMS; with a hint, the nearest to it among those scoring 0.8
- * of the best) is refined again on ten thousand. Continuous symmetry uses 11 rotation angles (30 deg
- * steps), n-fold symmetry the n - 1 rotations by multiples of 360/n.
+ * of the best) is refined again on ten thousand. Continuous symmetry uses 11 rotation
+ * angles (30 deg steps), n-fold symmetry the n - 1 rotations by multiples of 360/n.
  */
 #include "align_internal.h"
 

@@ -33,6 +33,8 @@
  *    grids of (tilt, phi);
  *  - glide: at the winning mirror frame the shift is the number of layers m >= 1 for
  *    which layer l mirrored matches layer l + m in the most layer pairs, times dz.
+ * al_paper_count (the symmetric_layers reported by method 0) slices once in the final
+ * canonical frame, with the canonical z axis as every layer's centre.
  * For speed the vertices are thinned to at most 4000 (every k-th) on the coarse grid
  * and 10000 on the fine ones (500000 for the single count at a given frame); Alg. 1's
  * quality depends on mesh density in any case.

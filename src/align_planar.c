@@ -110,10 +110,12 @@ static double spread_along(const al_surface *s, const double n[3])
     return v;
 }
 
-/* Plane candidates: the three principal planes of the area covariance and the
- * reflection-symmetric directions of the normals (align_egi.c), each moved to its
- * best offset; those screening at least 0.8 of the best are refined as mirrors on the
- * coarse samples (a plane is only chosen when it scores 0.8 of the best). Returns the number of refined candidates written to out (<= 9). */
+/* Plane candidates: the three principal planes of the area covariance, the
+ * reflection-symmetric directions of the normals (align_egi.c) and the hint, each
+ * moved to its best offset and screened; those screening at least 0.8 of the best
+ * (and the hint's) are refined as mirrors on the coarse samples (a plane is only
+ * chosen when it scores 0.8 of the best). Returns the number of refined candidates
+ * written to out (<= MAX_PLANES). */
 static int plane_candidates(al_ctx *ctx, plane_cand *out)
 {
     al_surface *s = ctx->surf;

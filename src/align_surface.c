@@ -16,8 +16,11 @@
  *    through another cell. A chessboard distance transform of the occupied cells (two
  *    raster passes over the 26-neighbourhood, exact for that metric) lets a query far
  *    from the surface skip its empty shells, or give up at once when even the nearest
- *    occupied cell is beyond max_dist. The cell size follows the mean triangle size, capped so the
- *    grid has at most about 16M cells.
+ *    occupied cell is beyond max_dist; a cell whose box is farther than the best
+ *    triangle so far, and a triangle whose plane is, are skipped. The cell size is
+ *    1.5 x the mean triangle size, but at least 1/250 of the bounding-box diagonal (on
+ *    a million-triangle scan finer cells make wide queries walk too many of them) and
+ *    such that the grid has at most about 16M cells.
  */
 #include "align_internal.h"
 
@@ -25,9 +28,7 @@
 #include <string.h>
 
 #define MAX_CELLS 16000000.0
-#ifndef CELLS_PER_DIAG
 #define CELLS_PER_DIAG 250.0
-#endif
 
 static const double *vtx(const al_surface *s, size_t i, int k)
 {
@@ -128,7 +129,8 @@ static void distance_transform(al_surface *s)
                                 int X = x + dir * dx, Y = y + dir * dy, Z = z + dir * dz;
                                 if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz)
                                     continue;
-                                int v = d[(size_t)X + (size_t)nx * ((size_t)Y + (size_t)ny * Z)] + 1;
+                                size_t cn = (size_t)X + (size_t)nx * ((size_t)Y + (size_t)ny * Z);
+                                int v = d[cn] + 1;
                                 best = v < best ? v : best;
                             }
                     d[c] = (uint8_t)(best > 255 ? 255 : best);
@@ -182,7 +184,8 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
         }
         for (int r = 0; r < 3; r++)
             for (int q = 0; q < 3; q++)
-                m2[3 * r + q] += A / 12 * (a[r] * a[q] + b[r] * b[q] + c[r] * c[q] + 9 * m[r] * m[q]);
+                m2[3 * r + q] +=
+                    A / 12 * (a[r] * a[q] + b[r] * b[q] + c[r] * c[q] + 9 * m[r] * m[q]);
     }
     if (s->count == 0 || !(s->total_area > 0)) {
         al_surface_release(s);
@@ -320,8 +323,8 @@ static void scan_cell(al_surface *s, size_t cidx, const double p[3], double *bes
         return;
     /* the cell's box is already farther than the best triangle: nothing to gain */
     size_t nxy = (size_t)s->dim[0] * (size_t)s->dim[1];
-    int idx[3] = {(int)(cidx % (size_t)s->dim[0]), (int)((cidx / (size_t)s->dim[0]) % (size_t)s->dim[1]),
-                  (int)(cidx / nxy)};
+    int idx[3] = {(int)(cidx % (size_t)s->dim[0]),
+                  (int)((cidx / (size_t)s->dim[0]) % (size_t)s->dim[1]), (int)(cidx / nxy)};
     double box2 = 0;
     for (int k = 0; k < 3; k++) {
         double lo = s->origin[k] + idx[k] * s->cell, hi = lo + s->cell;
@@ -381,11 +384,12 @@ bool al_surface_closest(al_surface *s, const double p[3], double max_dist, doubl
     /* shells closer than the nearest occupied cell are empty: skip them, or give up
      * when that cell is out of reach: it is >= (k0 - 1) cells from pc, and for p
      * outside the grid box |p - x|^2 >= |pc - x|^2 + |p - pc|^2 for any x in the box */
-    int k0 = s->empty_rings[(size_t)c0[0] + (size_t)s->dim[0] * ((size_t)c0[1] + (size_t)s->dim[1] * c0[2])];
-    double gap = (k0 - 1) * s->cell;
-    if (k0 < 255 && k0 >= 2 && out2 + gap * gap > max_dist * max_dist)
+    size_t cidx0 = (size_t)c0[0] + (size_t)s->dim[0] * ((size_t)c0[1] + (size_t)s->dim[1] * c0[2]);
+    int k0 = s->empty_rings[cidx0];
+    double gap = (k0 - 1) * s->cell; /* 255 means "at least 255": still a bound */
+    if (k0 >= 2 && out2 + gap * gap > max_dist * max_dist)
         return false;
-    for (int k = k0 < 255 ? k0 : 0; k <= kmax; k++) {
+    for (int k = k0; k <= kmax; k++) {
         int zlo = c0[2] - k, zhi = c0[2] + k;
         for (int z = zlo < 0 ? 0 : zlo; z <= zhi && z < s->dim[2]; z++) {
             int ylo = c0[1] - k, yhi = c0[1] + k;
