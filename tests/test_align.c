@@ -636,14 +636,6 @@ static void assert_alignment_untouched(const sr_alignment *a)
     assert_memory_equal(a, &s, sizeof s);
 }
 
-#define assert_msg_has(err, text)                                                    \
-    do {                                                                             \
-        if (!strstr((err).msg, (text))) {                                            \
-            print_error("message '%s' lacks '%s'\n", (err).msg, (text));             \
-            fail();                                                                  \
-        }                                                                            \
-    } while (0)
-
 static void from_axis_rejects_a_zero_direction(void **state)
 {
     (void)state;

@@ -67,14 +67,6 @@ static void assert_untouched(const sr_mesh *m)
     assert_int_equal(m->vertex_count, 12345);
 }
 
-#define assert_msg_has(err, text)                                                    \
-    do {                                                                             \
-        if (!strstr((err).msg, (text))) {                                            \
-            print_error("message '%s' lacks '%s'\n", (err).msg, (text));             \
-            fail();                                                                  \
-        }                                                                            \
-    } while (0)
-
 /* ---- radius functions for revolve ---- */
 
 static double radius_const(double theta, size_t ring, void *user)

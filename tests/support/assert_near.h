@@ -1,7 +1,8 @@
 /*
  * assert_near.h: floating-point assertion for cmocka 1.1.5 (Debian 12), which has no
  * assert_double_equal. Include after <cmocka.h>. Fails when |a - b| > tol or either
- * value is NaN, printing both values.
+ * value is NaN, printing both values. assert_msg_has(err, text): an sr_err's message
+ * must contain text (needs <string.h>).
  */
 #ifndef SR_TEST_ASSERT_NEAR_H
 #define SR_TEST_ASSERT_NEAR_H
@@ -17,6 +18,15 @@
                         #b, sr_an_b_, sr_an_t_);                                       \
             fail();                                                                    \
         }                                                                              \
+    } while (0)
+
+/* Fails unless the sr_err `err` holds `text` in its message, printing both. */
+#define assert_msg_has(err, text)                                                    \
+    do {                                                                             \
+        if (!strstr((err).msg, (text))) {                                            \
+            print_error("message '%s' lacks '%s'\n", (err).msg, (text));             \
+            fail();                                                                  \
+        }                                                                            \
     } while (0)
 
 #endif
