@@ -28,8 +28,13 @@ typedef struct sr_section {
     size_t sector_count;        /* ... and spans this many (wrapping) */
     double angle_min_deg, angle_max_deg; /* that arc in degrees, min in [0, 360) */
     double depth_max_mm, depth_mean_mm;  /* restored r - damaged r over the cells */
-    double volume_mm3;          /* enclosed volume of the patch */
-    double area_mm2;            /* surface area of the patch */
+    double volume_mm3;          /* the missing volume. Paper method: the enclosed volume of
+                                 * the patch. Robust method: sum of the layers' missing
+                                 * areas x layer thickness; its patch mesh is that region
+                                 * grown a little into the damaged part (so no fracture
+                                 * surface is left exposed between layer planes) */
+    double area_mm2;            /* paper: surface area of the patch; robust: area of the
+                                 * lost surface (restored outline x layer thickness) */
     sr_mesh patch;              /* closed, outward oriented; aligned frame */
 } sr_section;
 

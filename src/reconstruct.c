@@ -9,12 +9,31 @@
 #include <time.h>
 
 #include "bridge/boolean.h"
+#include "region_sections.h"
 
 static double now_s(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+const char *sr_recon_method_name(sr_recon_method m)
+{
+    return m == SR_METHOD_PAPER ? "paper" : "robust";
+}
+
+sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_method *out,
+                                sr_err *err)
+{
+    if (text && strcmp(text, "robust") == 0)
+        *out = SR_METHOD_ROBUST;
+    else if (text && strcmp(text, "paper") == 0)
+        *out = SR_METHOD_PAPER;
+    else
+        return sr_err_set(err, SR_E_RANGE, "bad %s '%s': expected robust or paper", field,
+                          text ? text : "");
+    return SR_OK;
 }
 
 void sr_recon_result_release(sr_recon_result *r)
@@ -28,7 +47,11 @@ void sr_recon_result_release(sr_recon_result *r)
     memset(r, 0, sizeof *r);
 }
 
-/* restored = aligned scan ∪ every patch (aligned frame), or concatenation on failure. */
+/* restored = aligned scan ∪ every patch (aligned frame). A union refused because an
+ * operand has zero-area triangles or crosses itself (a noisy scan) is retried once
+ * after sr_mesh_repair of both (crossings fixed in the scan only: a crossing patch is
+ * a construction fault, and re-meshing it costs minutes); if it still fails, the patches are concatenated and
+ * union_note says why. */
 static sr_status unite(const sr_mesh *aligned, sr_recon_result *r, sr_err *err)
 {
     sr_mesh acc;
@@ -36,11 +59,37 @@ static sr_status unite(const sr_mesh *aligned, sr_recon_result *r, sr_err *err)
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory copying the scan");
     r->restored_by_union = 1;
+    int scan_repaired = 0;
     for (size_t i = 0; i < r->section_count; i++) {
-        sr_mesh next;
+        sr_mesh next = {0};
         sr_err uerr = {{0}};
-        if (r->restored_by_union &&
-            sr_boolean_union(&acc, &r->sections[i].patch, &next, &uerr) == SR_OK) {
+        sr_status us = SR_E_INVALID;
+        if (r->restored_by_union) {
+            us = sr_boolean_union(&acc, &r->sections[i].patch, &next, &uerr);
+            if (us == SR_E_INVALID) {
+                sr_repair_report ra = {0}, rb = {0};
+                sr_mesh patch = {0};
+                sr_err rerr = {{0}};
+                if (sr_mesh_copy(&patch, &r->sections[i].patch) == SR_OK &&
+                    sr_mesh_repair(&acc, 1, &ra, &rerr) == SR_OK &&
+                    sr_mesh_repair(&patch, 0, &rb, &rerr) == SR_OK && (ra.changed || rb.changed)) {
+                    if (ra.changed && !scan_repaired) {
+                        scan_repaired = 1;
+                        snprintf(r->repair_note, sizeof r->repair_note,
+                                 "scan repaired for the union: %zu zero-area triangles removed%s",
+                                 ra.degenerate_removed,
+                                 ra.self_intersecting
+                                     ? (ra.self_intersections_fixed
+                                            ? ", self-intersections cut away"
+                                            : ", self-intersections could not be removed")
+                                     : "");
+                    }
+                    us = sr_boolean_union(&acc, &patch, &next, &uerr);
+                }
+                sr_mesh_release(&patch);
+            }
+        }
+        if (us == SR_OK) {
             sr_mesh_release(&acc);
             acc = next;
             continue;
@@ -101,16 +150,31 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     sr_symmetry sym = opts->symmetry;
     if (sym.kind == SR_SYM_GLIDE && sym.shift_mm == 0)
         sym.shift_mm = r.alignment.glide_shift_mm;
-    sr_analyse_opts an = {sym, opts->gamma_axis, opts->gamma_plane, opts->min_depth_mm, 1};
-    st = sr_analyse(&r.grid, &an, &r.analysis, err);
-    if (st != SR_OK)
-        goto fail;
-    r.timings.analyse_s = now_s() - t;
-    t = now_s();
-
-    st = sr_patch_build(&r.grid, &r.analysis, &r.sections, &r.section_count, err);
-    if (st != SR_OK)
-        goto fail;
+    r.method = opts->method;
+    if (opts->method == SR_METHOD_PAPER) {
+        sr_analyse_opts an = {sym, opts->gamma_axis, opts->gamma_plane, opts->min_depth_mm, 1};
+        st = sr_analyse(&r.grid, &an, &r.analysis, err);
+        if (st != SR_OK)
+            goto fail;
+        r.timings.analyse_s = now_s() - t;
+        t = now_s();
+        st = sr_patch_build(&r.grid, &r.analysis, &r.sections, &r.section_count, err);
+        if (st != SR_OK)
+            goto fail;
+    } else {
+        /* noise: the symmetry fit's RMS is about sqrt(2) sigma for independent noise on
+         * a surface and its image; slivers up to 3 sigma each side are filtered */
+        r.noise_mm = r.alignment.fit_rms_mm / sqrt(2.0);
+        r.open_mm = opts->open_mm > 0 ? opts->open_mm : fmax(0.05, 3.0 * r.noise_mm);
+        sr_region_opts ro = {sym, r.open_mm, opts->min_depth_mm,
+                             opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, 0};
+        st = sr_region_reconstruct(&aligned, &r.grid, &ro, &r.analysis, &r.sections,
+                                   &r.section_count, err);
+        if (st != SR_OK)
+            goto fail;
+        r.timings.analyse_s = now_s() - t;  /* contours, vote, sections and patches */
+        t = now_s();
+    }
     r.timings.patch_s = now_s() - t;
     t = now_s();
 

@@ -16,8 +16,23 @@
 #include "slice.h"
 #include "symmetry.h"
 
+/* Which reconstruction runs between alignment and the union. */
+typedef enum sr_recon_method {
+    SR_METHOD_ROBUST = 0,       /* real cross-sections restored by the symmetry's vote
+                                 * (region_sections.h): keys, bores, holes, teeth, slots */
+    SR_METHOD_PAPER = 1,        /* the paper's Algorithms 4-6 on the sector grid */
+} sr_recon_method;
+
+/* "robust" / "paper"; parse returns SR_E_RANGE naming `field` for anything else. */
+const char *sr_recon_method_name(sr_recon_method m);
+sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_method *out,
+                                sr_err *err);
+
 typedef struct sr_recon_opts {
     sr_symmetry symmetry;
+    sr_recon_method method;     /* default (0) robust */
+    double open_mm;             /* robust: noise filter radius; 0 = from the scan's noise */
+    double min_volume_mm3;      /* robust: smallest section kept; 0 = 1 mm^3 */
     size_t layers;              /* 0 = 320 */
     size_t sectors;             /* 0 = 240 */
     double gamma_axis;          /* 0 = 0.95 */
@@ -42,7 +57,11 @@ typedef struct sr_recon_result {
     sr_mesh restored;           /* scan frame */
     int restored_by_union;      /* 1: one closed surface from the boolean union */
     char union_note[600];       /* why the union fell back, if it did */
+    char repair_note[200];      /* what was repaired in the scan for the union, if anything */
     double scan_volume_mm3, restored_volume_mm3, patch_volume_mm3;
+    sr_recon_method method;     /* the method that ran */
+    double open_mm;             /* robust: the noise filter radius used */
+    double noise_mm;            /* robust: the scan noise estimated from the fit, mm */
     sr_recon_timings timings;
 } sr_recon_result;
 

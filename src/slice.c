@@ -125,6 +125,12 @@ static void add_segment(sr_layer_grid *g, size_t l, const double a[2], const dou
     }
 }
 
+void sr_layer_grid_add_segment(sr_layer_grid *grid, size_t l, const double a[2],
+                               const double b[2])
+{
+    add_segment(grid, l, a, b, sr_layer_z(grid, l));
+}
+
 /* Cuts triangle t with the plane z = L; writes the segment ends; returns 0 when the
  * triangle does not give a segment (no crossing, or lying in the plane). */
 static int cut_triangle(const sr_mesh *m, size_t t, double L, double a[2], double b[2])

@@ -59,6 +59,12 @@ sr_status sr_slice_accurate_literal(const sr_mesh *mesh, const sr_slice_opts *op
 sr_status sr_slice_fast(const sr_mesh *mesh, const sr_slice_opts *opts, sr_layer_grid *out,
                         sr_err *err);
 
+/* Contributes a segment a-b lying in layer l's plane to every sector it crosses (the
+ * per-sector farthest point, as Algorithm 2 does for a cut triangle); used to put a
+ * 2D outline (a restored cross-section) on the sector grid. */
+void sr_layer_grid_add_segment(sr_layer_grid *grid, size_t l, const double a[2],
+                               const double b[2]);
+
 /* Allocates a zeroed grid. */
 sr_status sr_layer_grid_alloc(sr_layer_grid *out, size_t layers, size_t sectors,
                               double z_init, double dz);

@@ -147,6 +147,8 @@ static void part_reconstructs_within_measured_bounds(void **state)
     o.symmetry.shift_mm = 0; /* glide: searched */
     o.sectors = SECTORS;
     o.layers = LAYERS;
+    o.method = SR_METHOD_PAPER;
+    o.skip_union = 1;               /* only the patch volume is judged here */
     sr_recon_result r;
     sr_err err = {{0}};
     sr_status st = sr_reconstruct(&scan, &o, &r, &err);
@@ -218,6 +220,7 @@ static void intact_shaft_has_nothing_to_repair(void **state)
     o.symmetry.kind = SR_SYM_AXIAL;
     o.sectors = SECTORS;
     o.layers = LAYERS;
+    o.method = SR_METHOD_PAPER;
     sr_recon_result r;
     sr_err err = {{0}};
     sr_status st = sr_reconstruct(&m, &o, &r, &err);
@@ -233,6 +236,95 @@ static void intact_shaft_has_nothing_to_repair(void **state)
     assert_true(depth < 0.05);
     sr_recon_result_release(&r);
     sr_mesh_release(&m);
+}
+
+/* ---- the robust method (issue 6) ---- */
+
+/* Bounds for the default method on damaged_posed.stl at the default grid (240 sectors,
+ * 320 layers), given only the symmetry kind (and the gear's order): patch volume within
+ * max_err of the true missing volume, exactly one section. Measured figures (release,
+ * `make bench`) in the README's accuracy table; the lever is the known shortfall: its
+ * break straddles the mirror plane, so neither side's image holds the lost corner. */
+typedef struct robust_case {
+    const char *name;
+    double max_err;         /* |patch - missing| / missing */
+    int shortfall;          /* 1: known to fall short; the bound is the shortfall itself */
+} robust_case;
+
+static const robust_case robust_cases[] = {
+    {"shaft_chipped_shoulder", 0.05, 0}, {"bushing_gouged", 0.05, 0},
+    {"keyed_shaft_dent", 0.05, 0},       {"flange_broken_rim", 0.05, 0},
+    {"spur_gear_broken_tooth", 0.05, 0}, {"bracket_broken_ear", 0.05, 0},
+    {"u_clamp_broken_arm", 0.05, 0},     {"rail_glide_chipped", 0.05, 0},
+    {"lever_posed", 0.70, 1},
+};
+
+static void robust_part_restores_the_missing_volume(void **state)
+{
+    const robust_case *rc = *state;
+    if (!parts_present())
+        skip();
+    sr_truth truth;
+    read_truth(rc->name, &truth);
+    sr_mesh scan = {0};
+    read_mesh(rc->name, "damaged_posed.stl", &scan);
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry.kind = truth.symmetry.kind;
+    o.symmetry.order = truth.symmetry.order;
+    o.skip_union = 1;               /* the union is exercised by test_boolean and bench */
+    sr_recon_result r;
+    sr_err err = {{0}};
+    sr_status st = sr_reconstruct(&scan, &o, &r, &err);
+    if (st != SR_OK)
+        print_error("%s: %s\n", rc->name, err.msg);
+    assert_int_equal(st, SR_OK);
+    double rel = (r.patch_volume_mm3 - truth.missing_volume) / truth.missing_volume;
+    print_message("%-23s robust: %zu section(s), patch %.1f / missing %.1f mm^3 = %+.2f %%, "
+                  "%.2f s\n",
+                  rc->name, r.section_count, r.patch_volume_mm3, truth.missing_volume,
+                  100 * rel, r.timings.total_s);
+    for (size_t i = 0; i < r.section_count; i++)
+        assert_true(sr_mesh_is_closed(&r.sections[i].patch));
+    size_t sections = r.section_count;
+    sr_recon_result_release(&r);
+    sr_mesh_release(&scan);
+    if (rc->shortfall) {
+        print_message("  known shortfall: the break straddles the mirror plane\n");
+        assert_true(rel < 0 && fabs(rel) <= rc->max_err);
+        return;
+    }
+    assert_int_equal(sections, 1);
+    assert_true(fabs(rel) <= rc->max_err);
+}
+
+/* Issue 6: no section at all on any intact part (canonical frame, default settings). */
+static void robust_finds_nothing_on_an_intact_part(void **state)
+{
+    const robust_case *rc = *state;
+    if (!parts_present())
+        skip();
+    sr_truth truth;
+    read_truth(rc->name, &truth);
+    sr_mesh m = {0};
+    read_mesh(rc->name, "intact.stl", &m);
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry.kind = truth.symmetry.kind;
+    o.symmetry.order = truth.symmetry.order;
+    o.skip_union = 1;
+    sr_recon_result r;
+    sr_err err = {{0}};
+    sr_status st = sr_reconstruct(&m, &o, &r, &err);
+    if (st != SR_OK)
+        print_error("%s: %s\n", rc->name, err.msg);
+    assert_int_equal(st, SR_OK);
+    print_message("%-23s intact: %zu section(s), %.2f mm^3\n", rc->name, r.section_count,
+                  r.patch_volume_mm3);
+    size_t sections = r.section_count;
+    sr_recon_result_release(&r);
+    sr_mesh_release(&m);
+    assert_int_equal(sections, 0);
 }
 
 /* ---- the truth.json reader (tests/support/truth.c) ---- */
@@ -347,7 +439,9 @@ static void truth_reader_reports_a_missing_file(void **state)
 
 int main(void)
 {
-    struct CMUnitTest tests[sizeof cases / sizeof cases[0] + 4];
+    enum { NR = sizeof robust_cases / sizeof robust_cases[0] };
+    struct CMUnitTest tests[sizeof cases / sizeof cases[0] + 2 * NR + 4];
+    static char rnames[2 * NR][96];
     size_t n = 0;
     static char names[sizeof cases / sizeof cases[0]][96];
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -355,6 +449,16 @@ int main(void)
                  cases[i].name);
         tests[n++] = (struct CMUnitTest){names[i], part_reconstructs_within_measured_bounds,
                                          NULL, NULL, (void *)&cases[i]};
+    }
+    for (size_t i = 0; i < NR; i++) {
+        snprintf(rnames[2 * i], sizeof rnames[0], "%s_robust_restores_the_missing_volume",
+                 robust_cases[i].name);
+        tests[n++] = (struct CMUnitTest){rnames[2 * i], robust_part_restores_the_missing_volume,
+                                         NULL, NULL, (void *)&robust_cases[i]};
+        snprintf(rnames[2 * i + 1], sizeof rnames[0], "%s_robust_finds_nothing_on_intact",
+                 robust_cases[i].name);
+        tests[n++] = (struct CMUnitTest){rnames[2 * i + 1], robust_finds_nothing_on_an_intact_part,
+                                         NULL, NULL, (void *)&robust_cases[i]};
     }
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(intact_shaft_has_nothing_to_repair);
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(truth_reader_reads_the_needed_fields);

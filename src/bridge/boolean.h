@@ -4,8 +4,10 @@
  * trees). CGAL's PMP package is GPL-3.0-or-later, so a symrec binary linking it is
  * distributed under the GPL (see README).
  *
- * Inputs must be closed, consistently oriented and free of self-intersections; that is
- * checked first and refused with SR_E_INVALID naming the input (`what`).
+ * Inputs must be closed, consistently oriented and free of self-intersections where the
+ * other input can cut them (triangles whose bounding box meets the other mesh's: a scan
+ * with a noise fold far from a patch can still be united with it); that is checked
+ * first and refused with SR_E_INVALID naming the input (`what`).
  */
 #ifndef SR_BOOLEAN_H
 #define SR_BOOLEAN_H
@@ -48,6 +50,20 @@ sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_w
  * else 0. The mesh need not be closed but must form an oriented manifold (every edge
  * in at most two triangles, traversed in opposite directions), else SR_E_INVALID. */
 sr_status sr_mesh_self_intersects(const sr_mesh *mesh, int *out, sr_err *err);
+
+/* Makes a closed mesh fit for a boolean: removes zero-area triangles (CGAL PMP
+ * remove_degenerate_faces). fix_crossings is reserved (crossing triangles are not
+ * re-meshed: CGAL's experimental remover took minutes on scans and its header alone
+ * tripled the bridge's build time); self_intersecting stays 0. *mesh is replaced only
+ * when something changed. SR_E_INVALID when the mesh is not an oriented manifold. */
+typedef struct sr_repair_report {
+    int changed;
+    size_t degenerate_removed;
+    int self_intersecting;
+    int self_intersections_fixed;
+} sr_repair_report;
+sr_status sr_mesh_repair(sr_mesh *mesh, int fix_crossings, sr_repair_report *report,
+                         sr_err *err);
 
 /* Surface deviation of a from b: for sample points on a (every vertex plus the
  * centroid of every triangle), the unsigned distance to the nearest point of b's

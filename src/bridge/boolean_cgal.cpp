@@ -37,7 +37,9 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -117,7 +119,23 @@ bool build_surface_mesh(const sr_mesh *m, Mesh &sm, size_t *bad_tri)
 }
 
 /* Every check a boolean operand must pass; on success sm holds the mesh. */
-sr_status check_operand(const sr_mesh *m, const char *what, Mesh &sm, sr_err *err)
+/* True when some triangle of sm whose bounding box meets `box` (min xyz, max xyz)
+ * crosses another: corefinement only needs the surface to be free of crossings where
+ * the other operand can cut it, so a scan with a noise fold elsewhere still works. */
+bool self_intersects_near(const Mesh &sm, const double box[6])
+{
+    std::vector<Mesh::Face_index> near;
+    for (Mesh::Face_index f : sm.faces()) {
+        CGAL::Bbox_3 b = PMP::face_bbox(f, sm);
+        if (b.xmax() >= box[0] && b.xmin() <= box[3] && b.ymax() >= box[1] &&
+            b.ymin() <= box[4] && b.zmax() >= box[2] && b.zmin() <= box[5])
+            near.push_back(f);
+    }
+    return PMP::does_self_intersect(near, sm);
+}
+
+sr_status check_operand(const sr_mesh *m, const char *what, const double *other_box, Mesh &sm,
+                        sr_err *err)
 {
     sr_mesh_report report;
     sr_status st = sr_mesh_validate(m, what, &report, err);
@@ -153,8 +171,9 @@ sr_status check_operand(const sr_mesh *m, const char *what, Mesh &sm, sr_err *er
         return sr_err_set(err, SR_E_INVALID,
                           "'%s' has a non-manifold vertex (at triangle %zu)", what,
                           bad_tri);
-    if (PMP::does_self_intersect(sm))
-        return sr_err_set(err, SR_E_INVALID, "'%s' intersects itself", what);
+    if (other_box ? self_intersects_near(sm, other_box) : PMP::does_self_intersect(sm))
+        return sr_err_set(err, SR_E_INVALID, "'%s' intersects itself%s", what,
+                          other_box ? " where the other mesh is" : "");
     return SR_OK;
 }
 
@@ -231,10 +250,13 @@ sr_status boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_what
         b_what = "second mesh";
 
     Mesh ma, mb;
-    sr_status st = check_operand(a, a_what, ma, err);
+    double box_a[6], box_b[6];
+    sr_mesh_bbox(a, box_a, box_a + 3);
+    sr_mesh_bbox(b, box_b, box_b + 3);
+    sr_status st = check_operand(a, a_what, box_b, ma, err);
     if (st != SR_OK)
         return st;
-    st = check_operand(b, b_what, mb, err);
+    st = check_operand(b, b_what, box_a, mb, err);
     if (st != SR_OK)
         return st;
 
@@ -284,9 +306,58 @@ sr_status boolean_entry(sr_boolean_op op, const sr_mesh *a, const char *a_what,
     }
 }
 
+sr_status repair(sr_mesh *m, int fix_crossings, sr_repair_report *rep, sr_err *err)
+{
+    *rep = sr_repair_report();
+    sr_status st = sr_mesh_validate(m, "mesh to repair", nullptr, err);
+    if (st != SR_OK)
+        return st;
+    Mesh sm;
+    size_t bad_tri = 0;
+    if (!build_surface_mesh(m, sm, &bad_tri))
+        return sr_err_set(err, SR_E_INVALID,
+                          "cannot repair: non-manifold vertex or edge at triangle %zu", bad_tri);
+    size_t before = sm.number_of_faces();
+    bool degenerate = false;
+    for (Mesh::Face_index f : sm.faces())
+        if (PMP::is_degenerate_triangle_face(f, sm)) {
+            degenerate = true;
+            break;
+        }
+    if (degenerate) {
+        PMP::remove_degenerate_faces(sm);
+        sm.collect_garbage();
+        rep->degenerate_removed = before > sm.number_of_faces() ? before - sm.number_of_faces() : 0;
+        rep->changed = 1;
+    }
+    (void)fix_crossings;
+    if (!rep->changed)
+        return SR_OK;
+    sr_mesh res;
+    st = mesh_to_arrays(sm, &res, err, "repair");
+    if (st != SR_OK)
+        return st;
+    sr_mesh_release(m);
+    *m = res;
+    return SR_OK;
+}
+
 } // namespace
 
 extern "C" {
+
+sr_status sr_mesh_repair(sr_mesh *mesh, int fix_crossings, sr_repair_report *report,
+                         sr_err *err)
+{
+    sr_repair_report local;
+    try {
+        return repair(mesh, fix_crossings, report ? report : &local, err);
+    } catch (...) {
+        return status_from_exception(err, "repair");
+    }
+
+
+}
 
 sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_what,
                              const sr_mesh *b, const char *b_what, sr_mesh *out,

@@ -269,6 +269,7 @@ static const char *const part_names[] = {
 
 typedef struct setting {
     size_t sectors, layers;
+    sr_recon_method method;
 } setting;
 
 /* Where the patches lie, canonical frame: *outside = volume of the patches outside the
@@ -313,9 +314,11 @@ static void part_row(const char *name, const char *input, const sr_mesh *scan,
     o.symmetry.shift_mm = 0; /* glide: searched */
     o.sectors = s.sectors;
     o.layers = s.layers;
+    o.method = s.method;
     sr_recon_result r;
     sr_err err = {{0}};
-    printf("  %-23s %-6s %3zu/%-3zu ", name, input, s.sectors, s.layers);
+    printf("  %-23s %-6s %-6s %3zu/%-3zu ", name, input, sr_recon_method_name(s.method),
+           s.sectors, s.layers);
     fflush(stdout);
     double t0 = now_s();
     sr_status st = sr_reconstruct(scan, &o, &r, &err);
@@ -402,10 +405,16 @@ static void bench_parts(const char *dir)
            "part", "input", "sec/lay", "total", "align", "slice", "anal", "patch", "union",
            "angle", "off mm", "sec", "patch", "err %", "out %", "missed", "R->I max mean",
            "I->R max mean");
-    static const setting settings[3] = {{60, 80}, {120, 160}, {240, 320}};
+    static const setting settings[3] = {
+        {60, 80, SR_METHOD_PAPER}, {120, 160, SR_METHOD_PAPER}, {240, 320, SR_METHOD_PAPER}};
+    static const setting robust = {240, 320, SR_METHOD_ROBUST};
+    const char *one = getenv("SYMREC_BENCH_PART");   /* developer aid: one part only */
+    int quick = getenv("SYMREC_BENCH_QUICK") != NULL; /* developer aid: robust rows only */
     double t_all = now_s();
     for (size_t p = 0; p < PART_COUNT; p++) {
         const char *name = part_names[p];
+        if (one && strcmp(one, name) != 0)
+            continue;
         char path[1024];
         snprintf(path, sizeof path, "%s/%s/truth.json", dir, name);
         sr_truth truth;
@@ -435,14 +444,19 @@ static void bench_parts(const char *dir)
                name, sym, truth.missing_volume,
                100 * truth.missing_volume / truth.intact_volume, base);
         if (load(dir, name, "damaged_posed.stl", &posed)) {
-            for (int s = 0; s < 3; s++)
+            for (int s = 0; s < 3 && !quick; s++)
                 part_row(name, "posed", &posed, &truth, &intact, have_missing ? &missing : NULL,
                          settings[s]);
+            part_row(name, "posed", &posed, &truth, &intact, have_missing ? &missing : NULL,
+                     robust);
             sr_mesh_release(&posed);
         }
         if (load(dir, name, "damaged_scan.stl", &scan)) {
+            if (!quick)
+                part_row(name, "scan", &scan, &truth, &intact, have_missing ? &missing : NULL,
+                         settings[2]);
             part_row(name, "scan", &scan, &truth, &intact, have_missing ? &missing : NULL,
-                     settings[2]);
+                     robust);
             sr_mesh_release(&scan);
         }
         sr_mesh_release(&intact);

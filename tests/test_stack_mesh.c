@@ -1,0 +1,237 @@
+/*
+ * test_stack_mesh.c: cross-section contours (contour_slice.h) and closed meshes from
+ * stacks of planar regions (stack_mesh.h), on shapes with exact answers.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bridge/polygon.h"
+#include "contour_slice.h"
+#include "mesh.h"
+#include "shapes.h"
+#include "stack_mesh.h"
+#include "support/assert_near.h"
+
+static void square(sr_poly2 *p, double x0, double y0, double side, int cw)
+{
+    double xy[8] = {x0, y0, x0 + side, y0, x0 + side, y0 + side, x0, y0 + side};
+    if (cw) {
+        double r[8] = {x0, y0, x0, y0 + side, x0 + side, y0 + side, x0 + side, y0};
+        memcpy(xy, r, sizeof xy);
+    }
+    assert_int_equal(sr_poly2_add_contour(p, xy, 4, NULL), SR_OK);
+}
+
+static void check_closed(const sr_mesh *m)
+{
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(m, &e), SR_OK);
+    assert_int_equal(e.boundary_edges, 0);
+    assert_int_equal(e.nonmanifold_edges, 0);
+    assert_int_equal(e.misoriented_edges, 0);
+}
+
+static void one_square_layer_is_a_closed_box(void **state)
+{
+    (void)state;
+    sr_poly2 r = {0};
+    square(&r, 0, 0, 10, 0);
+    double z[2] = {0, 1};
+    sr_mesh m = {0};
+    assert_int_equal(sr_stack_mesh(&r, z, 1, &m, NULL), SR_OK);
+    check_closed(&m);
+    assert_near(sr_mesh_volume(&m), 100.0, 1e-9);
+    assert_near(sr_mesh_area(&m), 2 * 100.0 + 4 * 10.0, 1e-9);
+    sr_mesh_release(&m);
+    sr_poly2_release(&r);
+}
+
+static void identical_layers_leave_no_internal_faces(void **state)
+{
+    (void)state;
+    sr_poly2 r[3] = {{0}};
+    for (int i = 0; i < 3; i++)
+        square(&r[i], 0, 0, 10, 0);
+    double z[4] = {0, 1, 2, 3};
+    sr_mesh m = {0};
+    assert_int_equal(sr_stack_mesh(r, z, 3, &m, NULL), SR_OK);
+    check_closed(&m);
+    assert_near(sr_mesh_volume(&m), 300.0, 1e-9);
+    /* only the outer skin: two caps and four walls 3 high */
+    assert_near(sr_mesh_area(&m), 2 * 100.0 + 4 * 10.0 * 3, 1e-9);
+    for (int i = 0; i < 3; i++)
+        sr_poly2_release(&r[i]);
+    sr_mesh_release(&m);
+}
+
+static void shifted_and_rotated_layers_stitch_closed(void **state)
+{
+    (void)state;
+    sr_poly2 r[3] = {{0}};
+    square(&r[0], 0, 0, 10, 0);
+    square(&r[1], 4, 3, 10, 0);             /* overlaps layer 0 by 6 x 7 */
+    /* a square turned 45 degrees, centred on (9, 8), half-diagonal 6 */
+    double d[8] = {15, 8, 9, 14, 3, 8, 9, 2};
+    assert_int_equal(sr_poly2_add_contour(&r[2], d, 4, NULL), SR_OK);
+    double z[4] = {0, 0.5, 1.25, 2};
+    sr_mesh m = {0};
+    assert_int_equal(sr_stack_mesh(r, z, 3, &m, NULL), SR_OK);
+    check_closed(&m);
+    assert_near(sr_mesh_volume(&m), 100 * 0.5 + 100 * 0.75 + 72 * 0.75, 1e-6);
+    for (int i = 0; i < 3; i++)
+        sr_poly2_release(&r[i]);
+    sr_mesh_release(&m);
+}
+
+static void layers_with_holes_stitch_closed(void **state)
+{
+    (void)state;
+    sr_poly2 r[2] = {{0}};
+    square(&r[0], 0, 0, 10, 0);
+    square(&r[0], 3, 3, 4, 1);              /* hole 4 x 4 */
+    square(&r[1], 0, 0, 10, 0);
+    square(&r[1], 2, 2, 4, 1);              /* hole moved: crosses the one below */
+    double z[3] = {0, 1, 2};
+    sr_mesh m = {0};
+    assert_int_equal(sr_stack_mesh(r, z, 2, &m, NULL), SR_OK);
+    check_closed(&m);
+    assert_near(sr_mesh_volume(&m), 2 * (100 - 16), 1e-6);
+    for (int i = 0; i < 2; i++)
+        sr_poly2_release(&r[i]);
+    sr_mesh_release(&m);
+}
+
+static void separate_islands_and_empty_layers(void **state)
+{
+    (void)state;
+    sr_poly2 r[3] = {{0}};
+    square(&r[0], 0, 0, 2, 0);
+    square(&r[0], 5, 0, 2, 0);
+    /* r[1] empty */
+    square(&r[2], 1, 1, 3, 0);
+    double z[4] = {0, 1, 2, 3};
+    sr_mesh m = {0};
+    assert_int_equal(sr_stack_mesh(r, z, 3, &m, NULL), SR_OK);
+    check_closed(&m);
+    assert_near(sr_mesh_volume(&m), 4 + 4 + 9, 1e-9);
+    for (int i = 0; i < 3; i++)
+        sr_poly2_release(&r[i]);
+    sr_mesh_release(&m);
+}
+
+static void heights_must_increase(void **state)
+{
+    (void)state;
+    sr_poly2 r = {0};
+    square(&r, 0, 0, 1, 0);
+    double z[2] = {1, 1};
+    sr_mesh m = {0};
+    sr_err err = {0};
+    assert_int_equal(sr_stack_mesh(&r, z, 1, &m, &err), SR_E_RANGE);
+    assert_msg_has(err, "layer heights");
+    sr_poly2_release(&r);
+}
+
+/* ---- contour slicing ---- */
+
+static void cylinder_contour_has_its_polygon_area(void **state)
+{
+    (void)state;
+    sr_mesh cyl = {0};
+    assert_int_equal(sr_shape_cylinder(5.0, 0.0, 10.0, 64, &cyl, NULL), SR_OK);
+    double z[3] = {2.5, 5.0, 9.9};
+    sr_contour_stack s = {0};
+    assert_int_equal(sr_contour_slice(&cyl, z, 3, &s, NULL), SR_OK);
+    assert_int_equal(s.open_chains, 0);
+    double poly_area = 0.5 * 64 * 25.0 * sin(2 * M_PI / 64);
+    for (int l = 0; l < 3; l++) {
+        assert_int_equal(s.raw[l].contour_count, 1);
+        /* counter-clockwise: positive area */
+        assert_near(sr_poly2_area(&s.raw[l]), poly_area, 1e-9);
+    }
+    sr_contour_stack_release(&s);
+    sr_mesh_release(&cyl);
+}
+
+static void box_with_a_hole_gives_a_clockwise_hole(void **state)
+{
+    (void)state;
+    double lo[3] = {0, 0, 0}, hi[3] = {10, 10, 4}, hlo[3] = {3, 3, -1}, hhi[3] = {7, 7, 5};
+    sr_mesh outer = {0}, hole = {0};
+    assert_int_equal(sr_shape_box(lo, hi, &outer, NULL), SR_OK);
+    assert_int_equal(sr_shape_box(hlo, hhi, &hole, NULL), SR_OK);
+    sr_mesh_flip(&hole);            /* inward: a hole through the box (touching nothing) */
+    /* clip the hole's height to the box by using planes inside it only */
+    assert_int_equal(sr_mesh_append(&outer, &hole), SR_OK);
+    double z[2] = {1.0, 3.0};
+    sr_contour_stack s = {0};
+    assert_int_equal(sr_contour_slice(&outer, z, 2, &s, NULL), SR_OK);
+    for (int l = 0; l < 2; l++) {
+        assert_int_equal(s.raw[l].contour_count, 2);
+        assert_near(sr_poly2_area(&s.raw[l]), 100.0 - 16.0, 1e-9);
+    }
+    sr_contour_stack_release(&s);
+    sr_mesh_release(&outer);
+    sr_mesh_release(&hole);
+}
+
+static void planes_through_vertices_make_no_double_points(void **state)
+{
+    (void)state;
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 3, 4};
+    sr_mesh box = {0};
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    double z[3] = {0.0, 4.0, 2.0};  /* bottom face, top face, middle */
+    sr_contour_stack s = {0};
+    assert_int_equal(sr_contour_slice(&box, z, 3, &s, NULL), SR_OK);
+    /* a vertex at the plane counts as above: the bottom face's plane cuts nothing,
+     * the top face's plane cuts the side walls at their top edges */
+    assert_int_equal(s.raw[0].contour_count, 0);
+    assert_near(sr_poly2_area(&s.raw[1]), 6.0, 1e-12);
+    assert_near(sr_poly2_area(&s.raw[2]), 6.0, 1e-12);
+    assert_int_equal(s.open_chains, 0);
+    sr_contour_stack_release(&s);
+    sr_mesh_release(&box);
+}
+
+static void contour_slice_refuses_bad_input(void **state)
+{
+    (void)state;
+    sr_mesh empty = {0};
+    double z[1] = {NAN};
+    sr_contour_stack s = {0};
+    sr_err err = {0};
+    assert_int_equal(sr_contour_slice(&empty, z, 1, &s, &err), SR_E_INVALID);
+    assert_msg_has(err, "empty mesh");
+    double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    sr_mesh box = {0};
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    assert_int_equal(sr_contour_slice(&box, z, 1, &s, &err), SR_E_RANGE);
+    assert_msg_has(err, "plane height 0");
+    assert_int_equal(sr_contour_slice(&box, z, 0, &s, &err), SR_E_RANGE);
+    sr_mesh_release(&box);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(one_square_layer_is_a_closed_box),
+        cmocka_unit_test(identical_layers_leave_no_internal_faces),
+        cmocka_unit_test(shifted_and_rotated_layers_stitch_closed),
+        cmocka_unit_test(layers_with_holes_stitch_closed),
+        cmocka_unit_test(separate_islands_and_empty_layers),
+        cmocka_unit_test(heights_must_increase),
+        cmocka_unit_test(cylinder_contour_has_its_polygon_area),
+        cmocka_unit_test(box_with_a_hole_gives_a_clockwise_hole),
+        cmocka_unit_test(planes_through_vertices_make_no_double_points),
+        cmocka_unit_test(contour_slice_refuses_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
