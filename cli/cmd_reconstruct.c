@@ -375,8 +375,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
             }
             ro.symmetry = inst.symmetry;
         }
-        snprintf(source, sizeof source, "instance %lld (part %s, serial %s)", (long long)id,
-                 inst.part_number, inst.serial[0] ? inst.serial : "-");
+        if (st == SR_OK)
+            snprintf(source, sizeof source, "instance %lld (part %s, serial %s)", (long long)id,
+                     inst.part_number, inst.serial[0] ? inst.serial : "-");
     }
     if (st != SR_OK) {
         sr_catalog_close(cat);
