@@ -26,10 +26,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <sqlite3.h>
+
 #include "bridge/mesh_io.h"
 #include "catalog.h"
+#include "catalog_runs.h"
 #include "mesh.h"
 #include "shapes.h"
+#include "support/assert_near.h"
 #include "support/run_cmd.h"
 #include "version.h"
 
@@ -611,8 +615,8 @@ static void top_level_help_lists_commands_and_db_default(void **state)
     expect_ok(&r);
     assert_string_equal(r.err, "");
     expect_contains(r.out, "usage: symrec");
-    const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "params",
-                          "demo", "fixtures", "help"};
+    const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "run",
+                          "compare", "params", "demo", "fixtures", "help"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char line[32];
         snprintf(line, sizeof line, "\n  %s ", cmds[i]);
@@ -643,7 +647,9 @@ static void every_command_and_subcommand_has_help(void **state)
         {"part", "show", "--help"},    {"instance", "--help"},
         {"instance", "add", "--help"}, {"instance", "list", "--help"},
         {"instance", "show", "--help"}, {"export", "--help"},
-        {"reconstruct", "--help"},
+        {"reconstruct", "--help"},     {"run", "--help"},
+        {"run", "list", "--help"},     {"run", "show", "--help"},
+        {"compare", "--help"},
         {"params", "--help"},          {"params", "list", "--help"},
         {"params", "show", "--help"},  {"params", "set", "--help"},
         {"demo", "--help"},            {"fixtures", "--help"},
@@ -921,6 +927,7 @@ static void catalog_info_counts_parts_and_instances(void **state)
     jv v = parse_json(r.out);
     assert_int_equal((int)jnum(&v, "parts"), 2);
     assert_int_equal((int)jnum(&v, "instances"), 1);
+    assert_int_equal((int)jnum(&v, "runs"), 0);
     jv_release(&v);
     result_free(&r);
 }
@@ -1825,6 +1832,576 @@ static void fixtures_write_meshes_whose_volumes_match_volumes_json(void **state)
     jv_release(&v);
 }
 
+/* ------------------------------------------------------------------------------------
+ * Reconstruction runs: recording (reconstruct), run list/show, compare, bad input
+ * ---------------------------------------------------------------------------------- */
+
+/* Rows of one table, counted on a raw connection. */
+static int64_t table_rows(const env *e, const char *table)
+{
+    sqlite3 *db = NULL;
+    assert_int_equal(sqlite3_open_v2(e->db, &db, SQLITE_OPEN_READONLY, NULL), SQLITE_OK);
+    char sql[128];
+    snprintf(sql, sizeof sql, "SELECT count(*) FROM %s", table);
+    sqlite3_stmt *stmt = NULL;
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt, NULL) != SQLITE_OK)
+        fail_msg("%s: %s", sql, sqlite3_errmsg(db));
+    assert_int_equal(sqlite3_step(stmt), SQLITE_ROW);
+    int64_t n = sqlite3_column_int64(stmt, 0);
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+    return n;
+}
+
+/* Rows in every table a run writes, as one comparable string. */
+static void run_rows(const env *e, char *out, size_t size)
+{
+    snprintf(out, size, "runs %lld layers %lld sections %lld advice %lld meshes %lld",
+             (long long)table_rows(e, "runs"), (long long)table_rows(e, "run_layers"),
+             (long long)table_rows(e, "sections"), (long long)table_rows(e, "advice"),
+             (long long)table_rows(e, "meshes"));
+}
+
+/* Failed with exit 1 and nothing on stdout after the progress note: stderr is the
+ * "reconstructing ..." line, then one error line containing `needle`. */
+static void expect_failure_after_progress(const result *r, const char *needle)
+{
+    if (r->code != 1)
+        fail_msg("expected exit 1, got %d; stderr: %s", r->code, r->err);
+    assert_string_equal(r->out, "");
+    const char *nl = strchr(r->err, '\n');
+    if (strncmp(r->err, "symrec: reconstructing ", 23) != 0 || !nl)
+        fail_msg("stderr does not start with the progress note: %s", r->err);
+    expect_one_line(nl + 1, "error", needle);
+}
+
+/* The demo catalogue's first three parts, built in-process (a process fewer per test):
+ * instance 1 the chipped shaft, 2 the gouged bushing, 3 the broken bracket (mirror). */
+static void make_demo(const env *e)
+{
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    if (sr_catalog_open(e->db, SR_CATALOG_CREATE, &cat, &err) != SR_OK)
+        fail_msg("cannot create %s: %s", e->db, err.msg);
+    for (size_t i = 0; i < 3; i++) {
+        const sr_demo_part *dp = sr_demo_part_get(i);
+        sr_mesh intact, damaged;
+        assert_int_equal(sr_demo_part_build(i, &intact, &damaged, &err), SR_OK);
+        sr_part_new part = {.number = dp->number, .name = dp->name, .material = dp->material,
+                            .mesh = &intact,
+                            .symmetry = {(sr_sym_kind)dp->sym_kind, dp->sym_order,
+                                         dp->sym_shift_mm}};
+        int64_t id;
+        assert_int_equal(sr_catalog_part_add(cat, &part, &id, &err), SR_OK);
+        sr_instance_new inst = {.part = dp->number, .mesh = &damaged, .serial = dp->serial};
+        assert_int_equal(sr_catalog_instance_add(cat, &inst, &id, &err), SR_OK);
+        assert_int_equal(id, (int64_t)i + 1);
+        sr_mesh_release(&intact);
+        sr_mesh_release(&damaged);
+    }
+    sr_catalog_close(cat);
+}
+
+static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    /* --no-union: the boolean is the reconstruction's business (and slow under
+     * valgrind); the record is the same either way */
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--json");
+    expect_ok(&r);
+    jv rec = parse_json(r.out);
+    result_free(&r);
+    const jv *run_id = jget(&rec, "run_id");
+    assert_int_equal(run_id->type, J_NUM);
+    long id = (long)run_id->num;
+    assert_true(id >= 1);
+    assert_string_equal(jstr(jget(&rec, "params"), "name"), "coarse");
+    assert_int_equal((int)jnum(&rec, "layers"), 80);
+    const jv *secs = jget(&rec, "sections");
+    assert_true(secs->count >= 1);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", id);
+
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    jv list = parse_json(r.out);
+    result_free(&r);
+    assert_int_equal(list.type, J_ARR);
+    assert_int_equal(list.count, 1);
+    const jv *row = &list.items[0];
+    assert_int_equal((long)jnum(row, "id"), id);
+    assert_int_equal((long)jnum(row, "instance_id"), 1);
+    assert_string_equal(jstr(row, "part_number"), "SR-SHAFT-01");
+    assert_string_equal(jstr(row, "status"), "ok");
+    assert_int_equal((size_t)jnum(row, "sections"), secs->count);
+    double total = 0;
+    for (size_t i = 0; i < secs->count; i++)
+        total += jnum(&secs->items[i], "volume_mm3");
+    assert_near(jnum(row, "missing_volume_mm3"), total, 1e-9 * total);
+    jv_release(&list);
+
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json");
+    expect_ok(&r);
+    jv show = parse_json(r.out);
+    result_free(&r);
+    assert_int_equal((long)jnum(&show, "id"), id);
+    assert_string_equal(jstr(&show, "status"), "ok");
+    assert_string_equal(jstr(&show, "method"), "paper");
+    assert_string_equal(jstr(&show, "software_version"), SR_VERSION);
+    assert_string_equal(jstr(jget(&show, "symmetry"), "kind"), "axial");
+    assert_int_equal((int)jnum(jget(&show, "params"), "sectors"), 60);
+    const jv *align = jget(&show, "alignment");
+    assert_int_equal(jget(align, "transform")->count, 12);
+    assert_near(jnum(align, "fit_quality"), jnum(jget(&rec, "alignment"), "fit_score"), 0);
+    const jv *rec_xf = jget(jget(&rec, "alignment"), "transform");
+    for (size_t i = 0; i < 12; i++)
+        assert_true(jget(align, "transform")->items[i].num == rec_xf->items[i].num);
+    assert_int_equal(jget(&show, "timings")->type, J_OBJ);
+    assert_true(jnum(jget(&show, "timings"), "total") >= 0);
+    assert_true(jnum(jget(&show, "restored_mesh"), "triangles") > 0);
+    const jv *ssecs = jget(&show, "sections");
+    assert_int_equal(ssecs->count, secs->count);
+    for (size_t i = 0; i < secs->count; i++) {
+        const jv *f = jget(&ssecs->items[i], "features");
+        const jv *want = &secs->items[i];
+        /* the same doubles, printed the same shortest way */
+        assert_true(jnum(f, "volume_mm3") == jnum(want, "volume_mm3"));
+        assert_true(jnum(f, "area_mm2") == jnum(want, "area_mm2"));
+        assert_true(jnum(f, "depth_max_mm") == jnum(want, "depth_max_mm"));
+        assert_true(jnum(f, "depth_mean_mm") == jnum(want, "depth_mean_mm"));
+        assert_true(jnum(f, "z_min_mm") == jnum(want, "z_min_mm"));
+        assert_true(jnum(f, "z_max_mm") == jnum(want, "z_max_mm"));
+        assert_true(jnum(f, "angle_min_deg") == jnum(want, "angle_min_deg"));
+        assert_true(jnum(f, "angle_max_deg") == jnum(want, "angle_max_deg"));
+        assert_string_equal(jstr(f, "class"), "unclassified");
+        assert_int_equal((long)jnum(&ssecs->items[i], "index"), (long)jnum(want, "index"));
+        assert_int_equal((long)jnum(&ssecs->items[i], "patch_triangles"),
+                         (long)jnum(want, "patch_triangles"));
+    }
+    assert_int_equal(jget(&show, "advice")->type, J_ARR);
+    jv_release(&show);
+    jv_release(&rec);
+
+    /* --layers adds every layer's outline pair */
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json", "--layers");
+    expect_ok(&r);
+    show = parse_json(r.out);
+    result_free(&r);
+    const jv *layers = jget(&show, "layers");
+    assert_int_equal(layers->count, 80);
+    assert_int_equal(jget(&layers->items[0], "damaged")->count, 60);
+    assert_int_equal(jget(&layers->items[79], "restored")->count, 60);
+    jv_release(&show);
+
+    /* the human forms */
+    RUN(&r, "--db", e->db, "run", "show", ids);
+    expect_ok(&r);
+    expect_contains(r.out, "instance 1 of part SR-SHAFT-01, ok");
+    expect_contains(r.out, "set 'coarse': 80 layers, 60 sectors");
+    expect_contains(r.out, "unclassified");
+    expect_contains(r.out, "timings:     align ");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list");
+    expect_ok(&r);
+    expect_contains(r.out, "missing mm³");
+    expect_contains(r.out, "SR-SHAFT-01");
+    expect_contains(r.out, "SN-24-0117");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "catalog", "info", "--json");
+    expect_ok(&r);
+    jv info = parse_json(r.out);
+    assert_int_equal((int)jnum(&info, "runs"), 1);
+    jv_release(&info);
+    result_free(&r);
+}
+
+static void reconstruct_prints_run_recorded_and_no_record_records_none(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    expect_contains(r.out, "\nrun 1 recorded\n");
+    result_free(&r);
+    char before[256], after[256];
+    run_rows(e, before, sizeof before);
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--no-record",
+        "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(jget(&v, "run_id")->type, J_NULL);
+    jv_release(&v);
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+    /* --mesh runs are never recorded */
+    char mesh[160];
+    path_in(e, "shaft.stl", mesh, sizeof mesh);
+    RUN(&r, "--db", e->db, "export", "instance", "1", "--out", mesh);
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "--mesh", mesh, "--symmetry", "axial", "--layers", "40",
+        "--sectors", "60", "--no-union", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(jget(&v, "run_id")->type, J_NULL);
+    assert_string_equal(jstr(jget(&v, "params"), "name"), "default");
+    assert_int_equal((int)jnum(jget(&v, "params"), "layers"), 40);
+    jv_release(&v);
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
+static void reconstruct_params_and_overrides_are_recorded(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--layers", "50",
+        "--gamma", "0.9", "--min-depth", "0.25", "--no-union", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", (long)jnum(&v, "run_id"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    const jv *p = jget(&v, "params");
+    assert_string_equal(jstr(p, "name"), "coarse");
+    assert_int_equal((int)jnum(p, "layers"), 50);
+    assert_int_equal((int)jnum(p, "sectors"), 60);
+    assert_near(jnum(p, "gamma_axis"), 0.9, 0);
+    assert_near(jnum(p, "gamma_plane"), 0.9, 0);
+    assert_near(jnum(p, "min_depth_mm"), 0.25, 0);
+    assert_near(jnum(p, "delta_d"), 0.05, 0);
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void a_failed_reconstruct_records_nothing(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char before[256], after[256];
+    run_rows(e, before, sizeof before);
+    /* the output folder cannot be made (a file is in the way): fails after the
+     * reconstruction, before anything is recorded */
+    char blocker[160], out[200];
+    path_in(e, "blocker", blocker, sizeof blocker);
+    write_bytes(blocker, "x", 1);
+    snprintf(out, sizeof out, "%s/sub", blocker);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--out", out);
+    expect_failure_after_progress(&r, "cannot create '");
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+
+    /* a scan whose triangles have no area: the reconstruction itself fails */
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    double xyz[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+    uint32_t tri[] = {0, 1, 2, 1, 2, 3};
+    sr_mesh flat = {xyz, tri, 4, 2};
+    sr_instance_new in = {.part = "SR-SHAFT-01", .mesh = &flat, .serial = "FLAT"};
+    int64_t id;
+    assert_int_equal(sr_catalog_instance_add(cat, &in, &id, &err), SR_OK);
+    sr_catalog_close(cat);
+    run_rows(e, before, sizeof before);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%lld", (long long)id);
+    RUN(&r, "--db", e->db, "reconstruct", ids, "--params", "coarse");
+    expect_failure_after_progress(&r, "no triangle with an area");
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
+static void reconstruct_refuses_bad_input(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char before[256], after[256];
+    run_rows(e, before, sizeof before);
+    static const struct {
+        const char *a, *b;
+        int code;
+        const char *msg;
+    } cases[] = {
+        {"--layers", "0", 2, "bad --layers '0'"},
+        {"--sectors", "0", 2, "bad --sectors '0'"},
+        {"--sectors", "2", 2, "bad --sectors '2'"},
+        {"--gamma", "0", 2, "bad --gamma '0'"},
+        {"--gamma", "1.5", 2, "bad --gamma '1.5'"},
+        {"--min-depth", "-0.5", 2, "bad --min-depth '-0.5'"},
+        {"--params", "", 2, "bad --params ''"},
+        {"--params", "nope", 1, "no parameter set 'nope' in the catalogue"},
+        {"--format", "xyz", 2, "bad --format 'xyz'"},
+    };
+    const size_t n = sizeof cases / sizeof cases[0];
+    for (size_t i = 0; i < n; i++) {
+        if (sampled_out(i, n))
+            continue;
+        result r;
+        RUN(&r, "--db", e->db, "reconstruct", "1", cases[i].a, cases[i].b);
+        if (cases[i].code == 2)
+            expect_usage(&r, cases[i].msg);
+        else
+            expect_error(&r, cases[i].msg);
+        result_free(&r);
+    }
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "99");
+    expect_error(&r, "no instance 99 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "x1");
+    expect_usage(&r, "INSTANCE");
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
+static void reconstruct_of_an_intact_scan_says_nothing_to_repair(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char mesh[160];
+    path_in(e, "intact.ply", mesh, sizeof mesh);
+    result r;
+    RUN(&r, "--db", e->db, "export", "part", "SR-SHAFT-01", "--out", mesh);
+    expect_ok(&r);
+    result_free(&r);
+    long id = add_instance(e, "SR-SHAFT-01", mesh, "INTACT");
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", id);
+    RUN(&r, "--db", e->db, "reconstruct", ids, "--params", "coarse");
+    expect_ok(&r);
+    expect_contains(r.out, "nothing to repair: no missing section found");
+    expect_contains(r.out, "recorded\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", ids, "--params", "coarse", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(jget(&v, "sections")->type, J_ARR);
+    assert_int_equal(jget(&v, "sections")->count, 0);
+    assert_near(jnum(&v, "patch_volume_mm3"), 0, 0);
+    char rid[32];
+    snprintf(rid, sizeof rid, "%ld", (long)jnum(&v, "run_id"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", rid, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(jget(&v, "sections")->count, 0);
+    assert_near(jnum(&v, "missing_volume_mm3"), 0, 0);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", rid);
+    expect_ok(&r);
+    expect_contains(r.out, "sections:    none (nothing to repair)");
+    result_free(&r);
+}
+
+static void a_symmetry_that_does_not_fit_finishes_and_reports_the_fit(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    /* mirror on the axial shaft: it finishes (a shaft is mirror-symmetric too) and the
+     * fit is reported */
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--symmetry", "mirror", "--params", "coarse",
+        "--no-union", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    const jv *a = jget(&v, "alignment");
+    double score = jnum(a, "fit_score");
+    assert_true(score >= 0 && score <= 1);
+    assert_int_equal(jget(a, "fit_poor")->type, J_BOOL);
+    assert_string_equal(jstr(jget(&v, "symmetry"), "kind"), "mirror");
+    jv_release(&v);
+    result_free(&r);
+    /* axial on the flat bracket: a poor fit, said so, and still a recorded run */
+    RUN(&r, "--db", e->db, "reconstruct", "3", "--symmetry", "axial", "--params", "coarse",
+        "--no-union", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    a = jget(&v, "alignment");
+    assert_true(jnum(a, "fit_score") < 0.5);
+    assert_true(jget(a, "fit_poor")->b);
+    assert_int_equal(jget(&v, "run_id")->type, J_NUM);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "3", "--symmetry", "axial", "--params", "coarse",
+        "--no-union", "--no-record");
+    expect_ok(&r);
+    expect_contains(r.out, "poor fit: score ");
+    result_free(&r);
+}
+
+static void run_commands_refuse_wrong_ids_and_filters(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "run", "list");
+    expect_ok(&r);
+    assert_string_equal(r.out, "no runs\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    assert_string_equal(r.out, "[]\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", "99");
+    expect_error(&r, "no run 99 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", "0");
+    expect_usage(&r, "bad N '0'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show");
+    expect_usage(&r, NULL);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--instance", "5");
+    expect_error(&r, "no instance 5 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--part", "NOPE", "--json");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "frob");
+    expect_usage(&r, "run");
+    result_free(&r);
+}
+
+static void run_list_filters_by_instance_and_part(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "2", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.count, 2);
+    assert_int_equal((int)jnum(&v.items[0], "id"), 2);     /* newest first */
+    assert_int_equal((int)jnum(&v.items[1], "id"), 1);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--instance", "1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 1);
+    assert_int_equal((int)jnum(&v.items[0], "instance_id"), 1);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--part", "SR-BUSH-02", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 1);
+    assert_string_equal(jstr(&v.items[0], "part_number"), "SR-BUSH-02");
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void compare_gives_volumes_and_deviations(void **state)
+{
+    const env *e = *state;
+    /* the cylinder against itself, then the box against the cylinder */
+    result r;
+    RUN(&r, "compare", e->cyl, e->cyl, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_near(jnum(&v, "volume_diff_mm3"), 0, 0);
+    assert_near(jnum(&v, "hausdorff_mm"), 0, 1e-9);
+    assert_near(jnum(jget(&v, "a"), "volume_mm3"), cyl_volume(), 1e-3);
+    assert_true(jget(jget(&v, "a"), "closed")->b);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, e->box, "--json", "--samples", "5000");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_near(jnum(&v, "volume_diff_mm3"), 6000 - cyl_volume(), 1e-3);
+    assert_true(jnum(jget(&v, "b_to_a"), "samples") >= 5000);
+    assert_true(jnum(&v, "hausdorff_mm") >= jnum(jget(&v, "a_to_b"), "max_mm"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, e->box);
+    expect_ok(&r);
+    expect_contains(r.out, "volume difference B - A: ");
+    expect_contains(r.out, "Hausdorff distance: ");
+    result_free(&r);
+}
+
+static void compare_takes_stored_meshes(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "instance:1", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    double lost = -jnum(&v, "volume_diff_mm3");
+    assert_true(lost > 1000 && lost < 1500);    /* the chip: 1239 mm³ */
+    assert_string_equal(jstr(jget(&v, "b"), "source"), "instance 1");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "run:1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_string_equal(jstr(jget(&v, "b"), "source"), "run 1");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "run:9");
+    expect_error(&r, "no run 9 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:NOPE", "run:1");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "instance:x", "run:1");
+    expect_usage(&r, "instance:N");
+    result_free(&r);
+}
+
+static void compare_refuses_missing_and_garbage_files(void **state)
+{
+    const env *e = *state;
+    char missing[160], garbage[160];
+    path_in(e, "missing.stl", missing, sizeof missing);
+    path_in(e, "garbage.stl", garbage, sizeof garbage);
+    write_bytes(garbage, "this is not a mesh at all, not even close to one\n", 49);
+    result r;
+    RUN(&r, "compare", missing, e->cyl);
+    expect_error(&r, "missing.stl");
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, garbage, "--json");
+    expect_error(&r, "garbage.stl");
+    result_free(&r);
+    RUN(&r, "compare", e->cyl);
+    expect_usage(&r, NULL);
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, e->cyl, "--samples", "0");
+    expect_usage(&r, "bad --samples '0'");
+    result_free(&r);
+    /* a catalogue reference without a catalogue: the usual message, no file made */
+    RUN(&r, "--db", e->db, "compare", e->cyl, "run:1");
+    expect_error(&r, "no catalogue '");
+    result_free(&r);
+    assert_false(file_exists(e->db));
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -1864,6 +2441,18 @@ int main(void)
         T(params_list_show_and_set),
         T(demo_builds_the_catalogue_and_is_idempotent),
         T(fixtures_write_meshes_whose_volumes_match_volumes_json),
+        T(reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return),
+        T(reconstruct_prints_run_recorded_and_no_record_records_none),
+        T(reconstruct_params_and_overrides_are_recorded),
+        T(a_failed_reconstruct_records_nothing),
+        T(reconstruct_refuses_bad_input),
+        T(reconstruct_of_an_intact_scan_says_nothing_to_repair),
+        T(a_symmetry_that_does_not_fit_finishes_and_reports_the_fit),
+        T(run_commands_refuse_wrong_ids_and_filters),
+        T(run_list_filters_by_instance_and_part),
+        T(compare_gives_volumes_and_deviations),
+        T(compare_takes_stored_meshes),
+        T(compare_refuses_missing_and_garbage_files),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);
