@@ -71,6 +71,20 @@ static void csv_fieldf(FILE *f, bool last, const char *fmt, ...)
 
 /* ---- rows ---- */
 
+/* A comma list as a JSON array of strings. */
+static void json_list(json_out *j, const char *list)
+{
+    json_array_begin(j);
+    for (const char *p = list; *p;) {
+        size_t n = strcspn(p, ",");
+        char item[256];
+        snprintf(item, sizeof item, "%.*s", (int)n, p);
+        json_string(j, item);
+        p += n + (p[n] == ',');
+    }
+    json_array_end(j);
+}
+
 typedef enum { OUT_TABLE, OUT_CSV, OUT_JSON } out_kind;
 
 typedef struct rows_ctx {
@@ -114,26 +128,9 @@ static int row_out(const sr_history_row *r, void *user)
         json_key(j, "missing_volume_mm3");
         json_number(j, r->missing_volume_mm3);
         json_key(j, "damage_classes");
-        json_array_begin(j);
-        /* the comma lists as arrays */
-        for (const char *p = r->classes; *p;) {
-            size_t n = strcspn(p, ",");
-            char item[256];
-            snprintf(item, sizeof item, "%.*s", (int)n, p);
-            json_string(j, item);
-            p += n + (p[n] == ',');
-        }
-        json_array_end(j);
+        json_list(j, r->classes);
         json_key(j, "advice");
-        json_array_begin(j);
-        for (const char *p = r->processes; *p;) {
-            size_t n = strcspn(p, ",");
-            char item[256];
-            snprintf(item, sizeof item, "%.*s", (int)n, p);
-            json_string(j, item);
-            p += n + (p[n] == ',');
-        }
-        json_array_end(j);
+        json_list(j, r->processes);
         json_key(j, "outcome");
         json_string(j, sr_history_outcome_str(r->outcome));
         json_object_end(j);
