@@ -42,6 +42,8 @@ static const cli_command commands[] = {
     {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
     {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
     {"run", cmd_run, "list and show recorded reconstruction runs"},
+    {"history", cmd_history, "repair history of a part, instance, material or date range"},
+    {"report", cmd_report, "write a run's self-contained HTML report"},
     {"compare", cmd_compare, "volume difference and surface deviation of two meshes"},
     {"params", cmd_params, "list, show and set named parameter sets"},
     {"demo", cmd_demo, "build the demo catalogue and show it"},

@@ -616,7 +616,8 @@ static void top_level_help_lists_commands_and_db_default(void **state)
     assert_string_equal(r.err, "");
     expect_contains(r.out, "usage: symrec");
     const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "run",
-                          "compare", "params", "demo", "fixtures", "help"};
+                          "compare", "params", "demo", "fixtures", "help", "history",
+                          "report"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char line[32];
         snprintf(line, sizeof line, "\n  %s ", cmds[i]);
@@ -653,7 +654,8 @@ static void every_command_and_subcommand_has_help(void **state)
         {"params", "--help"},          {"params", "list", "--help"},
         {"params", "show", "--help"},  {"params", "set", "--help"},
         {"demo", "--help"},            {"fixtures", "--help"},
-        {"help", "--help"},
+        {"help", "--help"},            {"history", "--help"},
+        {"report", "--help"},
     };
     const size_t n = sizeof cmds / sizeof cmds[0];
     for (size_t i = 0; i < n; i++) {
@@ -2402,6 +2404,230 @@ static void compare_refuses_missing_and_garbage_files(void **state)
     assert_false(file_exists(e->db));
 }
 
+/* ------------------------------------------------------------------------------------
+ * History and report
+ * ---------------------------------------------------------------------------------- */
+
+/* The demo's shaft and bushing, plus a second shaft instance (4), and four runs:
+ * instance 1 twice, 4 once, 2 once (runs 1..4 in that order). */
+static void make_history(const env *e)
+{
+    make_demo(e);
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    sr_mesh intact, damaged;
+    assert_int_equal(sr_demo_part_build(0, &intact, &damaged, &err), SR_OK);
+    sr_instance_new inst = {.part = sr_demo_part_get(0)->number, .mesh = &damaged,
+                            .serial = "SN-SECOND"};
+    int64_t id;
+    assert_int_equal(sr_catalog_instance_add(cat, &inst, &id, &err), SR_OK);
+    assert_int_equal(id, 4);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&damaged);
+    sr_catalog_close(cat);
+    static const char *const order[] = {"1", "1", "4", "2"};
+    for (size_t i = 0; i < 4; i++) {
+        result r;
+        RUN(&r, "--db", e->db, "reconstruct", order[i], "--params", "coarse", "--no-union");
+        expect_ok(&r);
+        result_free(&r);
+    }
+}
+
+/* Number of runs in `history --json` output, checking each has the keys. */
+static size_t history_json_runs(const char *out, const char *part)
+{
+    jv v = parse_json(out);
+    const jv *runs = jget(&v, "runs");
+    assert_int_equal(runs->type, J_ARR);
+    assert_int_equal(jget(&v, "summary")->type, J_OBJ);
+    size_t n = runs->count;
+    for (size_t i = 0; i < n; i++) {
+        const jv *r = &runs->items[i];
+        if (part)
+            assert_string_equal(jstr(r, "part_number"), part);
+        assert_int_equal(jget(r, "damage_classes")->type, J_ARR);
+        assert_int_equal(jget(r, "advice")->type, J_ARR);
+        assert_non_null(jstr(r, "outcome"));
+        assert_true(jnum(r, "missing_volume_mm3") > 0);
+    }
+    assert_int_equal((size_t)jnum(jget(&v, "summary"), "runs"), n);
+    jv_release(&v);
+    return n;
+}
+
+static size_t count_lines(const char *s)
+{
+    size_t n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+static void history_filters_return_exactly_the_runs_made(void **state)
+{
+    const env *e = *state;
+    make_history(e);
+    const char *shaft = sr_demo_part_get(0)->number, *bush = sr_demo_part_get(1)->number;
+    result r;
+    RUN(&r, "--db", e->db, "history", "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, NULL), 4);
+    jv v = parse_json(r.out);
+    const jv *runs = jget(&v, "runs");
+    assert_int_equal((int)jnum(&runs->items[0], "run_id"), 4); /* newest first */
+    assert_int_equal((int)jnum(&runs->items[3], "run_id"), 1);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--part", shaft, "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, shaft), 3);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--instance", "1", "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, shaft), 2);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--material", sr_demo_part_get(1)->material, "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, bush), 1);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--since", "2000-01-01", "--until", "2999-12-31",
+        "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, NULL), 4);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--until", "2000-01-01", "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, NULL), 0);
+    result_free(&r);
+
+    /* CSV: a header and one CRLF line per run; the symmetry "axial, continuous" quoted */
+    RUN(&r, "--db", e->db, "history", "--part", shaft, "--csv");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 3);
+    assert_int_equal(strncmp(r.out, "run_id,date,started_at,instance_id,part,", 40), 0);
+    expect_contains(r.out, "outcome\r\n");
+    expect_contains(r.out, ",\"axial, continuous\",");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--instance", "2", "--csv");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 1);
+    result_free(&r);
+
+    /* table and summary */
+    RUN(&r, "--db", e->db, "history");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 4);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--summary");
+    expect_ok(&r);
+    expect_contains(r.out, "runs: 4 (0 failed)");
+    expect_contains(r.out, "per part:");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--summary", "--csv");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 2); /* header, shaft, bushing */
+    result_free(&r);
+}
+
+static void history_refuses_bad_filters(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "history", "--since", "2024-02-30");
+    expect_usage(&r, "bad --since '2024-02-30'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--until", "yesterday", "--json");
+    expect_usage(&r, "bad --until 'yesterday'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--since", "2024-03-02", "--until", "2024-03-01");
+    expect_usage(&r, "after --until");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--part", "NOPE", "--json");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--part", "NOPE", "--csv");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--material", "Unobtainium");
+    expect_error(&r, "no material 'Unobtainium' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--instance", "9");
+    expect_error(&r, "no instance 9 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--json", "--csv");
+    expect_usage(&r, "not both");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history");
+    expect_ok(&r);
+    assert_string_equal(r.out, "no runs\n");
+    result_free(&r);
+}
+
+static void report_writes_a_self_contained_page_of_the_run(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    char out[160];
+    path_in(e, "run1.html", out, sizeof out);
+    RUN(&r, "--db", e->db, "report", "1", "--out", out);
+    expect_ok(&r);
+    expect_contains(r.out, "report of run 1 written to");
+    result_free(&r);
+    char *html = read_text(out);
+    assert_non_null(html);
+    expect_contains(html, "<title>symrec report: run 1, part ");
+    expect_contains(html, "<table id=\"feature-table\">");
+    expect_contains(html, sr_demo_part_get(0)->serial);
+    assert_null(strstr(html, "http://"));
+    assert_null(strstr(html, "https://"));
+    assert_string_equal(html + strlen(html) - 8, "</html>\n");
+    free(html);
+    /* no temporary file left beside it */
+    DIR *d = opendir(e->dir);
+    assert_non_null(d);
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL)
+        if (strstr(de->d_name, ".tmp-"))
+            fail_msg("temporary file left: %s", de->d_name);
+    closedir(d);
+    RUN(&r, "--db", e->db, "report", "1", "--out", out, "--max-triangles", "200", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_true(jget(&v, "decimated")->b);
+    assert_true(jnum(&v, "triangles_shown") <= 200);
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void report_refuses_a_wrong_run_and_bad_arguments(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char out[160];
+    path_in(e, "x.html", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "report", "99", "--out", out);
+    expect_error(&r, "no run 99 in the catalogue");
+    result_free(&r);
+    assert_false(file_exists(out));
+    RUN(&r, "--db", e->db, "report", "1");
+    expect_usage(&r, "--out");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "report", "x", "--out", out);
+    expect_usage(&r, "bad RUN 'x'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "report", "1", "--out", out, "--max-triangles", "5");
+    expect_usage(&r, "bad --max-triangles '5'");
+    result_free(&r);
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -2453,6 +2679,10 @@ int main(void)
         T(compare_gives_volumes_and_deviations),
         T(compare_takes_stored_meshes),
         T(compare_refuses_missing_and_garbage_files),
+        T(history_filters_return_exactly_the_runs_made),
+        T(history_refuses_bad_filters),
+        T(report_writes_a_self_contained_page_of_the_run),
+        T(report_refuses_a_wrong_run_and_bad_arguments),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);
