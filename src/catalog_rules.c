@@ -509,8 +509,9 @@ sr_status sr_catalog_rule_get(sr_catalog *cat, const char *key, sr_rule *out, sr
 static sr_status check_json(sr_catalog *cat, const sr_rule *r, sr_err *err)
 {
     sqlite3_stmt *stmt;
-    sr_status st = sr_cat_prepare(cat, "SELECT json_valid(?1) AND json_type(?1) = 'object'",
-                                  &stmt, err);
+    sr_status st = sr_cat_prepare(
+        cat, "SELECT CASE WHEN json_valid(?1) THEN json_type(?1) = 'object' ELSE 0 END", &stmt,
+        err);
     if (st != SR_OK)
         return st;
     sqlite3_bind_text(stmt, 1, r->parameters_json, -1, SQLITE_TRANSIENT);
