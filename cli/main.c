@@ -42,6 +42,8 @@ static const cli_command commands[] = {
     {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
     {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
     {"params", cmd_params, "list, show and set named parameter sets"},
+    {"rules", cmd_rules, "list, show and edit the repair rules advice is drawn from"},
+    {"materials", cmd_materials, "list materials with density and process limits"},
     {"demo", cmd_demo, "build the demo catalogue and show it"},
     {"fixtures", cmd_fixtures, "write the demo parts' meshes and known volumes"},
     {"help", cmd_help, "show the help of a command"},

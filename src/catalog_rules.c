@@ -80,6 +80,33 @@ static const field_desc fields[] = {
 #undef F
 #define FIELD_COUNT (sizeof fields / sizeof fields[0])
 
+static const field_desc *find_field(const char *name)
+{
+    for (size_t i = 0; i < FIELD_COUNT; i++)
+        if (strcmp(fields[i].name, name) == 0)
+            return &fields[i];
+    return NULL;
+}
+
+sr_rule_field_kind sr_rule_field_kind_of(const char *name)
+{
+    const field_desc *f = name ? find_field(name) : NULL;
+    if (!f)
+        return SR_RULE_FIELD_UNKNOWN;
+    switch (f->kind) {
+    case K_TEXT:
+    case K_OPT_TEXT:
+        return SR_RULE_FIELD_TEXT;
+    case K_INT:
+    case K_BOOL:
+        return SR_RULE_FIELD_INT;
+    case K_JSON:
+        return SR_RULE_FIELD_JSON;
+    default:
+        return SR_RULE_FIELD_NUMBER;
+    }
+}
+
 const char *sr_rule_field_name(size_t i)
 {
     return i < FIELD_COUNT ? fields[i].name : NULL;
@@ -111,13 +138,6 @@ static int cint_of(const sr_rule *r, const field_desc *f)
     return *(const int *)((const char *)r + f->offset);
 }
 
-static const field_desc *find_field(const char *name)
-{
-    for (size_t i = 0; i < FIELD_COUNT; i++)
-        if (strcmp(fields[i].name, name) == 0)
-            return &fields[i];
-    return NULL;
-}
 
 static bool in_list(const char *const *names, const char *s)
 {

@@ -62,6 +62,17 @@ void sr_rule_init(sr_rule *rule);
  * names the field, e.g. "bad max_depth_mm -1: expected a number >= 0". SR_E_RANGE. */
 sr_status sr_rule_check(const sr_rule *rule, sr_err *err);
 
+/* Kind of a field's value, for printing: */
+typedef enum sr_rule_field_kind {
+    SR_RULE_FIELD_UNKNOWN = -1,     /* no such field */
+    SR_RULE_FIELD_TEXT = 0,         /* text; an optional one may be unset */
+    SR_RULE_FIELD_NUMBER,           /* a double; an optional one may be unset */
+    SR_RULE_FIELD_INT,              /* priority, enabled */
+    SR_RULE_FIELD_JSON,             /* parameters_json: a JSON object */
+} sr_rule_field_kind;
+
+sr_rule_field_kind sr_rule_field_kind_of(const char *name);
+
 /* Name of field i (0, 1, ...) that sr_catalog_rule_set accepts, in table order; NULL
  * past the last. */
 const char *sr_rule_field_name(size_t i);
