@@ -73,6 +73,46 @@ static bool sector_in(const sr_run_section *s, size_t j, size_t sectors)
     return true;
 }
 
+/* Whether (l, j) is a cell of section s: in its layers and sectors, and restored
+ * beyond the damaged outline. */
+static bool is_cell(const sr_run *run, const sr_run_section *s, size_t l, size_t j)
+{
+    if (l < s->layer_first || l > s->layer_last || !sector_in(s, j, run->sectors))
+        return false;
+    double ro = radius_at(run, run->restored_xy, l, j);
+    double ri = radius_at(run, run->damaged_xy, l, j);
+    if (isnan(ri))
+        ri = 0;
+    return !isnan(ro) && ro - ri > 1e-9 * (1 + ro);
+}
+
+/* Beside the loss, in the given direction (dl, dj one of (-1,0), (1,0), (0,-1), (0,1)):
+ * the mean over the section's boundary cells of the neighbour's restored radius over
+ * the cell's (capped at 1; a neighbour outside the part counts 0). 1 when no cell has
+ * a neighbour there that is not itself a cell (e.g. a band all round). */
+static double wall_ratio(const sr_run *run, const sr_run_section *s, int dl, int dj)
+{
+    size_t N = run->sectors;
+    double sum = 0;
+    size_t count = 0;
+    for (size_t l = s->layer_first; l <= s->layer_last; l++) {
+        for (size_t j = 0; j < N; j++) {
+            if (!is_cell(run, s, l, j))
+                continue;
+            long nl = (long)l + dl;
+            size_t nj = (j + N + (size_t)(dj + 1) - 1) % N;
+            if (nl >= 0 && (size_t)nl < run->layer_count && is_cell(run, s, (size_t)nl, nj))
+                continue;
+            double ro = radius_at(run, run->restored_xy, l, j);
+            double rn = nl >= 0 && (size_t)nl < run->layer_count
+                            ? radius_at(run, run->restored_xy, (size_t)nl, nj) : NAN;
+            sum += isnan(rn) ? 0 : fmin(1.0, rn / ro);
+            count++;
+        }
+    }
+    return count ? sum / (double)count : 1.0;
+}
+
 /* Layer spacing of the run's grid. */
 static double grid_dz(const sr_run *run, const sr_run_section *s)
 {
@@ -151,6 +191,10 @@ static sr_status measure_cells(const sr_run *run, const sr_run_section *s, sr_fe
     f->coverage = fmin(1.0, (double)touched / around);
     double span = (double)touched * step_rad * f->local_radius_mm;
     f->length_mm = fmax(span, f->height_mm);
+    f->breadth_mm = fmin(span, f->height_mm);
+    bool narrow_in_z = f->axial_width_mm < f->circ_width_mm;
+    f->wall_a = wall_ratio(run, s, narrow_in_z ? -1 : 0, narrow_in_z ? 0 : -1);
+    f->wall_b = wall_ratio(run, s, narrow_in_z ? 1 : 0, narrow_in_z ? 0 : 1);
     f->layer_loss_max = loss_max;
     if (s->side != 0) {
         f->extent_min_mm = x_min;
@@ -171,6 +215,7 @@ static void measure_without_cells(const sr_run_section *s, const sr_feature_part
     f->axial_width_mm = f->height_mm;
     f->coverage = arc / (s->side != 0 ? 180.0 : 360.0);
     f->length_mm = fmax(f->circ_width_mm, f->height_mm);
+    f->breadth_mm = fmin(f->circ_width_mm, f->height_mm);
     add_reason(f, "no per-layer outlines: widths from the section's range%s",
                isnan(r) ? " (part radius unknown)" : " at the part's radius");
 }
@@ -245,14 +290,17 @@ static void classify(sr_features *f)
 {
     double d = f->depth_max_mm, w = f->width_mm;
     double pct_r = 100 * f->depth_fraction;
-    if (w <= SR_FEAT_CRACK_WIDTH_RATIO * d) {
+    bool walled = f->wall_a >= SR_FEAT_WALL_RATIO && f->wall_b >= SR_FEAT_WALL_RATIO;
+    bool through = f->wall_a < SR_FEAT_WALL_RATIO && f->wall_b < SR_FEAT_WALL_RATIO;
+    if (w <= SR_FEAT_CRACK_WIDTH_RATIO * d && walled) {
         strcpy(f->damage_class, "crack");
-        add_reason(f, "crack: %.3g mm wide, at most %.2g x its depth %.3g mm (narrow loss)",
-                   w, SR_FEAT_CRACK_WIDTH_RATIO, d);
+        add_reason(f, "crack: %.3g mm wide, at most %.2g x its depth %.3g mm, with the part on "
+                   "both sides (narrow loss)", w, SR_FEAT_CRACK_WIDTH_RATIO, d);
         return;
     }
-    add_reason(f, "not a crack: width %.3g mm > %.2g x depth %.3g mm", w,
-               SR_FEAT_CRACK_WIDTH_RATIO, d);
+    add_reason(f, "not a crack: width %.3g mm vs %.2g x depth %.3g mm, part beside it on %s",
+               w, SR_FEAT_CRACK_WIDTH_RATIO, d, walled ? "both sides" : through ? "neither side"
+                                                                          : "one side");
     if (f->depth_fraction >= SR_FEAT_BROKEN_DEPTH_FRACTION) {
         strcpy(f->damage_class, "broken_feature");
         add_reason(f, "broken feature: %.3g mm deep is %.0f %% of the local radius %.3g mm "
@@ -266,9 +314,16 @@ static void classify(sr_features *f)
                    100 * f->layer_loss_max, 100 * SR_FEAT_BROKEN_LAYER_LOSS);
         return;
     }
+    if (through && d >= w) {
+        strcpy(f->damage_class, "broken_feature");
+        add_reason(f, "broken feature: the loss goes through the feature's whole %.3g mm "
+                   "thickness (nothing of the part beside it) and is %.3g mm deep", w, d);
+        return;
+    }
     add_reason(f, "not broken: depth %.0f %% of the local radius (< %.0f %%), largest layer "
-               "loss %.0f %% (< %.0f %%)", pct_r, 100 * SR_FEAT_BROKEN_DEPTH_FRACTION,
-               100 * f->layer_loss_max, 100 * SR_FEAT_BROKEN_LAYER_LOSS);
+               "loss %.0f %% (< %.0f %%), not through a feature", pct_r,
+               100 * SR_FEAT_BROKEN_DEPTH_FRACTION, 100 * f->layer_loss_max,
+               100 * SR_FEAT_BROKEN_LAYER_LOSS);
     if (f->coverage >= SR_FEAT_WEAR_COVERAGE && f->depth_fraction <= SR_FEAT_WEAR_DEPTH_FRACTION) {
         strcpy(f->damage_class, "wear_band");
         add_reason(f, "wear band: covers %.0f %% of the way round (>= %.0f %%), %.0f %% of the "
@@ -281,13 +336,13 @@ static void classify(sr_features *f)
                100 * SR_FEAT_WEAR_COVERAGE, 100 * SR_FEAT_WEAR_DEPTH_FRACTION);
     if (f->aspect >= SR_FEAT_GOUGE_ASPECT) {
         strcpy(f->damage_class, "gouge");
-        add_reason(f, "gouge: %.3g mm long, %.3g x its width %.3g mm (>= %.0f)", f->length_mm,
-                   f->aspect, w, SR_FEAT_GOUGE_ASPECT);
+        add_reason(f, "gouge: %.3g mm long, %.3g x its breadth %.3g mm (>= %.0f)", f->length_mm,
+                   f->aspect, f->breadth_mm, SR_FEAT_GOUGE_ASPECT);
         return;
     }
     strcpy(f->damage_class, "chip");
-    add_reason(f, "chip: local loss %.3g mm long by %.3g mm wide (length/width %.3g < %.0f), "
-               "%.3g mm deep", f->length_mm, w, f->aspect, SR_FEAT_GOUGE_ASPECT, d);
+    add_reason(f, "chip: local loss %.3g mm long by %.3g mm (length/breadth %.3g < %.0f), "
+               "%.3g mm deep", f->length_mm, f->breadth_mm, f->aspect, SR_FEAT_GOUGE_ASPECT, d);
 }
 
 sr_status sr_features_compute(const sr_run *run, size_t index, const sr_feature_part *part,
@@ -341,6 +396,7 @@ sr_status sr_features_compute(const sr_run *run, size_t index, const sr_feature_
     f.area_mm2 = s->area_mm2;
     f.part_fraction = part && part->volume_mm3 > 0 ? s->volume_mm3 / part->volume_mm3 : NAN;
     f.layer_loss_max = NAN;
+    f.wall_a = f.wall_b = NAN;
     f.have_cells = outlines;
     if (outlines) {
         sr_status st = measure_cells(run, s, &f, err);
@@ -350,7 +406,7 @@ sr_status sr_features_compute(const sr_run *run, size_t index, const sr_feature_
     if (!f.have_cells)
         measure_without_cells(s, part, &f);
     f.width_mm = fmin(f.circ_width_mm, f.axial_width_mm);
-    f.aspect = f.width_mm > 0 ? f.length_mm / f.width_mm : NAN;
+    f.aspect = f.breadth_mm > 0 ? f.length_mm / f.breadth_mm : NAN;
     f.depth_fraction = f.local_radius_mm > 0 ? f.depth_max_mm / f.local_radius_mm : NAN;
     find_locations(run, s, &f);
     if (isnan(f.part_fraction))
@@ -380,6 +436,7 @@ static const figure figures[] = {
     FIG(depth_max_mm, 0), FIG(depth_mean_mm, 0), FIG(volume_mm3, 0), FIG(area_mm2, 0),
     FIG(part_fraction, 0), FIG(local_radius_mm, 0), FIG(depth_fraction, 0),
     FIG(circ_width_mm, 0), FIG(axial_width_mm, 0), FIG(width_mm, 0), FIG(length_mm, 0),
+    FIG(breadth_mm, 0), FIG(wall_a, 0), FIG(wall_b, 0),
     FIG(aspect, 0), FIG(coverage, 0), FIG(layer_loss_max, 0), FIG(shoulder_z_mm, 0),
 };
 #undef FIG

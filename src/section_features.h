@@ -24,7 +24,14 @@
  *   axial_width_mm   mean over the section's sectors of their lost height (cells x dz);
  *   width_mm         min(circ_width, axial_width): the narrow way across the loss;
  *   length_mm        max(arc the section spans at local_radius, its height);
- *   aspect           length / width;
+ *   breadth_mm       min(the same two): the section's bounding box is length x breadth;
+ *   aspect           length / breadth;
+ *   wall_a, wall_b   across the loss's narrow way (z when axial_width < circ_width, else
+ *                    round the axis), on each side: the mean over the section's edge
+ *                    cells of the neighbour's restored radius / the cell's (capped at 1;
+ *                    nothing there = 0). Near 1: the part continues beside the loss (a
+ *                    slot or groove in it); small on both sides: the loss goes through
+ *                    a thin feature (an ear, a rim, a tooth);
  *   coverage         sectors touched / sectors around (axial: all N; planar: the N/2
  *                    of its side);
  *   layer_loss_max   the largest fraction of one layer's restored cross-section that the
@@ -37,10 +44,13 @@
  * Classes, tried in this order (the first that holds wins; each test's figures are in
  * the reasons, and so are the failed tests before it, so a reader sees why the others
  * were not chosen):
- *   crack          width_mm <= SR_FEAT_CRACK_WIDTH_RATIO * depth_max: a loss much
- *                  narrower than it is deep. 0.5, not smaller, because the grid
- *                  overstates widths by up to one sector or layer; a real crack is far
- *                  narrower than the ratio.
+ *   crack          width_mm <= SR_FEAT_CRACK_WIDTH_RATIO * depth_max, and the part
+ *                  on both sides of it (wall_a, wall_b >= SR_FEAT_WALL_RATIO, 0.9): a
+ *                  loss much narrower than it is deep, cut into the part. 0.5, not
+ *                  smaller, because the grid overstates widths by up to one sector or
+ *                  layer; a real crack is far narrower than the ratio. Without the walls
+ *                  a thin ear broken off would look like a crack (measured on the
+ *                  shared bracket part: 8 mm thick, 59 mm deep).
  *   broken_feature depth_fraction >= SR_FEAT_BROKEN_DEPTH_FRACTION (0.4) or
  *                  layer_loss_max >= SR_FEAT_BROKEN_LAYER_LOSS (0.25): deep against the
  *                  local radius, or a quarter of some cross-section gone: the part has
@@ -48,12 +58,16 @@
  *                  damaged at the surface. 0.25 applies the paper's 25 % volume limit
  *                  (section 1) to one layer; 0.4 of the radius is symrec's choice: a
  *                  loss that deep reaches well into the core, not just the surface.
+ *                  Also when the loss goes through a thin feature (wall_a and wall_b
+ *                  both < 0.9) and is at least as deep as the feature is thick
+ *                  (depth_max >= width_mm): a rim, ear or tooth is gone, not nicked.
  *   wear_band      coverage >= SR_FEAT_WEAR_COVERAGE (0.75) and depth_fraction <=
  *                  SR_FEAT_WEAR_DEPTH_FRACTION (0.1): a shallow loss all or most of the
  *                  way round, the signature of running contact (journals, seal seats),
  *                  not of an impact.
- *   gouge          aspect >= SR_FEAT_GOUGE_ASPECT (3): long in one direction, narrow in
- *                  the other; 3 follows the usual NDT convention (e.g. ASME BPVC
+ *   gouge          aspect >= SR_FEAT_GOUGE_ASPECT (3): its bounding box is long in one
+ *                  direction, narrow in the other (a diagonal gouge has a squarish box
+ *                  and is called a chip); 3 follows the usual NDT convention (e.g. ASME BPVC
  *                  Section V/VIII) that an indication is "linear" when its length
  *                  exceeds three times its width.
  *   chip           otherwise: a local loss, short in z and in angle, shallow to moderate.
@@ -90,6 +104,7 @@
 #define SR_FEAT_WEAR_COVERAGE 0.75
 #define SR_FEAT_WEAR_DEPTH_FRACTION 0.1
 #define SR_FEAT_GOUGE_ASPECT 3.0
+#define SR_FEAT_WALL_RATIO 0.9
 #define SR_FEAT_STEP_FRACTION 0.05
 #define SR_FEAT_STEP_MIN_MM 0.2
 
@@ -117,7 +132,9 @@ typedef struct sr_features {
     double depth_max_mm, depth_mean_mm, volume_mm3, area_mm2;
     double part_fraction;
     double local_radius_mm, depth_fraction;
-    double circ_width_mm, axial_width_mm, width_mm, length_mm, aspect;
+    double circ_width_mm, axial_width_mm, width_mm, length_mm, breadth_mm, aspect;
+    double wall_a, wall_b;      /* beside the loss across its narrow way (below/above, or
+                                 * clockwise/counter-clockwise); see the figures */
     double coverage, layer_loss_max;
     size_t cell_count;
     double shoulder_z_mm;       /* where the step is; NaN if no shoulder */

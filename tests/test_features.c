@@ -180,8 +180,54 @@ static void narrow_deep_loss_is_a_crack(void **state)
     synth_run_dig(&run, 10, 29, 20, 1, 8.0, 0);    /* one 5-degree sector, 8 mm deep */
     sr_features f = describe_one(&run, 0, 0);
     assert_near(f.width_mm, SECTOR_RAD * 20.0, 1e-9);
+    assert_near(f.wall_a, 1.0, 0);    /* the shaft on both sides */
+    assert_near(f.wall_b, 1.0, 0);
     assert_string_equal(f.damage_class, "crack");
     assert_true(has_reason(&f, "crack"));
+    synth_run_free(&run);
+}
+
+/* Turns the shaft's shoulder into a rim 5 mm thick (z 50..55, radius 30; radius 20 above). */
+static void thin_rim(sr_run *run)
+{
+    for (size_t l = 55; l < run->layer_count; l++) {
+        for (size_t j = 0; j < run->sectors; j++) {
+            double *p = run->restored_xy + 2 * (l * run->sectors + j);
+            double *d = run->damaged_xy + 2 * (l * run->sectors + j);
+            p[0] *= 20.0 / 30.0;
+            p[1] *= 20.0 / 30.0;
+            d[0] = p[0];
+            d[1] = p[1];
+        }
+    }
+}
+
+static void loss_through_a_thin_rim_is_a_broken_feature(void **state)
+{
+    (void)state;
+    sr_run run;
+    shaft(&run);
+    thin_rim(&run);
+    /* 60 deg of the rim, 8 mm deep (27 % of its radius), its whole 5 mm thickness */
+    synth_run_dig(&run, 50, 54, 0, 12, 8.0, 0);
+    sr_features f = describe_one(&run, 0, 0);
+    assert_near(f.width_mm, 5.0, 1e-9);
+    assert_near(f.wall_a, 20.0 / 30.0, 1e-9);   /* below: the radius-20 body */
+    assert_near(f.wall_b, 20.0 / 30.0, 1e-9);   /* above: the radius-20 journal */
+    assert_string_equal(f.damage_class, "broken_feature");
+    assert_true(has_reason(&f, "through the feature"));
+    synth_run_free(&run);
+}
+
+static void shallow_nick_in_a_thin_rim_is_not_broken(void **state)
+{
+    (void)state;
+    sr_run run;
+    shaft(&run);
+    thin_rim(&run);
+    synth_run_dig(&run, 50, 54, 0, 4, 2.0, 0);   /* 2 mm deep: less than the 5 mm rim */
+    sr_features f = describe_one(&run, 0, 0);
+    assert_string_equal(f.damage_class, "chip");
     synth_run_free(&run);
 }
 
@@ -371,6 +417,8 @@ int main(void)
         cmocka_unit_test(large_fraction_of_the_cross_section_is_a_broken_feature),
         cmocka_unit_test(narrow_deep_loss_is_a_crack),
         cmocka_unit_test(long_narrow_shallow_loss_is_a_gouge),
+        cmocka_unit_test(loss_through_a_thin_rim_is_a_broken_feature),
+        cmocka_unit_test(shallow_nick_in_a_thin_rim_is_not_broken),
         cmocka_unit_test(part_fraction_needs_the_part_volume),
         cmocka_unit_test(planar_sections_are_ear_or_edge_by_their_distance_from_the_plane),
         cmocka_unit_test(json_carries_the_figures_and_reasons),
