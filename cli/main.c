@@ -46,6 +46,8 @@ static const cli_command commands[] = {
     {"report", cmd_report, "write a run's self-contained HTML report"},
     {"compare", cmd_compare, "volume difference and surface deviation of two meshes"},
     {"params", cmd_params, "list, show and set named parameter sets"},
+    {"rules", cmd_rules, "list, show and edit the repair rules advice is drawn from"},
+    {"materials", cmd_materials, "list materials with density and process limits"},
     {"demo", cmd_demo, "build the demo catalogue and show it"},
     {"fixtures", cmd_fixtures, "write the demo parts' meshes and known volumes"},
     {"help", cmd_help, "show the help of a command"},

@@ -1,6 +1,6 @@
 /*
  * catalog_history.c: history queries over the run record (API in catalog_history.h;
- * indexes in sql/004_history.sql).
+ * indexes in sql/003_history.sql).
  *
  * Every statement is a compile-time SQL literal with bound parameters:
  *   ?1 instance id (0 = any), ?2 part id (0 = any), ?3 material id (0 = any),

@@ -1,7 +1,7 @@
 /*
  * catalog_history.h: the questions a shop asks of its repair history, answered from
  * the run record (runs, sections, advice of sql/001_init.sql, indexed for this by
- * sql/004_history.sql): which runs were made for a part, an instance, a material or
+ * sql/003_history.sql): which runs were made for a part, an instance, a material or
  * in a date range, with their damage classes, missing volumes, advice and outcomes;
  * and summaries over the same selection (most frequent damage class and average
  * missing volume per part, repair vs replace, runs per month).

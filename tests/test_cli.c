@@ -653,6 +653,11 @@ static void every_command_and_subcommand_has_help(void **state)
         {"compare", "--help"},
         {"params", "--help"},          {"params", "list", "--help"},
         {"params", "show", "--help"},  {"params", "set", "--help"},
+        {"rules", "--help"},           {"rules", "list", "--help"},
+        {"rules", "show", "--help"},   {"rules", "set", "--help"},
+        {"rules", "add", "--help"},    {"rules", "enable", "--help"},
+        {"rules", "disable", "--help"}, {"materials", "--help"},
+        {"materials", "list", "--help"},
         {"demo", "--help"},            {"fixtures", "--help"},
         {"help", "--help"},            {"history", "--help"},
         {"report", "--help"},
@@ -1703,6 +1708,198 @@ static void params_list_show_and_set(void **state)
 }
 
 /* ------------------------------------------------------------------------------------
+ * Repair rules and materials (branch rules)
+ * ---------------------------------------------------------------------------------- */
+
+/* `rules show RULE --json`, parsed (the caller releases). */
+static jv rule_json(const env *e, const char *rule)
+{
+    result r;
+    RUN(&r, "--db", e->db, "rules", "show", rule, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    result_free(&r);
+    return v;
+}
+
+static void rules_list_show_and_set(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "rules", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.type, J_ARR);
+    assert_int_equal(v.count, 9);
+    assert_string_equal(jstr(&v.items[0], "name"), "replace-beyond-25pct");
+    assert_true(jnum(&v.items[0], "min_lost_fraction") == 0.25);
+    assert_string_equal(jstr(&v.items[8], "process"), "manual_review");
+    assert_int_equal(jget(&v.items[8], "class")->type, J_NULL);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "list");
+    expect_ok(&r);
+    assert_string_equal(r.err, "");
+    expect_contains(r.out, "spray-small-loss");
+    expect_contains(r.out, "max_depth_mm=3 max_section_fraction=0.05");
+    result_free(&r);
+
+    v = rule_json(e, "spray-small-loss");
+    assert_true(jnum(&v, "max_depth_mm") == 3);
+    assert_int_equal(jget(&v, "updated_at")->type, J_NULL);
+    char id[32];
+    snprintf(id, sizeof id, "%d", (int)jnum(&v, "id"));
+    jv_release(&v);
+
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm", "2.5");
+    expect_ok(&r);
+    assert_string_equal(r.err, "symrec: updated rule 'spray-small-loss': max_depth_mm = 2.5\n");
+    expect_contains(r.out, "max_depth_mm:         2.5");
+    result_free(&r);
+    v = rule_json(e, id);   /* by id */
+    assert_string_equal(jstr(&v, "name"), "spray-small-loss");
+    assert_true(jnum(&v, "max_depth_mm") == 2.5);
+    assert_int_equal(jget(&v, "updated_at")->type, J_STR);
+    jv_release(&v);
+
+    RUN(&r, "--db", e->db, "rules", "set", id, "max_depth_mm", "null", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(jget(&v, "max_depth_mm")->type, J_NULL);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "set", "wear-band-spray", "parameters_json",
+        "{\"layer_mm\":0.2}", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "parameters_json"), "{\"layer_mm\":0.2}");
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void rules_set_errors_change_nothing(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result before, r, after;
+    RUN(&before, "--db", e->db, "rules", "show", "spray-small-loss", "--json");
+    expect_ok(&before);
+
+    RUN(&r, "--db", e->db, "rules", "set", "nonesuch", "priority", "1");
+    expect_error(&r, "no rule 'nonesuch' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "show", "nonesuch");
+    expect_error(&r, "no rule 'nonesuch' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "depth", "1");
+    expect_usage(&r, "unknown rule field 'depth'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm", "deep");
+    expect_error(&r, "bad max_depth_mm 'deep': expected a number or null");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm", "--", "-1");
+    expect_error(&r, "bad max_depth_mm -1: expected a number >= 0");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "min_depth_mm", "4");
+    expect_error(&r, "bad min_depth_mm 4: greater than max_depth_mm 3");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "process", "null");
+    expect_error(&r, "field 'process' cannot be null");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "class", "dent");
+    expect_error(&r, "bad class 'dent': expected one of chip, gouge, wear_band");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm");
+    expect_usage(&r, NULL);
+    result_free(&r);
+
+    RUN(&after, "--db", e->db, "rules", "show", "spray-small-loss", "--json");
+    expect_ok(&after);
+    assert_string_equal(before.out, after.out);
+    result_free(&before);
+    result_free(&after);
+}
+
+static void rules_add_enable_and_disable(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "rules", "add", "shop-weld", "--process", "weld_buildup", "--reason",
+        "our welder", "--source", "shop practice", "--priority", "5", "--json");
+    expect_ok(&r);
+    expect_contains(r.err, "added rule 'shop-weld'");
+    jv v = parse_json(r.out);
+    assert_true(jnum(&v, "priority") == 5);
+    assert_true(jnum(&v, "enabled") == 1);
+    assert_string_equal(jstr(&v, "scope"), "section");
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "add", "SHOP-WELD", "--process", "ded", "--reason", "x",
+        "--source", "y");
+    expect_error(&r, "rule 'SHOP-WELD' already exists");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "add", "other", "--process", "glue", "--reason", "x",
+        "--source", "y");
+    expect_error(&r, "bad process 'glue'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "add", "other", "--reason", "x");
+    expect_usage(&r, "needs --process, --reason and --source");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "disable", "shop-weld");
+    expect_ok(&r);
+    assert_string_equal(r.err, "symrec: disabled rule 'shop-weld'\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "list", "--enabled", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 9);
+    for (size_t i = 0; i < v.count; i++)
+        assert_string_not_equal(jstr(&v.items[i], "name"), "shop-weld");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "enable", "shop-weld");
+    expect_ok(&r);
+    result_free(&r);
+    v = rule_json(e, "shop-weld");
+    assert_true(jnum(&v, "enabled") == 1);
+    jv_release(&v);
+    RUN(&r, "--db", e->db, "rules", "enable", "nonesuch");
+    expect_error(&r, "no rule 'nonesuch'");
+    result_free(&r);
+}
+
+static void materials_list_shows_the_seeded_materials(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "materials", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.count, 9);
+    assert_string_equal(jstr(&v.items[0], "name"), "42CrMo4");
+    assert_true(jnum(&v.items[0], "density_g_cm3") == 7.85);
+    assert_string_equal(jstr(&v.items[0], "family"), "steel");
+    assert_int_equal(jget(&v.items[0], "limits")->count, 3);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "materials", "list");
+    expect_ok(&r);
+    expect_contains(r.out, "EN-GJL-250");
+    expect_contains(r.out, "ded <= 3 mm, spray_forming, -weld_buildup");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "materials", "show");
+    expect_usage(&r, "unknown subcommand 'materials show'");
+    result_free(&r);
+}
+
+/* ------------------------------------------------------------------------------------
  * Demo and fixtures
  * ---------------------------------------------------------------------------------- */
 
@@ -2665,6 +2862,10 @@ int main(void)
         T(export_round_trips_through_every_format),
         T(export_of_an_unknown_id_fails),
         T(params_list_show_and_set),
+        T(rules_list_show_and_set),
+        T(rules_set_errors_change_nothing),
+        T(rules_add_enable_and_disable),
+        T(materials_list_shows_the_seeded_materials),
         T(demo_builds_the_catalogue_and_is_idempotent),
         T(fixtures_write_meshes_whose_volumes_match_volumes_json),
         T(reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return),

@@ -1,4 +1,4 @@
--- 004_history.sql: indexes for history queries over the run record (schema version 4;
+-- 003_history.sql: indexes for history queries over the run record (schema version 3;
 -- src/catalog_history.c). A history row per run needs, besides the run itself, its
 -- section count, missing volume and damage classes, and the processes advised; the
 -- summaries group those by part, class, outcome and month. With 100,000 runs these
@@ -23,4 +23,4 @@ CREATE INDEX advice_history ON advice (run_id, process);
 CREATE INDEX runs_history_instance ON runs (instance_id, started_at, status);
 CREATE INDEX runs_history_started ON runs (started_at, instance_id, status);
 
-PRAGMA user_version = 4;
+PRAGMA user_version = 3;
