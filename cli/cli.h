@@ -51,6 +51,7 @@ int cmd_params(const cli_ctx *ctx, int argc, char **argv);
 int cmd_demo(const cli_ctx *ctx, int argc, char **argv);
 int cmd_fixtures(const cli_ctx *ctx, int argc, char **argv);
 int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv);
+int cmd_plan(const cli_ctx *ctx, int argc, char **argv);
 
 /* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
 

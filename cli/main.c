@@ -41,6 +41,7 @@ static const cli_command commands[] = {
     {"instance", cmd_instance, "add, list and show damaged instances of a part"},
     {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
     {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
+    {"plan", cmd_plan, "plan the layer-by-layer rebuild of a run's missing section"},
     {"params", cmd_params, "list, show and set named parameter sets"},
     {"demo", cmd_demo, "build the demo catalogue and show it"},
     {"fixtures", cmd_fixtures, "write the demo parts' meshes and known volumes"},
