@@ -57,6 +57,7 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv);
 int cmd_report(const cli_ctx *ctx, int argc, char **argv);
 int cmd_rules(const cli_ctx *ctx, int argc, char **argv);
 int cmd_materials(const cli_ctx *ctx, int argc, char **argv);
+int cmd_plan(const cli_ctx *ctx, int argc, char **argv);
 
 /* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
 

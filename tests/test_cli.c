@@ -617,7 +617,7 @@ static void top_level_help_lists_commands_and_db_default(void **state)
     expect_contains(r.out, "usage: symrec");
     const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "run",
                           "compare", "params", "demo", "fixtures", "help", "history",
-                          "report"};
+                          "report", "plan", "rules", "materials"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char line[32];
         snprintf(line, sizeof line, "\n  %s ", cmds[i]);
@@ -651,6 +651,7 @@ static void every_command_and_subcommand_has_help(void **state)
         {"reconstruct", "--help"},     {"run", "--help"},
         {"run", "list", "--help"},     {"run", "show", "--help"},
         {"compare", "--help"},
+        {"plan", "--help"},
         {"params", "--help"},          {"params", "list", "--help"},
         {"params", "show", "--help"},  {"params", "set", "--help"},
         {"rules", "--help"},           {"rules", "list", "--help"},
@@ -2602,6 +2603,163 @@ static void compare_refuses_missing_and_garbage_files(void **state)
 }
 
 /* ------------------------------------------------------------------------------------
+ * Build plans
+ * ---------------------------------------------------------------------------------- */
+
+/* Stores a run of the cylinder part through the library: 10 layers of 1 mm, 72 sectors
+ * (5 degrees), restored radius 10, a 2 mm deep chip over 10..50 degrees in layers 2..7
+ * (section 1). Returns the run id. */
+static long add_chipped_run(const env *e)
+{
+    init_catalog(e);
+    add_part(e, "SH-1", "shaft", "steel", e->cyl);
+    long inst = add_instance(e, "SH-1", e->cyl, "S-1");
+    enum { L = 10, S = 72 };
+    static double z[L], dmg[L * S * 2], rst[L * S * 2];
+    for (size_t l = 0; l < L; l++) {
+        z[l] = (double)l + 0.5;
+        for (size_t j = 0; j < S; j++) {
+            double a = ((double)j + 0.5) * 5.0 * PI / 180.0;
+            double rd = (l >= 2 && l <= 7 && j >= 2 && j <= 9) ? 8.0 : 10.0;
+            rst[2 * (l * S + j)] = 10.0 * cos(a);
+            rst[2 * (l * S + j) + 1] = 10.0 * sin(a);
+            dmg[2 * (l * S + j)] = rd * cos(a);
+            dmg[2 * (l * S + j) + 1] = rd * sin(a);
+        }
+    }
+    sr_run_section sec;
+    memset(&sec, 0, sizeof sec);
+    sec.layer_first = 2;
+    sec.layer_last = 7;
+    sec.z_min_mm = 2;
+    sec.z_max_mm = 8;
+    sec.has_angles = 1;
+    sec.angle_from_deg = 10;
+    sec.angle_to_deg = 50;
+    sec.volume_mm3 = 6 * 0.5 * (100 - 64) * sin(5 * PI / 180) * 8;
+    sec.depth_max_mm = sec.depth_mean_mm = 2;
+    strcpy(sec.damage_class, "chip");
+    sr_run run;
+    memset(&run, 0, sizeof run);
+    run.instance_id = inst;
+    run.symmetry.kind = SR_SYM_AXIAL;
+    strcpy(run.method, "paper");
+    run.has_alignment = 1;
+    run.alignment[0] = run.alignment[5] = run.alignment[10] = 1;
+    run.fit_quality = 0.9;
+    run.ok = 1;
+    run.layer_count = L;
+    run.sectors = S;
+    run.layer_z = z;
+    run.damaged_xy = dmg;
+    run.restored_xy = rst;
+    run.sections = &sec;
+    run.section_count = 1;
+    sr_catalog *cat = NULL;
+    sr_err err;
+    sr_err_clear(&err);
+    int64_t id = 0;
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    assert_int_equal(sr_catalog_params_get(cat, "default", &run.params, &err), SR_OK);
+    run.params.layers = L;
+    run.params.sectors = S;
+    if (sr_catalog_run_add(cat, &run, &id, &err) != SR_OK)
+        fail_msg("cannot add the run: %s", err.msg);
+    sr_catalog_close(cat);
+    return (long)id;
+}
+
+static void plan_writes_json_svg_per_layer_and_gcode(void **state)
+{
+    const env *e = *state;
+    long id = add_chipped_run(e);
+    char idtext[32], out[128], path[192];
+    snprintf(idtext, sizeof idtext, "%ld", id);
+    path_in(e, "plan", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--feed", "450", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal((long)jnum(&v, "run"), id);
+    assert_int_equal((int)jnum(&v, "section"), 1);
+    assert_int_equal((int)jnum(&v, "layer_count"), 6);
+    assert_true(jnum(&v, "layer_mm") == 1.0);
+    assert_true(jnum(&v, "feed_mm_min") == 450.0);
+    double missing = 6 * 0.5 * sin(5 * PI / 180) * (2 * 10 * 2 + 7 * (100 - 64));
+    assert_true(fabs(jnum(&v, "missing_volume_mm3") - missing) < 0.01);
+    assert_true(jnum(&v, "deposit_volume_mm3") > missing);
+    assert_string_equal(jstr(&v, "symmetry"), "axial");
+    jv_release(&v);
+    result_free(&r);
+    for (int k = 1; k <= 6; k++) {
+        snprintf(path, sizeof path, "%s/layer_%03d.svg", out, k);
+        assert_true(file_exists(path));
+    }
+    snprintf(path, sizeof path, "%s/layer_007.svg", out);
+    assert_false(file_exists(path));
+    snprintf(path, sizeof path, "%s/plan.gcode", out);
+    char *gcode = read_text(path);
+    assert_non_null(gcode);
+    expect_contains(gcode, "G21\nG90\n");
+    expect_contains(gcode, "; layer 6 z=8.00000\n");
+    expect_contains(gcode, " Z3.00000 F450.0\n");
+    free(gcode);
+    snprintf(path, sizeof path, "%s/plan.json", out);
+    char *json = read_text(path);
+    assert_non_null(json);
+    v = parse_json(json); /* the file is strict JSON */
+    assert_int_equal((int)jnum(&v, "layer_count"), 6);
+    jv_release(&v);
+    free(json);
+
+    /* the human summary */
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--pattern", "contour");
+    expect_ok(&r);
+    expect_contains(r.out, "6 layers of 1.000 mm");
+    expect_contains(r.out, "pattern contour,");
+    result_free(&r);
+}
+
+static void plan_of_an_unknown_run_or_section_fails(void **state)
+{
+    const env *e = *state;
+    long id = add_chipped_run(e);
+    char idtext[32], out[128];
+    snprintf(idtext, sizeof idtext, "%ld", id);
+    path_in(e, "plan", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "plan", "99", "--out", out);
+    expect_error(&r, "no run 99");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--section", "2");
+    expect_error(&r, "has no section 2");
+    result_free(&r);
+    assert_false(file_exists(out));
+}
+
+static void plan_bad_options_are_usage_errors(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "--db", e->db, "plan", "1");
+    expect_usage(&r, "needs --out DIR");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--step-over", "0");
+    expect_usage(&r, "--step-over");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--allowance", "-1");
+    expect_usage(&r, "--allowance");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--pattern", "spiral");
+    expect_usage(&r, "--pattern 'spiral'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--off-code", "M5;M2");
+    expect_usage(&r, "off_code");
+    result_free(&r);
+    assert_false(file_exists(e->db));
+}
+
+/* ------------------------------------------------------------------------------------
  * History and report
  * ---------------------------------------------------------------------------------- */
 
@@ -2884,6 +3042,9 @@ int main(void)
         T(history_refuses_bad_filters),
         T(report_writes_a_self_contained_page_of_the_run),
         T(report_refuses_a_wrong_run_and_bad_arguments),
+        T(plan_writes_json_svg_per_layer_and_gcode),
+        T(plan_of_an_unknown_run_or_section_fails),
+        T(plan_bad_options_are_usage_errors),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);
