@@ -6,10 +6,12 @@
  * src/plan_export.h; this file reads the run with its layer polylines from the
  * catalogue, passes the options on and prints the summary.
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "catalog_runs.h"
+#include "catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
 #include "plan.h"
@@ -37,7 +39,8 @@ static const char usage[] =
     "  --layer-mm MM      layer thickness (default: the run's layer spacing)\n"
     "  --pattern P        contour+raster (default), contour or raster\n"
     "  --raster-angle DEG raster angle of the first layer; +90 every other layer (0)\n"
-    "  --density G_CM3    deposit density (default 7.85 g/cm3, steel)\n"
+    "  --density G_CM3    deposit density (default: the part's material's density from\n"
+    "                     the catalogue, else 7.85 g/cm3, steel)\n"
     "  --rate CM3_MIN     deposition rate for the build time (default 1.0 cm3/min)\n"
     "  --feed MM_MIN      deposition feed in the G-code (default 600 mm/min)\n"
     "  --travel-height MM clearance above the layer for travel moves (default 5 mm)\n"
@@ -192,6 +195,17 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
     sr_run run;
     memset(&run, 0, sizeof run);
     sr_status st = sr_catalog_run_get(cat, run_id, SR_RUN_WITH_LAYERS, &run, &err);
+    /* without --density, the density of the part's material when the catalogue knows it */
+    if (st == SR_OK && !density) {
+        sr_part_info part;
+        sr_material mat;
+        sr_err quiet;
+        if (sr_catalog_part_find(cat, run.part_number, &part, &quiet) == SR_OK &&
+            part.material[0] &&
+            sr_catalog_material_get(cat, part.material, &mat, &quiet) == SR_OK &&
+            isfinite(mat.density_g_cm3) && mat.density_g_cm3 > 0)
+            po.density_g_cm3 = mat.density_g_cm3;
+    }
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);

@@ -22,6 +22,7 @@
 #include "cli.h"
 #include "json_out.h"
 #include "reconstruct.h"
+#include "rules.h"
 #include "run_build.h"
 
 static const char usage[] =
@@ -277,17 +278,28 @@ static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
     return CLI_OK;
 }
 
-/* Records the run of instance `id` (one transaction). *run_id only on success. */
-static sr_status record_run(sr_catalog *cat, int64_t id, const sr_recon_result *r,
-                            const sr_symmetry *sym, const sr_params *p, const char *started,
-                            int64_t *run_id, sr_err *err)
+/* Records the run of instance `inst` (one transaction): the features of every section
+ * and the repair advice from the catalogue's rules (rules.h) are worked out first, from
+ * the part's material and intact volume. *run_id only on success. */
+static sr_status record_run(sr_catalog *cat, const sr_instance_info *inst,
+                            const sr_recon_result *r, const sr_symmetry *sym,
+                            const sr_params *p, const char *started, int64_t *run_id,
+                            sr_err *err)
 {
     sr_run run;
-    sr_status st = sr_run_from_result(r, id, sym, p, "paper", &run, err);
+    sr_status st = sr_run_from_result(r, inst->id, sym, p, "paper", &run, err);
     if (st != SR_OK)
         return st;
     if (strcmp(started, run.finished_at) <= 0)
         snprintf(run.started_at, sizeof run.started_at, "%s", started);
+    sr_part_info part;
+    st = sr_catalog_part_find(cat, inst->part_number, &part, err);
+    if (st == SR_OK)
+        st = sr_advise_run(cat, part.material, part.mesh_id ? part.volume_mm3 : 0, &run, err);
+    if (st != SR_OK) {
+        sr_run_release(&run);
+        return st;
+    }
     st = sr_catalog_run_add(cat, &run, run_id, err);
     sr_run_release(&run);
     return st;
@@ -353,6 +365,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog *cat = NULL;
     sr_params params = builtin_default;
     char source[4200];
+    sr_instance_info inst;
+    memset(&inst, 0, sizeof inst);
     if (!mesh_file || params_name) {
         if (!cli_open(ctx, false, &cat))
             return CLI_FAIL;
@@ -362,7 +376,6 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         st = sr_mesh_read(mesh_file, &scan, &err);
         snprintf(source, sizeof source, "'%s'", mesh_file);
     } else if (st == SR_OK) {
-        sr_instance_info inst;
         st = sr_catalog_instance_get(cat, id, &inst, &err);
         if (st == SR_OK)
             st = sr_catalog_instance_mesh(cat, id, &scan, &err);
@@ -414,7 +427,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         rc = write_outputs(out, fmt, &scan, &r);
     int64_t run_id = 0;
     if (rc == CLI_OK && !mesh_file && !no_record) {
-        st = record_run(cat, id, &r, &ro.symmetry, &params, started, &run_id, &err);
+        st = record_run(cat, &inst, &r, &ro.symmetry, &params, started, &run_id, &err);
         if (st != SR_OK)
             rc = cli_fail(st, &err);
     }
