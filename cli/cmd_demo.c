@@ -181,6 +181,12 @@ int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
     int rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, NULL, NULL, &rc))
         return rc;
+    bool known = false;
+    for (size_t i = 0; i < sr_demo_part_count(); i++)
+        known = known || strcmp(sr_demo_part_get(i)->number, part) == 0;
+    if (!known)
+        return cli_usage_error("bad --part '%s': expected a demo part number, e.g. %s", part,
+                               sr_demo_part_get(0)->number);
 
     sr_catalog *cat;
     if (!cli_open(ctx, true, &cat))
