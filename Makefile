@@ -129,8 +129,8 @@ fixtures: $(BIN)
 
 demo: deps
 	$(Q)$(MAKE) --no-print-directory config=release all
-	$(Q)rm -f build/demo.db build/demo.db-wal build/demo.db-shm
-	$(Q)build/release/symrec --db build/demo.db demo
+	$(Q)rm -rf build/demo.db build/demo.db-wal build/demo.db-shm build/demo
+	$(Q)build/release/symrec --db build/demo.db demo --out build/demo
 
 test: deps
 	$(Q)$(MAKE) --no-print-directory config=sanitize all tests-built

@@ -51,6 +51,13 @@ int cmd_params(const cli_ctx *ctx, int argc, char **argv);
 int cmd_demo(const cli_ctx *ctx, int argc, char **argv);
 int cmd_fixtures(const cli_ctx *ctx, int argc, char **argv);
 int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv);
+int cmd_run(const cli_ctx *ctx, int argc, char **argv);
+int cmd_compare(const cli_ctx *ctx, int argc, char **argv);
+int cmd_history(const cli_ctx *ctx, int argc, char **argv);
+int cmd_report(const cli_ctx *ctx, int argc, char **argv);
+int cmd_rules(const cli_ctx *ctx, int argc, char **argv);
+int cmd_materials(const cli_ctx *ctx, int argc, char **argv);
+int cmd_plan(const cli_ctx *ctx, int argc, char **argv);
 
 /* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
 

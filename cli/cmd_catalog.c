@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
 
@@ -17,7 +18,8 @@ static const char usage_catalog[] =
     "\n"
     "  init    create the catalogue FILE if it does not exist and bring its schema up\n"
     "          to date; safe to run again\n"
-    "  info    the catalogue's path, schema version and counts of parts and instances\n";
+    "  info    the catalogue's path, schema version and counts of parts, instances\n"
+    "          and reconstruction runs\n";
 
 static const char usage_init[] =
     "usage: symrec [--db FILE] catalog init\n"
@@ -29,11 +31,11 @@ static const char usage_init[] =
 static const char usage_info[] =
     "usage: symrec [--db FILE] catalog info [--json]\n"
     "\n"
-    "Prints the catalogue's path, schema version and the number of parts and damaged\n"
-    "instances it holds.\n"
+    "Prints the catalogue's path, schema version and the number of parts, damaged\n"
+    "instances and recorded reconstruction runs it holds.\n"
     "\n"
     "  --json   one JSON object: {\"path\", \"schema_version\", \"schema_latest\", \"parts\",\n"
-    "           \"instances\"}\n";
+    "           \"instances\", \"runs\"}\n";
 
 static int catalog_init(const cli_ctx *ctx, int argc, char **argv)
 {
@@ -82,12 +84,14 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog *cat;
     if (!cli_open(ctx, false, &cat))
         return CLI_FAIL;
-    int64_t parts = 0, instances = 0;
+    int64_t parts = 0, instances = 0, runs = 0;
     sr_err err;
     sr_err_clear(&err);
     sr_status st = sr_catalog_part_list(cat, NULL, count_part, &parts, &err);
     if (st == SR_OK)
         st = sr_catalog_instance_list(cat, NULL, count_instance, &instances, &err);
+    if (st == SR_OK)
+        st = sr_catalog_run_count(cat, &runs, &err);
     if (st != SR_OK) {
         sr_catalog_close(cat);
         return cli_fail(st, &err);
@@ -106,6 +110,8 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
         json_int(&j, parts);
         json_key(&j, "instances");
         json_int(&j, instances);
+        json_key(&j, "runs");
+        json_int(&j, runs);
         json_object_end(&j);
         json_finish(&j);
     } else {
@@ -113,6 +119,7 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
         printf("schema version:  %d\n", sr_catalog_schema_version(cat));
         printf("parts:           %lld\n", (long long)parts);
         printf("instances:       %lld\n", (long long)instances);
+        printf("runs:            %lld\n", (long long)runs);
     }
     sr_catalog_close(cat);
     return CLI_OK;

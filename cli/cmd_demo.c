@@ -5,21 +5,34 @@
  * table and every demo part in full. Parts already present are skipped, so running it
  * twice adds nothing. Progress goes to stderr, the catalogue's contents to stdout.
  */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "catalog_runs.h"
 #include "cli.h"
 #include "shapes.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] demo\n"
+    "usage: symrec [--db FILE] demo [--out DIR] [--part NUMBER] [--catalog-only]\n"
     "\n"
     "Builds the demo catalogue in FILE (created if missing): for each built-in demo\n"
     "part (a shaft, a gear, a bracket, ...) it adds the part with its intact mesh,\n"
     "material and symmetry, and one damaged instance with its scan. Parts already in\n"
     "the catalogue are skipped, so running it again adds nothing. Then it lists the\n"
     "parts and shows each demo part with its instances and the volume each is missing\n"
-    "(mm³ and % of the intact part).\n";
+    "(mm³ and % of the intact part).\n"
+    "\n"
+    "Then the whole job on one broken part, as a repair engineer runs it: looks the part\n"
+    "up, reconstructs its damaged instance by the part's symmetry (recording the run),\n"
+    "shows the run with the feature description of each missing section and the repair\n"
+    "advice, writes the build plan (plan.json, layer SVGs, G-code) and the HTML report,\n"
+    "and shows the part's repair history.\n"
+    "\n"
+    "  --out DIR        where the run's files go (default ./symrec-demo)\n"
+    "  --part NUMBER    the demo part to repair (default SR-SHAFT-01)\n"
+    "  --catalog-only   only build and show the catalogue\n";
 
 /* Adds demo part i and/or its damaged instance, whichever is not there yet. Counts
  * what it added. */
@@ -80,13 +93,100 @@ static sr_status add_demo_part(sr_catalog *cat, size_t i, int *parts_added,
     return st;
 }
 
+/* Runs one command of this CLI as if typed: words up to NULL. */
+static int run_words(const cli_ctx *ctx, cli_fn fn, const char *const *words)
+{
+    char *argv[24];
+    int argc = 0;
+    fprintf(stdout, "\n$ symrec --db %s", ctx->db_path);
+    for (; words[argc] && argc < 23; argc++) {
+        argv[argc] = (char *)words[argc];
+        fprintf(stdout, " %s", words[argc]);
+    }
+    argv[argc] = NULL;
+    fprintf(stdout, "\n");
+    fflush(stdout);
+    return fn(ctx, argc, argv);
+}
+
+static int newest_run(const sr_run_summary *run, void *user)
+{
+    *(int64_t *)user = run->id;
+    return 1;
+}
+
+/* The whole job on the demo part `number`'s damaged instance. */
+static int whole_job(const cli_ctx *ctx, sr_catalog *cat, const char *number, const char *dir)
+{
+    cli_instances list = {0};
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st = cli_instances_load(cat, number, &list, &err);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    if (list.count == 0) {
+        cli_instances_release(&list);
+        return cli_error("demo part %s has no damaged instance", number);
+    }
+    char inst[32], run[32], out[1024], plan[1024], report[1024];
+    snprintf(inst, sizeof inst, "%lld", (long long)list.v[0].id);
+    cli_instances_release(&list);
+    snprintf(out, sizeof out, "%s/run", dir);
+    snprintf(plan, sizeof plan, "%s/plan", dir);
+    snprintf(report, sizeof report, "%s/report.html", dir);
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return cli_error("cannot create '%s': %s", dir, strerror(errno));
+
+    printf("\n== The whole job on %s, instance %s ==\n", number, inst);
+    const char *look[] = {"part", "show", number, NULL};
+    int rc = run_words(ctx, cmd_part, look);
+    const char *rec[] = {"reconstruct", inst, "--out", out, NULL};
+    if (rc == CLI_OK)
+        rc = run_words(ctx, cmd_reconstruct, rec);
+    int64_t run_id = 0;
+    sr_run_filter f = {0};
+    f.part = number;
+    if (rc == CLI_OK && (st = sr_catalog_run_list(cat, &f, newest_run, &run_id, &err)) != SR_OK)
+        return cli_fail(st, &err);
+    if (rc != CLI_OK)
+        return rc;
+    snprintf(run, sizeof run, "%lld", (long long)run_id);
+    const char *show[] = {"run", "show", run, NULL};
+    const char *pl[] = {"plan", run, "--out", plan, NULL};
+    const char *rep[] = {"report", run, "--out", report, NULL};
+    const char *hist[] = {"history", "--part", number, NULL};
+    if (rc == CLI_OK)
+        rc = run_words(ctx, cmd_run, show);
+    if (rc == CLI_OK)
+        rc = run_words(ctx, cmd_plan, pl);
+    if (rc == CLI_OK)
+        rc = run_words(ctx, cmd_report, rep);
+    if (rc == CLI_OK)
+        rc = run_words(ctx, cmd_history, hist);
+    if (rc == CLI_OK)
+        printf("\nfiles: %s/ (restored, patches, result.glb), %s/ (plan.json, layer SVGs, "
+               "plan.gcode), %s\n", out, plan, report);
+    return rc;
+}
+
 int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
 {
-    static const cli_opt opts[] = {{NULL, NULL, NULL}};
+    const char *out = "./symrec-demo", *part = "SR-SHAFT-01";
+    bool catalog_only = false;
+    const cli_opt opts[] = {{"--out", &out, NULL},
+                            {"--part", &part, NULL},
+                            {"--catalog-only", NULL, &catalog_only},
+                            {NULL, NULL, NULL}};
     const cli_spec spec = {"demo", usage, opts, 0, 0, NULL};
     int rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, NULL, NULL, &rc))
         return rc;
+    bool known = false;
+    for (size_t i = 0; i < sr_demo_part_count(); i++)
+        known = known || strcmp(sr_demo_part_get(i)->number, part) == 0;
+    if (!known)
+        return cli_usage_error("bad --part '%s': expected a demo part number, e.g. %s", part,
+                               sr_demo_part_get(0)->number);
 
     sr_catalog *cat;
     if (!cli_open(ctx, true, &cat))
@@ -112,6 +212,10 @@ int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
     for (size_t i = 0; i < count && rc == CLI_OK; i++) {
         printf("\n");
         rc = cli_part_show_print(cat, sr_demo_part_get(i)->number, false);
+    }
+    if (rc == CLI_OK && !catalog_only) {
+        fflush(stdout);
+        rc = whole_job(ctx, cat, part, out);
     }
     sr_catalog_close(cat);
     return rc;

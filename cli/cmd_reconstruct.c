@@ -4,7 +4,14 @@
  * and a GLB scene that overlay the input scan.
  *
  * Pipeline: src/reconstruct.h (align, slice, analyse, patches, union). This file only
- * parses arguments, loads the input, calls it and prints/writes the results.
+ * parses arguments, loads the input and the parameter set, calls it, writes the
+ * results, records the run in the catalogue (an INSTANCE input: src/run_build.h then
+ * sr_catalog_run_add, one transaction) and prints.
+ *
+ * Order after a successful reconstruction: output files, then the run record, then
+ * stdout; a failure at any step prints one error line, exits 1 and records nothing (a
+ * failed reconstruction is not recorded either: the catalogue only holds runs that
+ * finished, each complete).
  */
 #include <errno.h>
 #include <stdio.h>
@@ -15,12 +22,15 @@
 #include "cli.h"
 #include "json_out.h"
 #include "reconstruct.h"
+#include "rules.h"
+#include "run_build.h"
 
 static const char usage[] =
     "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"
     "              --symmetry axial|mirror|glide [--order N] [--shift MM]\n"
-    "              [--layers N] [--sectors N] [--gamma G] [--min-depth MM]\n"
-    "              [--out DIR] [--format stl|obj|ply|off] [--no-union] [--json]\n"
+    "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
+    "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
+    "              [--no-union] [--no-record] [--json]\n"
     "\n"
     "Aligns the damaged scan with its symmetry axis or plane, slices it into layers and\n"
     "sectors (paper Algorithms 1-2), finds what is missing layer by layer (Algorithm 4\n"
@@ -33,24 +43,57 @@ static const char usage[] =
     "  --symmetry K    axial, mirror or glide\n"
     "  --order N       axial: n-fold order (2..360); default continuous\n"
     "  --shift MM      glide: the shift along the plane in mm; default: searched\n"
-    "  --layers N      number of layers (default 320)\n"
-    "  --sectors N     number of sectors (default 240)\n"
-    "  --gamma G       the analysis threshold gamma_axis / gamma_plane (default 0.95)\n"
-    "  --min-depth MM  smallest depth counted as damage (default 0.05 mm)\n"
+    "  --params NAME   the named parameter set to run with (see 'symrec params list');\n"
+    "                  default 'default' (320 layers, 240 sectors, gamma 0.95, min\n"
+    "                  depth 0.1 mm as seeded). With --mesh and no --params the\n"
+    "                  seeded 'default' values are used without opening a catalogue\n"
+    "  --layers N      number of layers (overrides the set's)\n"
+    "  --sectors N     number of sectors (overrides the set's)\n"
+    "  --gamma G       the analysis threshold, gamma_axis and gamma_plane, in (0, 1]\n"
+    "                  (overrides the set's)\n"
+    "  --min-depth MM  smallest depth counted as damage, mm (overrides the set's)\n"
     "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
     "                  all in the frame of the input scan\n"
     "  --format F      format of restored/patches (default stl)\n"
     "  --no-union      restored = scan + patches as separate shells (no boolean)\n"
-    "  --json          print one JSON object: alignment, sections, timings\n";
+    "  --no-record     do not record the run in the catalogue\n"
+    "  --json          print one JSON object: alignment, sections, timings, run_id\n"
+    "\n"
+    "A reconstruction of an INSTANCE is recorded in the catalogue as a run (one\n"
+    "transaction: the symmetry and every parameter as used, the alignment, the layer\n"
+    "outlines, the sections with their patch meshes, the restored mesh, the timings);\n"
+    "it prints \"run N recorded\" (JSON: \"run_id\"). See 'symrec run list' and\n"
+    "'symrec run show N'. A --mesh reconstruction is not recorded (a run belongs to\n"
+    "an instance: add the scan with 'symrec instance add' first), nor is one that\n"
+    "fails. The parameter set's min_volume_mm3 is recorded but not applied yet.\n"
+    "A fit score below 0.5 (the share of the surface the symmetry maps onto itself)\n"
+    "is reported as a poor fit: the part may not have that symmetry.\n"
+    "Lengths in mm, areas mm², volumes mm³, angles degrees.\n";
 
-static void print_human(const sr_recon_result *r, const char *source)
+/* Below this fit score the symmetry kind probably does not suit the part. */
+#define POOR_FIT_SCORE 0.5
+
+/* The seeded 'default' set (sql/001_init.sql), for --mesh runs without a catalogue. */
+static const sr_params builtin_default = {
+    "default", 320, 240, 0.95, 0.95, 0.05, 0.1, 1.0,
+    "built-in copy of the seeded 'default' set",
+};
+
+static void print_human(const sr_recon_result *r, const char *source, const sr_params *p,
+                        int64_t run_id)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", source);
+    printf("  parameters: set '%s', %d layers x %d sectors, gamma %g/%g, min depth %g mm\n",
+           p->name, p->layers, p->sectors, p->gamma_axis, p->gamma_plane, p->min_depth_mm);
     printf("  alignment: axis point (%.3f, %.3f, %.3f) mm, direction (%.5f, %.5f, %.5f)\n",
            a->axis_point[0], a->axis_point[1], a->axis_point[2], a->axis_dir[0],
            a->axis_dir[1], a->axis_dir[2]);
     printf("             fit rms %.4f mm, score %.3f\n", a->fit_rms_mm, a->fit_score);
+    if (a->fit_score < POOR_FIT_SCORE)
+        printf("  poor fit: score %.3f < %.1f: only %.0f%% of the surface fits this symmetry; "
+               "the part may not have it\n",
+               a->fit_score, POOR_FIT_SCORE, 100.0 * a->fit_score);
     printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
            r->grid.dz);
     if (r->section_count == 0) {
@@ -71,9 +114,12 @@ static void print_human(const sr_recon_result *r, const char *source)
     printf("  time %.3f s (align %.3f, slice %.3f, analyse %.3f, patch %.3f, union %.3f)\n",
            r->timings.total_s, r->timings.align_s, r->timings.slice_s, r->timings.analyse_s,
            r->timings.patch_s, r->timings.union_s);
+    if (run_id > 0)
+        printf("run %lld recorded\n", (long long)run_id);
 }
 
-static void print_json(const sr_recon_result *r, const char *source, const sr_symmetry *sym)
+static void print_json(const sr_recon_result *r, const char *source, const sr_symmetry *sym,
+                       const sr_params *p, int64_t run_id)
 {
     json_out j;
     json_init(&j, stdout);
@@ -82,6 +128,13 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     json_string(&j, source);
     json_key(&j, "symmetry");
     json_symmetry(&j, sym);
+    json_key(&j, "params");
+    json_params(&j, p);
+    json_key(&j, "run_id");
+    if (run_id > 0)
+        json_int(&j, run_id);
+    else
+        json_null(&j);
     json_key(&j, "layers");
     json_int(&j, (int64_t)r->grid.layers);
     json_key(&j, "sectors");
@@ -114,6 +167,8 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     json_number(&j, r->alignment.fit_rms_mm);
     json_key(&j, "fit_score");
     json_number(&j, r->alignment.fit_score);
+    json_key(&j, "fit_poor");
+    json_bool(&j, r->alignment.fit_score < POOR_FIT_SCORE);
     json_object_end(&j);
     json_key(&j, "sections");
     json_array_begin(&j);
@@ -223,18 +278,47 @@ static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
     return CLI_OK;
 }
 
+/* Records the run of instance `inst` (one transaction): the features of every section
+ * and the repair advice from the catalogue's rules (rules.h) are worked out first, from
+ * the part's material and intact volume. *run_id only on success. */
+static sr_status record_run(sr_catalog *cat, const sr_instance_info *inst,
+                            const sr_recon_result *r, const sr_symmetry *sym,
+                            const sr_params *p, const char *started, int64_t *run_id,
+                            sr_err *err)
+{
+    sr_run run;
+    sr_status st = sr_run_from_result(r, inst->id, sym, p, "paper", &run, err);
+    if (st != SR_OK)
+        return st;
+    if (strcmp(started, run.finished_at) <= 0)
+        snprintf(run.started_at, sizeof run.started_at, "%s", started);
+    sr_part_info part;
+    st = sr_catalog_part_find(cat, inst->part_number, &part, err);
+    if (st == SR_OK)
+        st = sr_advise_run(cat, part.material, part.mesh_id ? part.volume_mm3 : 0, &run, err);
+    if (st != SR_OK) {
+        sr_run_release(&run);
+        return st;
+    }
+    st = sr_catalog_run_add(cat, &run, run_id, err);
+    sr_run_release(&run);
+    return st;
+}
+
 int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *mesh_file = NULL, *kind = NULL, *order = NULL, *shift = NULL, *layers = NULL,
-               *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl";
-    bool json = false, no_union = false;
+               *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
+               *params_name = NULL;
+    bool json = false, no_union = false, no_record = false;
     const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},  {"--symmetry", &kind, NULL},
                             {"--order", &order, NULL},     {"--shift", &shift, NULL},
+                            {"--params", &params_name, NULL},
                             {"--layers", &layers, NULL},   {"--sectors", &sectors, NULL},
                             {"--gamma", &gamma, NULL},     {"--min-depth", &min_depth, NULL},
                             {"--out", &out, NULL},         {"--format", &fmt, NULL},
-                            {"--no-union", NULL, &no_union}, {"--json", NULL, &json},
-                            {NULL, NULL, NULL}};
+                            {"--no-union", NULL, &no_union}, {"--no-record", NULL, &no_record},
+                            {"--json", NULL, &json},       {NULL, NULL, NULL}};
     const cli_spec spec = {"reconstruct", usage, opts, 0, 1, "INSTANCE"};
     const char *pos[1];
     int npos = 0, rc;
@@ -243,90 +327,118 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if ((npos == 1) == (mesh_file != NULL))
         return cli_usage_error("'reconstruct' needs an INSTANCE id or --mesh FILE, not both "
                                "(see 'symrec reconstruct --help')");
-    sr_recon_opts ro;
-    memset(&ro, 0, sizeof ro);
-    int v;
-    double d;
-    if (layers) {
-        if (!cli_parse_int("--layers", layers, 1, 100000, "an integer 1..100000", &v))
-            return CLI_USAGE;
-        ro.layers = (size_t)v;
-    }
-    if (sectors) {
-        if (!cli_parse_int("--sectors", sectors, 3, 100000, "an integer 3..100000", &v))
-            return CLI_USAGE;
-        ro.sectors = (size_t)v;
-    }
-    if (gamma) {
-        if (!cli_parse_double("--gamma", gamma, 1e-6, 1, "a number in (0, 1]", &d))
-            return CLI_USAGE;
-        ro.gamma_axis = ro.gamma_plane = d;
-    }
-    ro.min_depth_mm = 0.05;
-    if (min_depth && !cli_parse_double("--min-depth", min_depth, 0, 1000, "a depth 0..1000 mm",
-                                       &ro.min_depth_mm))
+    /* Every option is checked before anything is opened. */
+    int layers_v = 0, sectors_v = 0;
+    double gamma_v = 0, min_depth_v = 0;
+    if (layers && !cli_parse_int("--layers", layers, 1, 100000, "an integer 1..100000", &layers_v))
         return CLI_USAGE;
+    if (sectors &&
+        !cli_parse_int("--sectors", sectors, 3, 100000, "an integer 3..100000", &sectors_v))
+        return CLI_USAGE;
+    if (gamma && !cli_parse_double("--gamma", gamma, 1e-6, 1, "a number in (0, 1]", &gamma_v))
+        return CLI_USAGE;
+    if (min_depth && !cli_parse_double("--min-depth", min_depth, 0, 1000, "a depth 0..1000 mm",
+                                       &min_depth_v))
+        return CLI_USAGE;
+    if (params_name && !*params_name)
+        return cli_usage_error("bad --params '': expected the name of a parameter set");
     if (strcmp(fmt, "stl") && strcmp(fmt, "obj") && strcmp(fmt, "ply") && strcmp(fmt, "off"))
         return cli_usage_error("bad --format '%s': expected stl, obj, ply or off", fmt);
+    sr_recon_opts ro;
+    memset(&ro, 0, sizeof ro);
     ro.skip_union = no_union;
     if (kind && !cli_parse_symmetry(kind, order, shift, &ro.symmetry))
         return CLI_USAGE;
     if (!kind && (order || shift))
         return cli_usage_error("--order and --shift need --symmetry");
+    if (mesh_file && !kind)
+        return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide");
+    int64_t id = 0;
+    if (!mesh_file && !cli_parse_id("INSTANCE", pos[0], &id))
+        return CLI_USAGE;
 
     sr_mesh scan;
     sr_mesh_init(&scan);
     sr_err err;
     sr_err_clear(&err);
-    sr_status st;
+    sr_status st = SR_OK;
+    sr_catalog *cat = NULL;
+    sr_params params = builtin_default;
     char source[4200];
-    if (mesh_file) {
-        if (!kind)
-            return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide");
-        st = sr_mesh_read(mesh_file, &scan, &err);
-        if (st != SR_OK)
-            return cli_fail(st, &err);
-        snprintf(source, sizeof source, "'%s'", mesh_file);
-    } else {
-        int64_t id;
-        if (!cli_parse_id("INSTANCE", pos[0], &id))
-            return CLI_USAGE;
-        sr_catalog *cat;
+    sr_instance_info inst;
+    memset(&inst, 0, sizeof inst);
+    if (!mesh_file || params_name) {
         if (!cli_open(ctx, false, &cat))
             return CLI_FAIL;
-        sr_instance_info inst;
+        st = sr_catalog_params_get(cat, params_name ? params_name : "default", &params, &err);
+    }
+    if (st == SR_OK && mesh_file) {
+        st = sr_mesh_read(mesh_file, &scan, &err);
+        snprintf(source, sizeof source, "'%s'", mesh_file);
+    } else if (st == SR_OK) {
         st = sr_catalog_instance_get(cat, id, &inst, &err);
         if (st == SR_OK)
             st = sr_catalog_instance_mesh(cat, id, &scan, &err);
-        sr_catalog_close(cat);
-        if (st != SR_OK)
-            return cli_fail(st, &err);
-        if (!kind) {
-            if (inst.symmetry.kind == SR_SYM_NONE)
+        if (st == SR_OK && !kind) {
+            if (inst.symmetry.kind == SR_SYM_NONE) {
+                sr_catalog_close(cat);
+                sr_mesh_release(&scan);
                 return cli_usage_error("instance %lld has no symmetry in the catalogue: give "
                                        "--symmetry axial|mirror|glide", (long long)id);
+            }
             ro.symmetry = inst.symmetry;
         }
-        snprintf(source, sizeof source, "instance %lld (part %s, serial %s)", (long long)id,
-                 inst.part_number, inst.serial[0] ? inst.serial : "-");
+        if (st == SR_OK)
+            snprintf(source, sizeof source, "instance %lld (part %s, serial %s)", (long long)id,
+                     inst.part_number, inst.serial[0] ? inst.serial : "-");
     }
+    if (st != SR_OK) {
+        sr_catalog_close(cat);
+        sr_mesh_release(&scan);
+        return cli_fail(st, &err);
+    }
+    if (layers)
+        params.layers = layers_v;
+    if (sectors)
+        params.sectors = sectors_v;
+    if (gamma)
+        params.gamma_axis = params.gamma_plane = gamma_v;
+    if (min_depth)
+        params.min_depth_mm = min_depth_v;
+    ro.layers = (size_t)params.layers;
+    ro.sectors = (size_t)params.sectors;
+    ro.gamma_axis = params.gamma_axis;
+    ro.gamma_plane = params.gamma_plane;
+    ro.delta_d = params.delta_d;
+    ro.min_depth_mm = params.min_depth_mm;
+
     cli_note("reconstructing %s (%zu triangles)...", source, scan.tri_count);
+    char started[32];
+    sr_run_utc_time(0, started);
     sr_recon_result r;
     st = sr_reconstruct(&scan, &ro, &r, &err);
     if (st != SR_OK) {
+        sr_catalog_close(cat);
         sr_mesh_release(&scan);
         return cli_fail(st, &err);
     }
     rc = CLI_OK;
     if (out)
         rc = write_outputs(out, fmt, &scan, &r);
+    int64_t run_id = 0;
+    if (rc == CLI_OK && !mesh_file && !no_record) {
+        st = record_run(cat, &inst, &r, &ro.symmetry, &params, started, &run_id, &err);
+        if (st != SR_OK)
+            rc = cli_fail(st, &err);
+    }
     if (rc == CLI_OK) {
         if (json)
-            print_json(&r, source, &ro.symmetry);
+            print_json(&r, source, &ro.symmetry, &params, run_id);
         else
-            print_human(&r, source);
+            print_human(&r, source, &params, run_id);
     }
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);
+    sr_catalog_close(cat);
     return rc;
 }

@@ -88,7 +88,11 @@ enum {
 };
 
 /* Reads run `id` back (sections and advice always; layers/meshes by `what`).
- * SR_E_NOTFOUND "no run N in the catalogue". Release with sr_run_release. */
+ * SR_E_NOTFOUND "no run N in the catalogue". Release with sr_run_release.
+ * Without SR_RUN_WITH_LAYERS, layer_count and sectors are 0 and the arrays NULL (the
+ * grid size as run is in params); without SR_RUN_WITH_MESHES the patch and restored
+ * meshes are empty. A section's patch or the restored mesh is empty too when the run
+ * kept none. fit_quality < 0 and has_alignment 0 read back as stored (NULL). */
 sr_status sr_catalog_run_get(sr_catalog *cat, int64_t id, unsigned what, sr_run *out,
                              sr_err *err);
 
@@ -122,5 +126,28 @@ sr_status sr_catalog_run_list(sr_catalog *cat, const sr_run_filter *filter, sr_r
 
 /* Number of runs in the catalogue (for `catalog info`). */
 sr_status sr_catalog_run_count(sr_catalog *cat, int64_t *out, sr_err *err);
+
+/* ---- additions (runs module) ---- */
+
+/* Loads only the restored mesh of run `id` (for `compare run:N`). SR_E_NOTFOUND "no run
+ * N in the catalogue" or "run N has no restored mesh in the catalogue". *out only on
+ * success. */
+sr_status sr_catalog_run_restored_mesh(sr_catalog *cat, int64_t id, sr_mesh *out,
+                                       sr_err *err);
+
+/* Notes on sr_catalog_run_add:
+ * - Field checks: instance_id > 0; a symmetry kind; params pass sr_params_check;
+ *   method 1..15 bytes; alignment finite; fit_quality <= 1 (< 0 stored as NULL); a
+ *   failed run (ok 0) needs its error; finished_at not before started_at; the JSON
+ *   texts valid JSON; layers with their three arrays; sections with distinct indices,
+ *   layer_first <= layer_last, z_min <= z_max, angles in [0, 360) with from <= to <=
+ *   from + 360, side -1/0/1, finite non-negative figures, damage_class non-empty;
+ *   advice naming a section of the run (or -1) and a non-empty process. Meshes must
+ *   pass sr_mesh_validate (SR_E_INVALID naming "patch of section N" or "restored
+ *   mesh"). All of these are refused before the transaction starts.
+ * - Inside the transaction: SR_E_NOTFOUND for an unknown instance or rule_id; any
+ *   failure rolls back every row of the run (meshes included).
+ * - started_at "" is stored as the time of writing; software_version "" as SR_VERSION;
+ *   side 0 and has_angles 0 as NULL columns; rule_id 0 as NULL. */
 
 #endif

@@ -10,6 +10,9 @@
 # if any test failed or any binary exited non-zero (a crash, a sanitizer report, a
 # leak) - even if cmocka's own counts look clean.
 #
+# Without `cli`, it then runs the optional browser check of the HTML report (skipped
+# with a message when node or a headless Chromium is missing).
+#
 # Environment: SYMREC_BIN (the CLI under test; default BUILD_DIR/symrec) and
 # SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli.
 set -u
@@ -90,6 +93,41 @@ for bin in $bins; do
     total_pass=$((total_pass + pass))
     total_fail=$((total_fail + fail))
 done
+
+# Optional: the HTML report in a real headless browser (tests/browser/check_report.js).
+# Needs node and a Chromium (Debian chromium-headless-shell); skipped, with a line
+# saying so, when either is missing, so CI without them still passes.
+if [ -z "$only" ]; then
+    browser=${SYMREC_BROWSER:-}
+    [ -z "$browser" ] && [ -x /usr/bin/chromium-headless-shell ] && browser=/usr/bin/chromium-headless-shell
+    [ -z "$browser" ] && [ -x /usr/bin/chromium ] && browser=/usr/bin/chromium
+    if ! command -v node >/dev/null 2>&1 || [ -z "$browser" ]; then
+        echo "browser_check  skipped: no node or no headless browser (apt-get install chromium-headless-shell)"
+    else
+        bdir=$(mktemp -d /tmp/symrec-browser-test-XXXXXX)
+        start=$(date +%s)
+        rc=0
+        { "$SYMREC_BIN" --db "$bdir/c.db" demo >/dev/null 2>&1 &&
+          "$SYMREC_BIN" --db "$bdir/c.db" reconstruct 1 --params coarse --no-union >/dev/null 2>&1 &&
+          "$SYMREC_BIN" --db "$bdir/c.db" report 1 --out "$bdir/r.html" >/dev/null 2>&1 &&
+          rows=$("$SYMREC_BIN" --db "$bdir/c.db" run show 1 --json |
+                 node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).sections.length))'); } >"$out" 2>&1 || rc=$?
+        if [ "$rc" -eq 0 ]; then
+            node tests/browser/check_report.js "$bdir/r.html" "$rows" "$browser" >"$out" 2>&1
+            rc=$?
+        fi
+        secs=$(( $(date +%s) - start ))
+        if [ "$rc" -eq 0 ]; then
+            printf '%-14s %3d passed, %d failed  ok  (%ss)\n' browser_check 1 0 "$secs"
+            total_pass=$((total_pass + 1))
+        else
+            printf '%-14s %3d passed, %d failed  FAILED (exit %d)  (%ss)\n' browser_check 0 1 "$rc" "$secs"
+            sed 's/^/    | /' "$out"
+            total_fail=$((total_fail + 1))
+        fi
+        rm -rf "$bdir"
+    fi
+fi
 
 if [ "$found" -eq 0 ]; then
     echo "run_tests.sh: no test binaries in '$build/tests' (build them first)" >&2

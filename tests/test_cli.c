@@ -26,10 +26,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <sqlite3.h>
+
 #include "bridge/mesh_io.h"
 #include "catalog.h"
+#include "catalog_runs.h"
 #include "mesh.h"
 #include "shapes.h"
+#include "support/assert_near.h"
 #include "support/run_cmd.h"
 #include "version.h"
 
@@ -611,8 +615,9 @@ static void top_level_help_lists_commands_and_db_default(void **state)
     expect_ok(&r);
     assert_string_equal(r.err, "");
     expect_contains(r.out, "usage: symrec");
-    const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "params",
-                          "demo", "fixtures", "help"};
+    const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "run",
+                          "compare", "params", "demo", "fixtures", "help", "history",
+                          "report", "plan", "rules", "materials"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char line[32];
         snprintf(line, sizeof line, "\n  %s ", cmds[i]);
@@ -643,11 +648,20 @@ static void every_command_and_subcommand_has_help(void **state)
         {"part", "show", "--help"},    {"instance", "--help"},
         {"instance", "add", "--help"}, {"instance", "list", "--help"},
         {"instance", "show", "--help"}, {"export", "--help"},
-        {"reconstruct", "--help"},
+        {"reconstruct", "--help"},     {"run", "--help"},
+        {"run", "list", "--help"},     {"run", "show", "--help"},
+        {"compare", "--help"},
+        {"plan", "--help"},
         {"params", "--help"},          {"params", "list", "--help"},
         {"params", "show", "--help"},  {"params", "set", "--help"},
+        {"rules", "--help"},           {"rules", "list", "--help"},
+        {"rules", "show", "--help"},   {"rules", "set", "--help"},
+        {"rules", "add", "--help"},    {"rules", "enable", "--help"},
+        {"rules", "disable", "--help"}, {"materials", "--help"},
+        {"materials", "list", "--help"},
         {"demo", "--help"},            {"fixtures", "--help"},
-        {"help", "--help"},
+        {"help", "--help"},            {"history", "--help"},
+        {"report", "--help"},
     };
     const size_t n = sizeof cmds / sizeof cmds[0];
     for (size_t i = 0; i < n; i++) {
@@ -921,6 +935,7 @@ static void catalog_info_counts_parts_and_instances(void **state)
     jv v = parse_json(r.out);
     assert_int_equal((int)jnum(&v, "parts"), 2);
     assert_int_equal((int)jnum(&v, "instances"), 1);
+    assert_int_equal((int)jnum(&v, "runs"), 0);
     jv_release(&v);
     result_free(&r);
 }
@@ -1694,6 +1709,198 @@ static void params_list_show_and_set(void **state)
 }
 
 /* ------------------------------------------------------------------------------------
+ * Repair rules and materials (branch rules)
+ * ---------------------------------------------------------------------------------- */
+
+/* `rules show RULE --json`, parsed (the caller releases). */
+static jv rule_json(const env *e, const char *rule)
+{
+    result r;
+    RUN(&r, "--db", e->db, "rules", "show", rule, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    result_free(&r);
+    return v;
+}
+
+static void rules_list_show_and_set(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "rules", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.type, J_ARR);
+    assert_int_equal(v.count, 9);
+    assert_string_equal(jstr(&v.items[0], "name"), "replace-beyond-25pct");
+    assert_true(jnum(&v.items[0], "min_lost_fraction") == 0.25);
+    assert_string_equal(jstr(&v.items[8], "process"), "manual_review");
+    assert_int_equal(jget(&v.items[8], "class")->type, J_NULL);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "list");
+    expect_ok(&r);
+    assert_string_equal(r.err, "");
+    expect_contains(r.out, "spray-small-loss");
+    expect_contains(r.out, "max_depth_mm=3 max_section_fraction=0.05");
+    result_free(&r);
+
+    v = rule_json(e, "spray-small-loss");
+    assert_true(jnum(&v, "max_depth_mm") == 3);
+    assert_int_equal(jget(&v, "updated_at")->type, J_NULL);
+    char id[32];
+    snprintf(id, sizeof id, "%d", (int)jnum(&v, "id"));
+    jv_release(&v);
+
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm", "2.5");
+    expect_ok(&r);
+    assert_string_equal(r.err, "symrec: updated rule 'spray-small-loss': max_depth_mm = 2.5\n");
+    expect_contains(r.out, "max_depth_mm:         2.5");
+    result_free(&r);
+    v = rule_json(e, id);   /* by id */
+    assert_string_equal(jstr(&v, "name"), "spray-small-loss");
+    assert_true(jnum(&v, "max_depth_mm") == 2.5);
+    assert_int_equal(jget(&v, "updated_at")->type, J_STR);
+    jv_release(&v);
+
+    RUN(&r, "--db", e->db, "rules", "set", id, "max_depth_mm", "null", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(jget(&v, "max_depth_mm")->type, J_NULL);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "set", "wear-band-spray", "parameters_json",
+        "{\"layer_mm\":0.2}", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "parameters_json"), "{\"layer_mm\":0.2}");
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void rules_set_errors_change_nothing(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result before, r, after;
+    RUN(&before, "--db", e->db, "rules", "show", "spray-small-loss", "--json");
+    expect_ok(&before);
+
+    RUN(&r, "--db", e->db, "rules", "set", "nonesuch", "priority", "1");
+    expect_error(&r, "no rule 'nonesuch' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "show", "nonesuch");
+    expect_error(&r, "no rule 'nonesuch' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "depth", "1");
+    expect_usage(&r, "unknown rule field 'depth'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm", "deep");
+    expect_error(&r, "bad max_depth_mm 'deep': expected a number or null");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm", "--", "-1");
+    expect_error(&r, "bad max_depth_mm -1: expected a number >= 0");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "min_depth_mm", "4");
+    expect_error(&r, "bad min_depth_mm 4: greater than max_depth_mm 3");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "process", "null");
+    expect_error(&r, "field 'process' cannot be null");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "class", "dent");
+    expect_error(&r, "bad class 'dent': expected one of chip, gouge, wear_band");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "set", "spray-small-loss", "max_depth_mm");
+    expect_usage(&r, NULL);
+    result_free(&r);
+
+    RUN(&after, "--db", e->db, "rules", "show", "spray-small-loss", "--json");
+    expect_ok(&after);
+    assert_string_equal(before.out, after.out);
+    result_free(&before);
+    result_free(&after);
+}
+
+static void rules_add_enable_and_disable(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "rules", "add", "shop-weld", "--process", "weld_buildup", "--reason",
+        "our welder", "--source", "shop practice", "--priority", "5", "--json");
+    expect_ok(&r);
+    expect_contains(r.err, "added rule 'shop-weld'");
+    jv v = parse_json(r.out);
+    assert_true(jnum(&v, "priority") == 5);
+    assert_true(jnum(&v, "enabled") == 1);
+    assert_string_equal(jstr(&v, "scope"), "section");
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "add", "SHOP-WELD", "--process", "ded", "--reason", "x",
+        "--source", "y");
+    expect_error(&r, "rule 'SHOP-WELD' already exists");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "add", "other", "--process", "glue", "--reason", "x",
+        "--source", "y");
+    expect_error(&r, "bad process 'glue'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "add", "other", "--reason", "x");
+    expect_usage(&r, "needs --process, --reason and --source");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "rules", "disable", "shop-weld");
+    expect_ok(&r);
+    assert_string_equal(r.err, "symrec: disabled rule 'shop-weld'\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "list", "--enabled", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 9);
+    for (size_t i = 0; i < v.count; i++)
+        assert_string_not_equal(jstr(&v.items[i], "name"), "shop-weld");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "enable", "shop-weld");
+    expect_ok(&r);
+    result_free(&r);
+    v = rule_json(e, "shop-weld");
+    assert_true(jnum(&v, "enabled") == 1);
+    jv_release(&v);
+    RUN(&r, "--db", e->db, "rules", "enable", "nonesuch");
+    expect_error(&r, "no rule 'nonesuch'");
+    result_free(&r);
+}
+
+static void materials_list_shows_the_seeded_materials(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "materials", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.count, 9);
+    assert_string_equal(jstr(&v.items[0], "name"), "42CrMo4");
+    assert_true(jnum(&v.items[0], "density_g_cm3") == 7.85);
+    assert_string_equal(jstr(&v.items[0], "family"), "steel");
+    assert_int_equal(jget(&v.items[0], "limits")->count, 3);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "materials", "list");
+    expect_ok(&r);
+    expect_contains(r.out, "EN-GJL-250");
+    expect_contains(r.out, "ded <= 3 mm, spray_forming, -weld_buildup");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "materials", "show");
+    expect_usage(&r, "unknown subcommand 'materials show'");
+    result_free(&r);
+}
+
+/* ------------------------------------------------------------------------------------
  * Demo and fixtures
  * ---------------------------------------------------------------------------------- */
 
@@ -1706,13 +1913,42 @@ static size_t json_array_count(const char *text)
     return n;
 }
 
+/* The README's main job: look-up, reconstruction recorded with features and advice, the
+ * build plan, the report and the history, all from one `symrec demo`. */
+static void demo_runs_the_whole_job(void **state)
+{
+    const env *e = *state;
+    char out[600], path[700];
+    snprintf(out, sizeof out, "%s/demo-out", e->dir);
+    result r;
+    RUN(&r, "--db", e->db, "demo", "--out", out, "--part", "SR-RAIL-04");
+    expect_ok(&r);
+    expect_contains(r.out, "== The whole job on SR-RAIL-04");
+    expect_contains(r.out, "run 1 recorded");
+    expect_contains(r.out, "advice:");
+    expect_contains(r.out, "build plan of run 1");
+    expect_contains(r.out, "report of run 1 written");
+    expect_contains(r.out, "SR-RAIL-04  SN-24-0901");   /* the history row */
+    result_free(&r);
+    const char *files[] = {"run/restored.stl", "run/patches.stl", "run/result.glb",
+                           "plan/plan.json", "plan/plan.gcode", "plan/layer_001.svg",
+                           "report.html"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        snprintf(path, sizeof path, "%s/%s", out, files[i]);
+        assert_true(file_exists(path));
+    }
+    RUN(&r, "--db", e->db, "demo", "--part", "NO-SUCH-PART", "--out", out);
+    expect_usage(&r, "bad --part 'NO-SUCH-PART'");
+    result_free(&r);
+}
+
 static void demo_builds_the_catalogue_and_is_idempotent(void **state)
 {
     const env *e = *state;
     size_t count = sr_demo_part_count();
     assert_true(count > 0);
     result r;
-    RUN(&r, "--db", e->db, "demo");
+    RUN(&r, "--db", e->db, "demo", "--catalog-only");
     expect_ok(&r);
     for (size_t i = 0; i < count; i++) {
         const sr_demo_part *dp = sr_demo_part_get(i);
@@ -1738,7 +1974,7 @@ static void demo_builds_the_catalogue_and_is_idempotent(void **state)
     result_free(&r);
 
     /* Again: nothing added, the same catalogue shown. */
-    RUN(&r, "--db", e->db, "demo");
+    RUN(&r, "--db", e->db, "demo", "--catalog-only");
     expect_ok(&r);
     expect_contains(r.err, "added 0 parts and 0 damaged instances");
     assert_string_equal(r.out, first_out);
@@ -1825,6 +2061,962 @@ static void fixtures_write_meshes_whose_volumes_match_volumes_json(void **state)
     jv_release(&v);
 }
 
+/* ------------------------------------------------------------------------------------
+ * Reconstruction runs: recording (reconstruct), run list/show, compare, bad input
+ * ---------------------------------------------------------------------------------- */
+
+/* Rows of one table, counted on a raw connection. */
+static int64_t table_rows(const env *e, const char *table)
+{
+    sqlite3 *db = NULL;
+    assert_int_equal(sqlite3_open_v2(e->db, &db, SQLITE_OPEN_READONLY, NULL), SQLITE_OK);
+    char sql[128];
+    snprintf(sql, sizeof sql, "SELECT count(*) FROM %s", table);
+    sqlite3_stmt *stmt = NULL;
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt, NULL) != SQLITE_OK)
+        fail_msg("%s: %s", sql, sqlite3_errmsg(db));
+    assert_int_equal(sqlite3_step(stmt), SQLITE_ROW);
+    int64_t n = sqlite3_column_int64(stmt, 0);
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+    return n;
+}
+
+/* Rows in every table a run writes, as one comparable string. */
+static void run_rows(const env *e, char *out, size_t size)
+{
+    snprintf(out, size, "runs %lld layers %lld sections %lld advice %lld meshes %lld",
+             (long long)table_rows(e, "runs"), (long long)table_rows(e, "run_layers"),
+             (long long)table_rows(e, "sections"), (long long)table_rows(e, "advice"),
+             (long long)table_rows(e, "meshes"));
+}
+
+/* Failed with exit 1 and nothing on stdout after the progress note: stderr is the
+ * "reconstructing ..." line, then one error line containing `needle`. */
+static void expect_failure_after_progress(const result *r, const char *needle)
+{
+    if (r->code != 1)
+        fail_msg("expected exit 1, got %d; stderr: %s", r->code, r->err);
+    assert_string_equal(r->out, "");
+    const char *nl = strchr(r->err, '\n');
+    if (strncmp(r->err, "symrec: reconstructing ", 23) != 0 || !nl)
+        fail_msg("stderr does not start with the progress note: %s", r->err);
+    expect_one_line(nl + 1, "error", needle);
+}
+
+/* The demo catalogue's first three parts, built in-process (a process fewer per test):
+ * instance 1 the chipped shaft, 2 the gouged bushing, 3 the broken bracket (mirror). */
+static void make_demo(const env *e)
+{
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    if (sr_catalog_open(e->db, SR_CATALOG_CREATE, &cat, &err) != SR_OK)
+        fail_msg("cannot create %s: %s", e->db, err.msg);
+    for (size_t i = 0; i < 3; i++) {
+        const sr_demo_part *dp = sr_demo_part_get(i);
+        sr_mesh intact, damaged;
+        assert_int_equal(sr_demo_part_build(i, &intact, &damaged, &err), SR_OK);
+        sr_part_new part = {.number = dp->number, .name = dp->name, .material = dp->material,
+                            .mesh = &intact,
+                            .symmetry = {(sr_sym_kind)dp->sym_kind, dp->sym_order,
+                                         dp->sym_shift_mm}};
+        int64_t id;
+        assert_int_equal(sr_catalog_part_add(cat, &part, &id, &err), SR_OK);
+        sr_instance_new inst = {.part = dp->number, .mesh = &damaged, .serial = dp->serial};
+        assert_int_equal(sr_catalog_instance_add(cat, &inst, &id, &err), SR_OK);
+        assert_int_equal(id, (int64_t)i + 1);
+        sr_mesh_release(&intact);
+        sr_mesh_release(&damaged);
+    }
+    sr_catalog_close(cat);
+}
+
+static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    /* --no-union: the boolean is the reconstruction's business (and slow under
+     * valgrind); the record is the same either way */
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--json");
+    expect_ok(&r);
+    jv rec = parse_json(r.out);
+    result_free(&r);
+    const jv *run_id = jget(&rec, "run_id");
+    assert_int_equal(run_id->type, J_NUM);
+    long id = (long)run_id->num;
+    assert_true(id >= 1);
+    assert_string_equal(jstr(jget(&rec, "params"), "name"), "coarse");
+    assert_int_equal((int)jnum(&rec, "layers"), 80);
+    const jv *secs = jget(&rec, "sections");
+    assert_true(secs->count >= 1);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", id);
+
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    jv list = parse_json(r.out);
+    result_free(&r);
+    assert_int_equal(list.type, J_ARR);
+    assert_int_equal(list.count, 1);
+    const jv *row = &list.items[0];
+    assert_int_equal((long)jnum(row, "id"), id);
+    assert_int_equal((long)jnum(row, "instance_id"), 1);
+    assert_string_equal(jstr(row, "part_number"), "SR-SHAFT-01");
+    assert_string_equal(jstr(row, "status"), "ok");
+    assert_int_equal((size_t)jnum(row, "sections"), secs->count);
+    double total = 0;
+    for (size_t i = 0; i < secs->count; i++)
+        total += jnum(&secs->items[i], "volume_mm3");
+    assert_near(jnum(row, "missing_volume_mm3"), total, 1e-9 * total);
+    jv_release(&list);
+
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json");
+    expect_ok(&r);
+    jv show = parse_json(r.out);
+    result_free(&r);
+    assert_int_equal((long)jnum(&show, "id"), id);
+    assert_string_equal(jstr(&show, "status"), "ok");
+    assert_string_equal(jstr(&show, "method"), "paper");
+    assert_string_equal(jstr(&show, "software_version"), SR_VERSION);
+    assert_string_equal(jstr(jget(&show, "symmetry"), "kind"), "axial");
+    assert_int_equal((int)jnum(jget(&show, "params"), "sectors"), 60);
+    const jv *align = jget(&show, "alignment");
+    assert_int_equal(jget(align, "transform")->count, 12);
+    assert_near(jnum(align, "fit_quality"), jnum(jget(&rec, "alignment"), "fit_score"), 0);
+    const jv *rec_xf = jget(jget(&rec, "alignment"), "transform");
+    for (size_t i = 0; i < 12; i++)
+        assert_true(jget(align, "transform")->items[i].num == rec_xf->items[i].num);
+    assert_int_equal(jget(&show, "timings")->type, J_OBJ);
+    assert_true(jnum(jget(&show, "timings"), "total") >= 0);
+    assert_true(jnum(jget(&show, "restored_mesh"), "triangles") > 0);
+    const jv *ssecs = jget(&show, "sections");
+    assert_int_equal(ssecs->count, secs->count);
+    for (size_t i = 0; i < secs->count; i++) {
+        const jv *f = jget(&ssecs->items[i], "features");
+        const jv *want = &secs->items[i];
+        /* the same doubles, printed the same shortest way */
+        assert_true(jnum(f, "volume_mm3") == jnum(want, "volume_mm3"));
+        assert_true(jnum(f, "area_mm2") == jnum(want, "area_mm2"));
+        assert_true(jnum(f, "depth_max_mm") == jnum(want, "depth_max_mm"));
+        assert_true(jnum(f, "depth_mean_mm") == jnum(want, "depth_mean_mm"));
+        assert_true(jnum(f, "z_min_mm") == jnum(want, "z_min_mm"));
+        assert_true(jnum(f, "z_max_mm") == jnum(want, "z_max_mm"));
+        assert_true(jnum(f, "angle_min_deg") == jnum(want, "angle_min_deg"));
+        assert_true(jnum(f, "angle_max_deg") == jnum(want, "angle_max_deg"));
+        /* classified by the features engine (section_features.h), one of its classes */
+        const char *cls = jstr(f, "class");
+        assert_true(strcmp(cls, "chip") == 0 || strcmp(cls, "gouge") == 0 ||
+                    strcmp(cls, "wear_band") == 0 || strcmp(cls, "broken_feature") == 0 ||
+                    strcmp(cls, "crack") == 0);
+        assert_int_equal((long)jnum(&ssecs->items[i], "index"), (long)jnum(want, "index"));
+        assert_int_equal((long)jnum(&ssecs->items[i], "patch_triangles"),
+                         (long)jnum(want, "patch_triangles"));
+    }
+    assert_int_equal(jget(&show, "advice")->type, J_ARR);
+    jv_release(&show);
+    jv_release(&rec);
+
+    /* --layers adds every layer's outline pair */
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json", "--layers");
+    expect_ok(&r);
+    show = parse_json(r.out);
+    result_free(&r);
+    const jv *layers = jget(&show, "layers");
+    assert_int_equal(layers->count, 80);
+    assert_int_equal(jget(&layers->items[0], "damaged")->count, 60);
+    assert_int_equal(jget(&layers->items[79], "restored")->count, 60);
+    jv_release(&show);
+
+    /* the human forms */
+    RUN(&r, "--db", e->db, "run", "show", ids);
+    expect_ok(&r);
+    expect_contains(r.out, "instance 1 of part SR-SHAFT-01, ok");
+    expect_contains(r.out, "set 'coarse': 80 layers, 60 sectors");
+    expect_contains(r.out, "advice:");
+    expect_contains(r.out, "reasons");
+    expect_contains(r.out, "timings:     align ");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list");
+    expect_ok(&r);
+    expect_contains(r.out, "missing mm³");
+    expect_contains(r.out, "SR-SHAFT-01");
+    expect_contains(r.out, "SN-24-0117");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "catalog", "info", "--json");
+    expect_ok(&r);
+    jv info = parse_json(r.out);
+    assert_int_equal((int)jnum(&info, "runs"), 1);
+    jv_release(&info);
+    result_free(&r);
+}
+
+static void reconstruct_prints_run_recorded_and_no_record_records_none(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    expect_contains(r.out, "\nrun 1 recorded\n");
+    result_free(&r);
+    char before[256], after[256];
+    run_rows(e, before, sizeof before);
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--no-record",
+        "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(jget(&v, "run_id")->type, J_NULL);
+    jv_release(&v);
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+    /* --mesh runs are never recorded */
+    char mesh[160];
+    path_in(e, "shaft.stl", mesh, sizeof mesh);
+    RUN(&r, "--db", e->db, "export", "instance", "1", "--out", mesh);
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "--mesh", mesh, "--symmetry", "axial", "--layers", "40",
+        "--sectors", "60", "--no-union", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(jget(&v, "run_id")->type, J_NULL);
+    assert_string_equal(jstr(jget(&v, "params"), "name"), "default");
+    assert_int_equal((int)jnum(jget(&v, "params"), "layers"), 40);
+    jv_release(&v);
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
+static void reconstruct_params_and_overrides_are_recorded(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--layers", "50",
+        "--gamma", "0.9", "--min-depth", "0.25", "--no-union", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", (long)jnum(&v, "run_id"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    const jv *p = jget(&v, "params");
+    assert_string_equal(jstr(p, "name"), "coarse");
+    assert_int_equal((int)jnum(p, "layers"), 50);
+    assert_int_equal((int)jnum(p, "sectors"), 60);
+    assert_near(jnum(p, "gamma_axis"), 0.9, 0);
+    assert_near(jnum(p, "gamma_plane"), 0.9, 0);
+    assert_near(jnum(p, "min_depth_mm"), 0.25, 0);
+    assert_near(jnum(p, "delta_d"), 0.05, 0);
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void a_failed_reconstruct_records_nothing(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char before[256], after[256];
+    run_rows(e, before, sizeof before);
+    /* the output folder cannot be made (a file is in the way): fails after the
+     * reconstruction, before anything is recorded */
+    char blocker[160], out[200];
+    path_in(e, "blocker", blocker, sizeof blocker);
+    write_bytes(blocker, "x", 1);
+    snprintf(out, sizeof out, "%s/sub", blocker);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--out", out);
+    expect_failure_after_progress(&r, "cannot create '");
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+
+    /* a scan whose triangles have no area: the reconstruction itself fails */
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    double xyz[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+    uint32_t tri[] = {0, 1, 2, 1, 2, 3};
+    sr_mesh flat = {xyz, tri, 4, 2};
+    sr_instance_new in = {.part = "SR-SHAFT-01", .mesh = &flat, .serial = "FLAT"};
+    int64_t id;
+    assert_int_equal(sr_catalog_instance_add(cat, &in, &id, &err), SR_OK);
+    sr_catalog_close(cat);
+    run_rows(e, before, sizeof before);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%lld", (long long)id);
+    RUN(&r, "--db", e->db, "reconstruct", ids, "--params", "coarse");
+    expect_failure_after_progress(&r, "no triangle with an area");
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
+static void reconstruct_refuses_bad_input(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char before[256], after[256];
+    run_rows(e, before, sizeof before);
+    static const struct {
+        const char *a, *b;
+        int code;
+        const char *msg;
+    } cases[] = {
+        {"--layers", "0", 2, "bad --layers '0'"},
+        {"--sectors", "0", 2, "bad --sectors '0'"},
+        {"--sectors", "2", 2, "bad --sectors '2'"},
+        {"--gamma", "0", 2, "bad --gamma '0'"},
+        {"--gamma", "1.5", 2, "bad --gamma '1.5'"},
+        {"--min-depth", "-0.5", 2, "bad --min-depth '-0.5'"},
+        {"--params", "", 2, "bad --params ''"},
+        {"--params", "nope", 1, "no parameter set 'nope' in the catalogue"},
+        {"--format", "xyz", 2, "bad --format 'xyz'"},
+    };
+    const size_t n = sizeof cases / sizeof cases[0];
+    for (size_t i = 0; i < n; i++) {
+        if (sampled_out(i, n))
+            continue;
+        result r;
+        RUN(&r, "--db", e->db, "reconstruct", "1", cases[i].a, cases[i].b);
+        if (cases[i].code == 2)
+            expect_usage(&r, cases[i].msg);
+        else
+            expect_error(&r, cases[i].msg);
+        result_free(&r);
+    }
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "99");
+    expect_error(&r, "no instance 99 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "x1");
+    expect_usage(&r, "INSTANCE");
+    result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
+static void reconstruct_of_an_intact_scan_says_nothing_to_repair(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char mesh[160];
+    path_in(e, "intact.ply", mesh, sizeof mesh);
+    result r;
+    RUN(&r, "--db", e->db, "export", "part", "SR-SHAFT-01", "--out", mesh);
+    expect_ok(&r);
+    result_free(&r);
+    long id = add_instance(e, "SR-SHAFT-01", mesh, "INTACT");
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", id);
+    RUN(&r, "--db", e->db, "reconstruct", ids, "--params", "coarse");
+    expect_ok(&r);
+    expect_contains(r.out, "nothing to repair: no missing section found");
+    expect_contains(r.out, "recorded\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", ids, "--params", "coarse", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(jget(&v, "sections")->type, J_ARR);
+    assert_int_equal(jget(&v, "sections")->count, 0);
+    assert_near(jnum(&v, "patch_volume_mm3"), 0, 0);
+    char rid[32];
+    snprintf(rid, sizeof rid, "%ld", (long)jnum(&v, "run_id"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", rid, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(jget(&v, "sections")->count, 0);
+    assert_near(jnum(&v, "missing_volume_mm3"), 0, 0);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", rid);
+    expect_ok(&r);
+    expect_contains(r.out, "sections:    none (nothing to repair)");
+    result_free(&r);
+}
+
+static void a_symmetry_that_does_not_fit_finishes_and_reports_the_fit(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    /* mirror on the axial shaft: it finishes (a shaft is mirror-symmetric too) and the
+     * fit is reported */
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--symmetry", "mirror", "--params", "coarse",
+        "--no-union", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    const jv *a = jget(&v, "alignment");
+    double score = jnum(a, "fit_score");
+    assert_true(score >= 0 && score <= 1);
+    assert_int_equal(jget(a, "fit_poor")->type, J_BOOL);
+    assert_string_equal(jstr(jget(&v, "symmetry"), "kind"), "mirror");
+    jv_release(&v);
+    result_free(&r);
+    /* axial on the flat bracket: a poor fit, said so, and still a recorded run */
+    RUN(&r, "--db", e->db, "reconstruct", "3", "--symmetry", "axial", "--params", "coarse",
+        "--no-union", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    a = jget(&v, "alignment");
+    assert_true(jnum(a, "fit_score") < 0.5);
+    assert_true(jget(a, "fit_poor")->b);
+    assert_int_equal(jget(&v, "run_id")->type, J_NUM);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "3", "--symmetry", "axial", "--params", "coarse",
+        "--no-union", "--no-record");
+    expect_ok(&r);
+    expect_contains(r.out, "poor fit: score ");
+    result_free(&r);
+}
+
+static void run_commands_refuse_wrong_ids_and_filters(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "run", "list");
+    expect_ok(&r);
+    assert_string_equal(r.out, "no runs\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    assert_string_equal(r.out, "[]\n");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", "99");
+    expect_error(&r, "no run 99 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", "0");
+    expect_usage(&r, "bad N '0'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show");
+    expect_usage(&r, NULL);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--instance", "5");
+    expect_error(&r, "no instance 5 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--part", "NOPE", "--json");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "frob");
+    expect_usage(&r, "run");
+    result_free(&r);
+}
+
+static void run_list_filters_by_instance_and_part(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "2", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(v.count, 2);
+    assert_int_equal((int)jnum(&v.items[0], "id"), 2);     /* newest first */
+    assert_int_equal((int)jnum(&v.items[1], "id"), 1);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--instance", "1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 1);
+    assert_int_equal((int)jnum(&v.items[0], "instance_id"), 1);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--part", "SR-BUSH-02", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal(v.count, 1);
+    assert_string_equal(jstr(&v.items[0], "part_number"), "SR-BUSH-02");
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void compare_gives_volumes_and_deviations(void **state)
+{
+    const env *e = *state;
+    /* the cylinder against itself, then the box against the cylinder */
+    result r;
+    RUN(&r, "compare", e->cyl, e->cyl, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_near(jnum(&v, "volume_diff_mm3"), 0, 0);
+    assert_near(jnum(&v, "hausdorff_mm"), 0, 1e-9);
+    assert_near(jnum(jget(&v, "a"), "volume_mm3"), cyl_volume(), 1e-3);
+    assert_true(jget(jget(&v, "a"), "closed")->b);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, e->box, "--json", "--samples", "5000");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_near(jnum(&v, "volume_diff_mm3"), 6000 - cyl_volume(), 1e-3);
+    assert_true(jnum(jget(&v, "b_to_a"), "samples") >= 5000);
+    assert_true(jnum(&v, "hausdorff_mm") >= jnum(jget(&v, "a_to_b"), "max_mm"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, e->box);
+    expect_ok(&r);
+    expect_contains(r.out, "volume difference B - A: ");
+    expect_contains(r.out, "Hausdorff distance: ");
+    result_free(&r);
+}
+
+static void compare_takes_stored_meshes(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "instance:1", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    double lost = -jnum(&v, "volume_diff_mm3");
+    assert_true(lost > 1000 && lost < 1500);    /* the chip: 1239 mm³ */
+    assert_string_equal(jstr(jget(&v, "b"), "source"), "instance 1");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "run:1", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_string_equal(jstr(jget(&v, "b"), "source"), "run 1");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "run:9");
+    expect_error(&r, "no run 9 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "part:NOPE", "run:1");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "compare", "instance:x", "run:1");
+    expect_usage(&r, "instance:N");
+    result_free(&r);
+}
+
+static void compare_refuses_missing_and_garbage_files(void **state)
+{
+    const env *e = *state;
+    char missing[160], garbage[160];
+    path_in(e, "missing.stl", missing, sizeof missing);
+    path_in(e, "garbage.stl", garbage, sizeof garbage);
+    write_bytes(garbage, "this is not a mesh at all, not even close to one\n", 49);
+    result r;
+    RUN(&r, "compare", missing, e->cyl);
+    expect_error(&r, "missing.stl");
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, garbage, "--json");
+    expect_error(&r, "garbage.stl");
+    result_free(&r);
+    RUN(&r, "compare", e->cyl);
+    expect_usage(&r, NULL);
+    result_free(&r);
+    RUN(&r, "compare", e->cyl, e->cyl, "--samples", "0");
+    expect_usage(&r, "bad --samples '0'");
+    result_free(&r);
+    /* a catalogue reference without a catalogue: the usual message, no file made */
+    RUN(&r, "--db", e->db, "compare", e->cyl, "run:1");
+    expect_error(&r, "no catalogue '");
+    result_free(&r);
+    assert_false(file_exists(e->db));
+}
+
+/* ------------------------------------------------------------------------------------
+ * Build plans
+ * ---------------------------------------------------------------------------------- */
+
+/* Stores a run of the cylinder part through the library: 10 layers of 1 mm, 72 sectors
+ * (5 degrees), restored radius 10, a 2 mm deep chip over 10..50 degrees in layers 2..7
+ * (section 1). Returns the run id. */
+static long add_chipped_run(const env *e)
+{
+    init_catalog(e);
+    add_part(e, "SH-1", "shaft", "steel", e->cyl);
+    long inst = add_instance(e, "SH-1", e->cyl, "S-1");
+    enum { L = 10, S = 72 };
+    static double z[L], dmg[L * S * 2], rst[L * S * 2];
+    for (size_t l = 0; l < L; l++) {
+        z[l] = (double)l + 0.5;
+        for (size_t j = 0; j < S; j++) {
+            double a = ((double)j + 0.5) * 5.0 * PI / 180.0;
+            double rd = (l >= 2 && l <= 7 && j >= 2 && j <= 9) ? 8.0 : 10.0;
+            rst[2 * (l * S + j)] = 10.0 * cos(a);
+            rst[2 * (l * S + j) + 1] = 10.0 * sin(a);
+            dmg[2 * (l * S + j)] = rd * cos(a);
+            dmg[2 * (l * S + j) + 1] = rd * sin(a);
+        }
+    }
+    sr_run_section sec;
+    memset(&sec, 0, sizeof sec);
+    sec.layer_first = 2;
+    sec.layer_last = 7;
+    sec.z_min_mm = 2;
+    sec.z_max_mm = 8;
+    sec.has_angles = 1;
+    sec.angle_from_deg = 10;
+    sec.angle_to_deg = 50;
+    sec.volume_mm3 = 6 * 0.5 * (100 - 64) * sin(5 * PI / 180) * 8;
+    sec.depth_max_mm = sec.depth_mean_mm = 2;
+    strcpy(sec.damage_class, "chip");
+    sr_run run;
+    memset(&run, 0, sizeof run);
+    run.instance_id = inst;
+    run.symmetry.kind = SR_SYM_AXIAL;
+    strcpy(run.method, "paper");
+    run.has_alignment = 1;
+    run.alignment[0] = run.alignment[5] = run.alignment[10] = 1;
+    run.fit_quality = 0.9;
+    run.ok = 1;
+    run.layer_count = L;
+    run.sectors = S;
+    run.layer_z = z;
+    run.damaged_xy = dmg;
+    run.restored_xy = rst;
+    run.sections = &sec;
+    run.section_count = 1;
+    sr_catalog *cat = NULL;
+    sr_err err;
+    sr_err_clear(&err);
+    int64_t id = 0;
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    assert_int_equal(sr_catalog_params_get(cat, "default", &run.params, &err), SR_OK);
+    run.params.layers = L;
+    run.params.sectors = S;
+    if (sr_catalog_run_add(cat, &run, &id, &err) != SR_OK)
+        fail_msg("cannot add the run: %s", err.msg);
+    sr_catalog_close(cat);
+    return (long)id;
+}
+
+static void plan_writes_json_svg_per_layer_and_gcode(void **state)
+{
+    const env *e = *state;
+    long id = add_chipped_run(e);
+    char idtext[32], out[128], path[192];
+    snprintf(idtext, sizeof idtext, "%ld", id);
+    path_in(e, "plan", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--feed", "450", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal((long)jnum(&v, "run"), id);
+    assert_int_equal((int)jnum(&v, "section"), 1);
+    assert_int_equal((int)jnum(&v, "layer_count"), 6);
+    assert_true(jnum(&v, "layer_mm") == 1.0);
+    assert_true(jnum(&v, "feed_mm_min") == 450.0);
+    double missing = 6 * 0.5 * sin(5 * PI / 180) * (2 * 10 * 2 + 7 * (100 - 64));
+    assert_true(fabs(jnum(&v, "missing_volume_mm3") - missing) < 0.01);
+    assert_true(jnum(&v, "deposit_volume_mm3") > missing);
+    assert_string_equal(jstr(&v, "symmetry"), "axial");
+    jv_release(&v);
+    result_free(&r);
+    for (int k = 1; k <= 6; k++) {
+        snprintf(path, sizeof path, "%s/layer_%03d.svg", out, k);
+        assert_true(file_exists(path));
+    }
+    snprintf(path, sizeof path, "%s/layer_007.svg", out);
+    assert_false(file_exists(path));
+    snprintf(path, sizeof path, "%s/plan.gcode", out);
+    char *gcode = read_text(path);
+    assert_non_null(gcode);
+    expect_contains(gcode, "G21\nG90\n");
+    expect_contains(gcode, "; layer 6 z=8.00000\n");
+    expect_contains(gcode, " Z3.00000 F450.0\n");
+    free(gcode);
+    snprintf(path, sizeof path, "%s/plan.json", out);
+    char *json = read_text(path);
+    assert_non_null(json);
+    v = parse_json(json); /* the file is strict JSON */
+    assert_int_equal((int)jnum(&v, "layer_count"), 6);
+    jv_release(&v);
+    free(json);
+
+    /* the human summary */
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--pattern", "contour");
+    expect_ok(&r);
+    expect_contains(r.out, "6 layers of 1.000 mm");
+    expect_contains(r.out, "pattern contour,");
+    result_free(&r);
+}
+
+static void plan_of_an_unknown_run_or_section_fails(void **state)
+{
+    const env *e = *state;
+    long id = add_chipped_run(e);
+    char idtext[32], out[128];
+    snprintf(idtext, sizeof idtext, "%ld", id);
+    path_in(e, "plan", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "plan", "99", "--out", out);
+    expect_error(&r, "no run 99");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--section", "2");
+    expect_error(&r, "has no section 2");
+    result_free(&r);
+    assert_false(file_exists(out));
+}
+
+static void plan_bad_options_are_usage_errors(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "--db", e->db, "plan", "1");
+    expect_usage(&r, "needs --out DIR");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--step-over", "0");
+    expect_usage(&r, "--step-over");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--allowance", "-1");
+    expect_usage(&r, "--allowance");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--pattern", "spiral");
+    expect_usage(&r, "--pattern 'spiral'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", "1", "--out", "x", "--off-code", "M5;M2");
+    expect_usage(&r, "off_code");
+    result_free(&r);
+    assert_false(file_exists(e->db));
+}
+
+/* ------------------------------------------------------------------------------------
+ * History and report
+ * ---------------------------------------------------------------------------------- */
+
+/* The demo's shaft and bushing, plus a second shaft instance (4), and four runs:
+ * instance 1 twice, 4 once, 2 once (runs 1..4 in that order). */
+static void make_history(const env *e)
+{
+    make_demo(e);
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_open(e->db, 0, &cat, &err), SR_OK);
+    sr_mesh intact, damaged;
+    assert_int_equal(sr_demo_part_build(0, &intact, &damaged, &err), SR_OK);
+    sr_instance_new inst = {.part = sr_demo_part_get(0)->number, .mesh = &damaged,
+                            .serial = "SN-SECOND"};
+    int64_t id;
+    assert_int_equal(sr_catalog_instance_add(cat, &inst, &id, &err), SR_OK);
+    assert_int_equal(id, 4);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&damaged);
+    sr_catalog_close(cat);
+    static const char *const order[] = {"1", "1", "4", "2"};
+    for (size_t i = 0; i < 4; i++) {
+        result r;
+        RUN(&r, "--db", e->db, "reconstruct", order[i], "--params", "coarse", "--no-union");
+        expect_ok(&r);
+        result_free(&r);
+    }
+}
+
+/* Number of runs in `history --json` output, checking each has the keys. */
+static size_t history_json_runs(const char *out, const char *part)
+{
+    jv v = parse_json(out);
+    const jv *runs = jget(&v, "runs");
+    assert_int_equal(runs->type, J_ARR);
+    assert_int_equal(jget(&v, "summary")->type, J_OBJ);
+    size_t n = runs->count;
+    for (size_t i = 0; i < n; i++) {
+        const jv *r = &runs->items[i];
+        if (part)
+            assert_string_equal(jstr(r, "part_number"), part);
+        assert_int_equal(jget(r, "damage_classes")->type, J_ARR);
+        assert_int_equal(jget(r, "advice")->type, J_ARR);
+        assert_non_null(jstr(r, "outcome"));
+        assert_true(jnum(r, "missing_volume_mm3") > 0);
+    }
+    assert_int_equal((size_t)jnum(jget(&v, "summary"), "runs"), n);
+    jv_release(&v);
+    return n;
+}
+
+static size_t count_lines(const char *s)
+{
+    size_t n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+static void history_filters_return_exactly_the_runs_made(void **state)
+{
+    const env *e = *state;
+    make_history(e);
+    const char *shaft = sr_demo_part_get(0)->number, *bush = sr_demo_part_get(1)->number;
+    result r;
+    RUN(&r, "--db", e->db, "history", "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, NULL), 4);
+    jv v = parse_json(r.out);
+    const jv *runs = jget(&v, "runs");
+    assert_int_equal((int)jnum(&runs->items[0], "run_id"), 4); /* newest first */
+    assert_int_equal((int)jnum(&runs->items[3], "run_id"), 1);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--part", shaft, "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, shaft), 3);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--instance", "1", "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, shaft), 2);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--material", sr_demo_part_get(1)->material, "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, bush), 1);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--since", "2000-01-01", "--until", "2999-12-31",
+        "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, NULL), 4);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--until", "2000-01-01", "--json");
+    expect_ok(&r);
+    assert_int_equal(history_json_runs(r.out, NULL), 0);
+    result_free(&r);
+
+    /* CSV: a header and one CRLF line per run; the symmetry "axial, continuous" quoted */
+    RUN(&r, "--db", e->db, "history", "--part", shaft, "--csv");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 3);
+    assert_int_equal(strncmp(r.out, "run_id,date,started_at,instance_id,part,", 40), 0);
+    expect_contains(r.out, "outcome\r\n");
+    expect_contains(r.out, ",\"axial, continuous\",");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--instance", "2", "--csv");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 1);
+    result_free(&r);
+
+    /* table and summary */
+    RUN(&r, "--db", e->db, "history");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 4);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--summary");
+    expect_ok(&r);
+    expect_contains(r.out, "runs: 4 (0 failed)");
+    expect_contains(r.out, "per part:");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--summary", "--csv");
+    expect_ok(&r);
+    assert_int_equal(count_lines(r.out), 1 + 2); /* header, shaft, bushing */
+    result_free(&r);
+}
+
+static void history_refuses_bad_filters(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "history", "--since", "2024-02-30");
+    expect_usage(&r, "bad --since '2024-02-30'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--until", "yesterday", "--json");
+    expect_usage(&r, "bad --until 'yesterday'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--since", "2024-03-02", "--until", "2024-03-01");
+    expect_usage(&r, "after --until");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--part", "NOPE", "--json");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--part", "NOPE", "--csv");
+    expect_error(&r, "no part 'NOPE' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--material", "Unobtainium");
+    expect_error(&r, "no material 'Unobtainium' in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--instance", "9");
+    expect_error(&r, "no instance 9 in the catalogue");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history", "--json", "--csv");
+    expect_usage(&r, "not both");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "history");
+    expect_ok(&r);
+    assert_string_equal(r.out, "no runs\n");
+    result_free(&r);
+}
+
+static void report_writes_a_self_contained_page_of_the_run(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    expect_ok(&r);
+    result_free(&r);
+    char out[160];
+    path_in(e, "run1.html", out, sizeof out);
+    RUN(&r, "--db", e->db, "report", "1", "--out", out);
+    expect_ok(&r);
+    expect_contains(r.out, "report of run 1 written to");
+    result_free(&r);
+    char *html = read_text(out);
+    assert_non_null(html);
+    expect_contains(html, "<title>symrec report: run 1, part ");
+    expect_contains(html, "<table id=\"feature-table\">");
+    expect_contains(html, sr_demo_part_get(0)->serial);
+    assert_null(strstr(html, "http://"));
+    assert_null(strstr(html, "https://"));
+    assert_string_equal(html + strlen(html) - 8, "</html>\n");
+    free(html);
+    /* no temporary file left beside it */
+    DIR *d = opendir(e->dir);
+    assert_non_null(d);
+    struct dirent *de;
+    while ((de = readdir(d)) != NULL)
+        if (strstr(de->d_name, ".tmp-"))
+            fail_msg("temporary file left: %s", de->d_name);
+    closedir(d);
+    RUN(&r, "--db", e->db, "report", "1", "--out", out, "--max-triangles", "200", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_true(jget(&v, "decimated")->b);
+    assert_true(jnum(&v, "triangles_shown") <= 200);
+    jv_release(&v);
+    result_free(&r);
+}
+
+static void report_refuses_a_wrong_run_and_bad_arguments(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char out[160];
+    path_in(e, "x.html", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "report", "99", "--out", out);
+    expect_error(&r, "no run 99 in the catalogue");
+    result_free(&r);
+    assert_false(file_exists(out));
+    RUN(&r, "--db", e->db, "report", "1");
+    expect_usage(&r, "--out");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "report", "x", "--out", out);
+    expect_usage(&r, "bad RUN 'x'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "report", "1", "--out", out, "--max-triangles", "5");
+    expect_usage(&r, "bad --max-triangles '5'");
+    result_free(&r);
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -1862,8 +3054,32 @@ int main(void)
         T(export_round_trips_through_every_format),
         T(export_of_an_unknown_id_fails),
         T(params_list_show_and_set),
+        T(rules_list_show_and_set),
+        T(rules_set_errors_change_nothing),
+        T(rules_add_enable_and_disable),
+        T(materials_list_shows_the_seeded_materials),
         T(demo_builds_the_catalogue_and_is_idempotent),
+        T(demo_runs_the_whole_job),
         T(fixtures_write_meshes_whose_volumes_match_volumes_json),
+        T(reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return),
+        T(reconstruct_prints_run_recorded_and_no_record_records_none),
+        T(reconstruct_params_and_overrides_are_recorded),
+        T(a_failed_reconstruct_records_nothing),
+        T(reconstruct_refuses_bad_input),
+        T(reconstruct_of_an_intact_scan_says_nothing_to_repair),
+        T(a_symmetry_that_does_not_fit_finishes_and_reports_the_fit),
+        T(run_commands_refuse_wrong_ids_and_filters),
+        T(run_list_filters_by_instance_and_part),
+        T(compare_gives_volumes_and_deviations),
+        T(compare_takes_stored_meshes),
+        T(compare_refuses_missing_and_garbage_files),
+        T(history_filters_return_exactly_the_runs_made),
+        T(history_refuses_bad_filters),
+        T(report_writes_a_self_contained_page_of_the_run),
+        T(report_refuses_a_wrong_run_and_bad_arguments),
+        T(plan_writes_json_svg_per_layer_and_gcode),
+        T(plan_of_an_unknown_run_or_section_fails),
+        T(plan_bad_options_are_usage_errors),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -23,6 +23,8 @@
  *     size; then the same without the alignment search and the union, to show where
  *     the time and memory go.
  *  4. The catalogue figures, if tests/bench/bench_catalog.c provides bench_catalog().
+ *  5. History queries on a 100,000-run catalogue, if tests/bench/bench_history.c
+ *     provides bench_history().
  *
  * Runs from the repository root (the Makefile does). About 3-6 minutes on 2 cores.
  */
@@ -56,6 +58,8 @@ extern char **environ;
  * weak declaration lets this binary link with or without it, and main() calls it only
  * when it is there. */
 void bench_catalog(void) __attribute__((weak));
+/* HOOK: history query figures, tests/bench/bench_history.c, the same way. */
+void bench_history(void) __attribute__((weak));
 
 static double now_s(void)
 {
@@ -622,11 +626,11 @@ int main(int argc, char **argv)
 {
     if (argc == 2 && strcmp(argv[1], "--big-instance") == 0)
         return big_child();
-    int only = 0; /* 0 = all; or 1..4 for one section (developer aid) */
+    int only = 0; /* 0 = all; or 1..5 for one section (developer aid) */
     if (argc == 3 && strcmp(argv[1], "--only") == 0)
         only = atoi(argv[2]);
     else if (argc != 1) {
-        fprintf(stderr, "usage: symrec_bench [--only 1|2|3|4]\n");
+        fprintf(stderr, "usage: symrec_bench [--only 1|2|3|4|5]\n");
         return 2;
     }
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -664,6 +668,17 @@ int main(int argc, char **argv)
         } else {
             printf("== 4. Catalogue: no bench_catalog() linked (tests/bench/bench_catalog.c "
                    "absent) ==\n\n");
+        }
+    }
+    if (!only || only == 5) {
+        /* HOOK: history figures from tests/bench/bench_history.c, when it exists. */
+        if (bench_history) {
+            printf("== 5. History queries ==\n");
+            bench_history();
+            printf("\n");
+        } else {
+            printf("== 5. History queries: no bench_history() linked "
+                   "(tests/bench/bench_history.c absent) ==\n\n");
         }
     }
     printf("bench finished in %.1f s\n", now_s() - t0);

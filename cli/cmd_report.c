@@ -1,0 +1,166 @@
+/*
+ * cmd_report.c: `symrec report RUN --out FILE.html`: reads run RUN whole (meshes and
+ * layers) with its instance and part, has src/report_html.c build the page, and writes
+ * it atomically: into a temporary file beside FILE, flushed to disk, then renamed over
+ * FILE, so FILE is either the old file or the whole new report, never half of one.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "catalog_runs.h"
+#include "cli.h"
+#include "json_out.h"
+#include "report_html.h"
+
+static const char usage_report[] =
+    "usage: symrec [--db FILE] report RUN --out FILE.html [--max-triangles N] [--json]\n"
+    "\n"
+    "Writes the report of run RUN as one self-contained HTML file that works offline\n"
+    "(no network; the style, the script and the data are inside the file): the restored\n"
+    "part with its patches highlighted in 3D (drag to rotate), the damaged and restored\n"
+    "outline of each layer (mm, aligned frame), the missing sections with their\n"
+    "features (z range mm, angles degrees or side, depth mm, volume mm³, area mm²), the\n"
+    "advice with the rules that fired, and the run's parameters, alignment and timings.\n"
+    "\n"
+    "  --out FILE           the HTML file to write (replaced atomically)\n"
+    "  --max-triangles N    display budget of the 3D view, all meshes together\n"
+    "                       (default 60000; larger meshes are decimated for display)\n"
+    "  --json               print {\"run\", \"out\", \"bytes\", \"triangles_stored\",\n"
+    "                       \"triangles_shown\", \"decimated\"} instead of a sentence\n";
+
+/* Writes data to path through a temporary file in the same folder and a rename. */
+static bool write_atomic(const char *path, const char *data, size_t len)
+{
+    size_t n = strlen(path);
+    char *tmp = malloc(n + 16);
+    if (!tmp) {
+        cli_error("out of memory writing '%s'", path);
+        return false;
+    }
+    snprintf(tmp, n + 16, "%s.tmp-XXXXXX", path);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        cli_error("cannot write '%s': %s", path, strerror(errno));
+        free(tmp);
+        return false;
+    }
+    /* mkstemp makes the file 0600; give it the mode a plain fopen would */
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    FILE *f = fdopen(fd, "wb");
+    bool ok = f != NULL;
+    if (!f)
+        close(fd);
+    if (ok && len && fwrite(data, 1, len, f) != len)
+        ok = false;
+    if (ok && fflush(f) != 0)
+        ok = false;
+    if (ok && fsync(fileno(f)) != 0)
+        ok = false;
+    int saved = errno;
+    if (f && fclose(f) != 0 && ok) {
+        ok = false;
+        saved = errno;
+    }
+    if (ok && rename(tmp, path) != 0) {
+        ok = false;
+        saved = errno;
+    }
+    if (!ok) {
+        unlink(tmp);
+        cli_error("cannot write '%s': %s", path, strerror(saved));
+    }
+    free(tmp);
+    return ok;
+}
+
+int cmd_report(const cli_ctx *ctx, int argc, char **argv)
+{
+    const char *out = NULL, *max_tri = NULL;
+    bool json = false;
+    const cli_opt opts[] = {{"--out", &out, NULL},
+                            {"--max-triangles", &max_tri, NULL},
+                            {"--json", NULL, &json},
+                            {NULL, NULL, NULL}};
+    const cli_spec spec = {"report", usage_report, opts, 1, 1, "RUN"};
+    const char *pos[1];
+    int npos = 0, rc;
+    if (!cli_parse(&spec, argc - 1, argv + 1, pos, &npos, &rc))
+        return rc;
+    int64_t run_id;
+    if (!cli_parse_id("RUN", pos[0], &run_id))
+        return CLI_USAGE;
+    if (!out || !*out)
+        return cli_usage_error("report needs --out FILE.html");
+    int budget = 0;
+    if (max_tri && !cli_parse_int("--max-triangles", max_tri, 100, 10000000,
+                                  "a triangle count from 100 to 10000000", &budget))
+        return CLI_USAGE;
+
+    sr_catalog *cat;
+    if (!cli_open(ctx, false, &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_run run;
+    sr_status st = sr_catalog_run_get(cat, run_id, SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS,
+                                      &run, &err);
+    if (st != SR_OK) {
+        sr_catalog_close(cat);
+        return cli_fail(st, &err);
+    }
+    /* the instance and part give serial, name and material; a run always has both */
+    sr_instance_info inst;
+    sr_part_info part;
+    st = sr_catalog_instance_get(cat, run.instance_id, &inst, &err);
+    if (st == SR_OK)
+        st = sr_catalog_part_find(cat, run.part_number, &part, &err);
+    sr_catalog_close(cat);
+    if (st != SR_OK) {
+        sr_run_release(&run);
+        return cli_fail(st, &err);
+    }
+    sr_report_opts ro = {(size_t)budget, &inst, &part};
+    char *html = NULL;
+    size_t len = 0;
+    sr_report_info info;
+    st = sr_report_html(&run, &ro, &html, &len, &info, &err);
+    sr_run_release(&run);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    bool ok = write_atomic(out, html, len);
+    free(html);
+    if (!ok)
+        return CLI_FAIL;
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_object_begin(&j);
+        json_key(&j, "run");
+        json_int(&j, run_id);
+        json_key(&j, "out");
+        json_string(&j, out);
+        json_key(&j, "bytes");
+        json_int(&j, (int64_t)len);
+        json_key(&j, "triangles_stored");
+        json_int(&j, (int64_t)info.tri_stored);
+        json_key(&j, "triangles_shown");
+        json_int(&j, (int64_t)info.tri_shown);
+        json_key(&j, "decimated");
+        json_bool(&j, info.decimated != 0);
+        json_object_end(&j);
+        json_finish(&j);
+    } else {
+        printf("report of run %lld written to %s (%zu bytes", (long long)run_id, out, len);
+        if (info.decimated)
+            printf("; 3D view decimated from %zu to %zu triangles", info.tri_stored,
+                   info.tri_shown);
+        printf(")\n");
+    }
+    return CLI_OK;
+}

@@ -1,0 +1,148 @@
+#!/usr/bin/env node
+// check_report.js: loads a symrec HTML report in a real headless browser and checks
+// that it works: no console error or uncaught exception, no network request, the 3D
+// canvas drawn (pixels that are not the background), the outline plot rendered as SVG,
+// and the feature table with the expected rows.
+//
+//   node tests/browser/check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER]
+//
+// The browser is Debian's chromium-headless-shell (or $SYMREC_BROWSER / BROWSER, any
+// Chromium), driven over the DevTools protocol on a pipe (--remote-debugging-pipe:
+// fd 3 in, fd 4 out, messages ended by NUL), so nothing from npm is needed. Exit 0 when
+// every check passes, 1 with one line per failed check, 77 when no browser is found
+// (the caller reports a skip).
+'use strict';
+const { spawn } = require('child_process');
+const fs = require('fs');
+const os = require('os');
+const path = require('path');
+
+const [, , reportArg, rowsArg, browserArg] = process.argv;
+if (!reportArg || rowsArg === undefined) {
+  console.error('usage: node check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER]');
+  process.exit(2);
+}
+const candidates = [browserArg, process.env.SYMREC_BROWSER, '/usr/bin/chromium-headless-shell',
+  '/usr/lib/chromium-headless-shell/chromium-headless-shell', '/usr/bin/chromium'];
+const browser = candidates.find((p) => p && fs.existsSync(p));
+if (!browser) {
+  console.log('check_report: no headless browser found (apt-get install chromium-headless-shell)');
+  process.exit(77);
+}
+const report = path.resolve(reportArg);
+const url = 'file://' + report;
+const expectedRows = parseInt(rowsArg, 10);
+const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'symrec-browser-'));
+
+const proc = spawn(browser, ['--headless', '--no-sandbox', '--disable-gpu',
+  '--remote-debugging-pipe', '--user-data-dir=' + profile, '--no-first-run',
+  '--disable-extensions', '--disable-background-networking', 'about:blank'],
+{ stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe'] });
+let stderr = '';
+proc.stderr.on('data', (d) => { stderr += d; });
+
+let nextId = 1;
+const waiting = new Map();
+const events = [];
+let listeners = [];
+let buf = Buffer.alloc(0);
+proc.stdio[4].on('data', (chunk) => {
+  buf = Buffer.concat([buf, chunk]);
+  let i;
+  while ((i = buf.indexOf(0)) >= 0) {
+    const msg = JSON.parse(buf.slice(0, i).toString('utf8'));
+    buf = buf.slice(i + 1);
+    if (msg.id && waiting.has(msg.id)) {
+      const { resolve, reject } = waiting.get(msg.id);
+      waiting.delete(msg.id);
+      if (msg.error) reject(new Error(msg.error.message)); else resolve(msg.result);
+    } else if (msg.method) {
+      events.push(msg);
+      listeners.forEach((l) => l(msg));
+    }
+  }
+});
+function send(method, params, sessionId) {
+  const id = nextId++;
+  const m = { id, method, params: params || {} };
+  if (sessionId) m.sessionId = sessionId;
+  proc.stdio[3].write(JSON.stringify(m) + '\0');
+  return new Promise((resolve, reject) => waiting.set(id, { resolve, reject }));
+}
+function waitFor(pred, ms) {
+  return new Promise((resolve, reject) => {
+    const hit = events.find(pred);
+    if (hit) { resolve(hit); return; }
+    const t = setTimeout(() => reject(new Error('timed out waiting for the page')), ms);
+    listeners.push((m) => { if (pred(m)) { clearTimeout(t); resolve(m); } });
+  });
+}
+
+const failures = [];
+function check(ok, what) { if (!ok) failures.push(what); }
+
+async function main() {
+  const { targetId } = await send('Target.createTarget', { url: 'about:blank' });
+  const { sessionId } = await send('Target.attachToTarget', { targetId, flatten: true });
+  await send('Runtime.enable', {}, sessionId);
+  await send('Log.enable', {}, sessionId);
+  await send('Page.enable', {}, sessionId);
+  await send('Network.enable', {}, sessionId);
+  await send('Page.navigate', { url }, sessionId);
+  await waitFor((m) => m.method === 'Page.loadEventFired' && m.sessionId === sessionId, 20000);
+  // let the script and one animation frame run
+  await new Promise((r) => setTimeout(r, 500));
+  const evaluate = async (expr) => {
+    const r = await send('Runtime.evaluate', { expression: expr, returnByValue: true }, sessionId);
+    if (r.exceptionDetails) throw new Error('evaluate failed: ' + r.exceptionDetails.text);
+    return r.result.value;
+  };
+  const v = await evaluate(`(function(){
+    var cv = document.getElementById('view'), ink = 0;
+    if (cv) { var d = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data;
+      for (var i = 0; i < d.length; i += 4) if (d[i] < 250 || d[i+1] < 250 || d[i+2] < 250) ink++; }
+    var plot = document.getElementById('layer-plot');
+    var svg = plot ? plot.querySelector('svg') : null;
+    var rows = document.querySelectorAll('#feature-table tbody tr');
+    var classes = Array.prototype.map.call(rows, function (r) { return r.cells[1].textContent; });
+    return { rendered: document.body.getAttribute('data-rendered'), ink: ink,
+      canvas: cv ? cv.width * cv.height : 0, svg: !!svg,
+      polylines: svg ? svg.querySelectorAll('polyline').length : 0,
+      rows: rows.length, classes: classes, title: document.title,
+      advice: document.querySelectorAll('#advice-table tbody tr').length };
+  })()`);
+  const problems = events.filter((m) => m.sessionId === sessionId && (
+    m.method === 'Runtime.exceptionThrown' ||
+    (m.method === 'Runtime.consoleAPICalled' && (m.params.type === 'error' || m.params.type === 'assert')) ||
+    (m.method === 'Log.entryAdded' && m.params.entry.level === 'error')));
+  problems.forEach((p) => failures.push('console error: ' + JSON.stringify(p.params).slice(0, 300)));
+  const requests = events.filter((m) => m.sessionId === sessionId &&
+    m.method === 'Network.requestWillBeSent' && !m.params.request.url.startsWith('file://') &&
+    !m.params.request.url.startsWith('data:') && !m.params.request.url.startsWith('about:'));
+  requests.forEach((r) => failures.push('network request: ' + r.params.request.url));
+  check(v.rendered === '1', 'the page script did not finish (data-rendered not set)');
+  check(v.ink > 0.01 * v.canvas, `3D canvas nearly empty (${v.ink} of ${v.canvas} pixels drawn)`);
+  check(v.svg && v.polylines > 0, `outline plot not rendered (svg ${v.svg}, ${v.polylines} polylines)`);
+  check(v.rows === expectedRows, `feature table has ${v.rows} rows, expected ${expectedRows}`);
+  check(v.classes.every((c) => c.length > 0), 'a feature row without a damage class');
+  check(/^symrec report: run \d+/.test(v.title), `title '${v.title}'`);
+  return v;
+}
+
+const timer = setTimeout(() => { failures.push('timed out'); finish(null); }, 40000);
+function finish(v) {
+  clearTimeout(timer);
+  try { proc.kill('SIGKILL'); } catch (e) { /* gone */ }
+  fs.rmSync(profile, { recursive: true, force: true });
+  if (failures.length) {
+    failures.forEach((f) => console.log('check_report: FAIL: ' + f));
+    process.exit(1);
+  }
+  console.log(`check_report: ok: ${url}: canvas ${v.ink} px drawn, ${v.polylines} outline ` +
+    `polylines, ${v.rows} feature rows (${v.classes.join(', ')}), ${v.advice} advice rows`);
+  process.exit(0);
+}
+main().then(finish, (e) => {
+  failures.push(e.message + (stderr ? ' (browser: ' + stderr.split('\n')[0] + ')' : ''));
+  finish(null);
+});

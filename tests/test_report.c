@@ -1,0 +1,380 @@
+/*
+ * test_report.c: the HTML report of a run (src/report_html.h). A synthetic run (two
+ * sections with known figures, one with a patch mesh, advice whose reason holds HTML
+ * metacharacters, 3 layers x 8 sectors of outlines, a restored box) is stored in a
+ * fresh catalogue and read back whole, then the page is checked: the section figures
+ * and classes in the feature table, the advice text escaped, the parameters,
+ * alignment and timings, balanced structure, nothing that reaches the network, and
+ * the decimation of meshes over the display budget.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "catalog.h"
+#include "catalog_runs.h"
+#include "report_html.h"
+#include "shapes.h"
+#include "support/assert_near.h"
+#include "support/tmpdir.h"
+
+typedef struct fixture {
+    tmpdir dir;
+    sr_catalog *cat;
+    int64_t instance;
+} fixture;
+
+static int setup(void **state)
+{
+    fixture *fx = calloc(1, sizeof *fx);
+    assert_non_null(fx);
+    assert_int_equal(tmpdir_make(&fx->dir), 0);
+    char db[TMPDIR_PATH_MAX];
+    tmpdir_join(&fx->dir, "cat.db", db);
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_open(db, SR_CATALOG_CREATE, &fx->cat, &err), SR_OK);
+    sr_mesh m = {0};
+    assert_int_equal(sr_shape_cylinder(10, 0, 20, 16, &m, &err), SR_OK);
+    sr_part_new part = {.number = "P<1>&\"x\"", .name = "shaft", .material = "42CrMo4",
+                        .mesh = &m};
+    int64_t id;
+    assert_int_equal(sr_catalog_part_add(fx->cat, &part, &id, &err), SR_OK);
+    sr_instance_new inst = {.part = "P<1>&\"x\"", .mesh = &m, .serial = "SN-1"};
+    assert_int_equal(sr_catalog_instance_add(fx->cat, &inst, &fx->instance, &err), SR_OK);
+    sr_mesh_release(&m);
+    *state = fx;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog_close(fx->cat);
+    tmpdir_remove(&fx->dir);
+    free(fx);
+    return 0;
+}
+
+static void box(double at, double size, sr_mesh *out)
+{
+    double lo[3] = {at, at, at}, hi[3] = {at + size, at + size, at + size};
+    sr_err err = {{0}};
+    assert_int_equal(sr_shape_box(lo, hi, out, &err), SR_OK);
+}
+
+#define LAYERS 3
+#define SECTORS 8
+
+/* Stores the synthetic run and reads it back whole into *out. */
+static void stored_run(fixture *fx, sr_run *out)
+{
+    sr_run r;
+    memset(&r, 0, sizeof r);
+    r.instance_id = fx->instance;
+    r.symmetry = (sr_symmetry){SR_SYM_AXIAL, 0, 0};
+    r.params = (sr_params){"coarse", LAYERS, SECTORS, 0.9, 0.8, 0.07, 0.2, 1.5, ""};
+    snprintf(r.method, sizeof r.method, "robust");
+    r.has_alignment = 1;
+    for (int i = 0; i < 12; i++)
+        r.alignment[i] = (i % 5 == 0) ? 1.0 : 0.0;
+    r.alignment[3] = -12.5;
+    r.fit_quality = 0.875;
+    r.ok = 1;
+    snprintf(r.started_at, sizeof r.started_at, "2024-03-01T10:00:00Z");
+    snprintf(r.finished_at, sizeof r.finished_at, "2024-03-01T10:00:02Z");
+    r.timings_json = "{\"align\":0.5,\"total\":1.25}";
+    double z[LAYERS], dam[LAYERS * SECTORS * 2], res[LAYERS * SECTORS * 2];
+    for (int l = 0; l < LAYERS; l++) {
+        z[l] = 2.0 + 4.0 * l;
+        for (int k = 0; k < SECTORS; k++) {
+            double a = 2 * 3.14159265358979 * k / SECTORS;
+            res[2 * (l * SECTORS + k)] = 10 * cos(a);
+            res[2 * (l * SECTORS + k) + 1] = 10 * sin(a);
+            dam[2 * (l * SECTORS + k)] = (k == 2 ? 7 : 10) * cos(a);
+            dam[2 * (l * SECTORS + k) + 1] = (k == 2 ? 7 : 10) * sin(a);
+        }
+    }
+    dam[2 * 5] = dam[2 * 5 + 1] = NAN;
+    r.layer_count = LAYERS;
+    r.sectors = SECTORS;
+    r.layer_z = z;
+    r.damaged_xy = dam;
+    r.restored_xy = res;
+    sr_run_section sec[2];
+    memset(sec, 0, sizeof sec);
+    sec[0].index = 0;
+    sec[0].layer_first = 0;
+    sec[0].layer_last = 2;
+    sec[0].z_min_mm = 0.25;
+    sec[0].z_max_mm = 11.75;
+    sec[0].has_angles = 1;
+    sec[0].angle_from_deg = 80;
+    sec[0].angle_to_deg = 100;
+    sec[0].volume_mm3 = 345.6;
+    sec[0].area_mm2 = 78.9;
+    sec[0].depth_max_mm = 3.05;
+    sec[0].depth_mean_mm = 1.5;
+    snprintf(sec[0].damage_class, sizeof sec[0].damage_class, "chip");
+    sec[0].features_json = "{\"location\":\"shoulder <A>\"}";
+    box(8, 2, &sec[0].patch);
+    sec[1].index = 1;
+    sec[1].layer_first = 1;
+    sec[1].layer_last = 1;
+    sec[1].z_min_mm = 4;
+    sec[1].z_max_mm = 8;
+    sec[1].side = -1;
+    sec[1].volume_mm3 = 12.25;
+    sec[1].area_mm2 = 6.5;
+    sec[1].depth_max_mm = 0.75;
+    sec[1].depth_mean_mm = 0.5;
+    snprintf(sec[1].damage_class, sizeof sec[1].damage_class, "gouge");
+    r.sections = sec;
+    r.section_count = 2;
+    sr_run_advice adv[2] = {
+        {0, 0, "", "spray_forming", "fill <b>chip</b> & machine \"flush\"", NULL},
+        {-1, 0, "", "inspect", "check runout", NULL},
+    };
+    adv[0].details_json = "{\"rules\":[\"spray-small-chip\"],\"layers\":12}";
+    r.advice = adv;
+    r.advice_count = 2;
+    box(-10, 20, &r.restored);
+    sr_err err = {{0}};
+    int64_t id;
+    if (sr_catalog_run_add(fx->cat, &r, &id, &err) != SR_OK)
+        fail_msg("run add: %s", err.msg);
+    sr_mesh_release(&sec[0].patch);
+    sr_mesh_release(&r.restored);
+    if (sr_catalog_run_get(fx->cat, id, SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS, out, &err) !=
+        SR_OK)
+        fail_msg("run get: %s", err.msg);
+}
+
+static size_t count_of(const char *hay, const char *needle)
+{
+    size_t n = 0, len = strlen(needle);
+    for (const char *p = strstr(hay, needle); p; p = strstr(p + len, needle))
+        n++;
+    return n;
+}
+
+static char *build(const sr_run *r, size_t budget, sr_report_info *info)
+{
+    sr_report_opts o = {budget, NULL, NULL};
+    char *html = NULL;
+    size_t len = 0;
+    sr_err err = {{0}};
+    if (sr_report_html(r, &o, &html, &len, info, &err) != SR_OK)
+        fail_msg("report: %s", err.msg);
+    assert_int_equal(strlen(html), len);
+    return html;
+}
+
+static void report_shows_the_section_figures_in_the_feature_table(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    const char *table = strstr(html, "<table id=\"feature-table\">");
+    assert_non_null(table);
+    const char *end = strstr(table, "</table>");
+    assert_non_null(end);
+    size_t n = (size_t)(end - table);
+    char *t = strndup(table, n);
+    assert_int_equal(count_of(t, "<tr class=\"section\""), 2);
+    /* section 1: chip, layers 0-2, z 0.25..11.75, 80..100 deg, depth 3.05/1.50,
+     * volume 345.6, area 78.9; section 2: gouge on side -1 */
+    assert_non_null(strstr(t, "<td>chip</td>"));
+    assert_non_null(strstr(t, ">0.25<"));
+    assert_non_null(strstr(t, ">11.75<"));
+    assert_non_null(strstr(t, "80.0° to 100.0° (20.0° arc)"));
+    assert_non_null(strstr(t, ">3.05<"));
+    assert_non_null(strstr(t, ">1.50<"));
+    assert_non_null(strstr(t, ">345.6<"));
+    assert_non_null(strstr(t, ">78.9<"));
+    assert_non_null(strstr(t, "<td>gouge</td>"));
+    assert_non_null(strstr(t, "side -1 of the plane"));
+    assert_non_null(strstr(t, ">12.2<")); /* 12.25 is exact in binary: %.1f rounds to even */
+    /* the features text, escaped */
+    assert_non_null(strstr(t, "shoulder &lt;A&gt;"));
+    free(t);
+    free(html);
+    sr_run_release(&r);
+}
+
+static void report_escapes_advice_and_names(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    assert_non_null(strstr(html, "fill &lt;b&gt;chip&lt;/b&gt; &amp; machine &quot;flush&quot;"));
+    assert_null(strstr(html, "<b>chip"));
+    assert_non_null(strstr(html, "<td>spray_forming</td>"));
+    assert_non_null(strstr(html, "spray-small-chip"));
+    assert_non_null(strstr(html, "<td>whole part</td>"));
+    /* the part number in the title and the data block, never raw */
+    assert_non_null(strstr(html, "part P&lt;1&gt;&amp;&quot;x&quot;</title>"));
+    assert_non_null(strstr(html, "\"part\":\"P\\u003c1\\u003e\\u0026\\\"x\\\"\""));
+    assert_null(strstr(html, "P<1>"));
+    free(html);
+    sr_run_release(&r);
+}
+
+static void report_is_self_contained_and_balanced(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    assert_int_equal(strncmp(html, "<!DOCTYPE html>\n<html lang=\"en\">", 31), 0);
+    size_t len = strlen(html);
+    assert_string_equal(html + len - 8, "</html>\n");
+    assert_null(strstr(html, "http://"));
+    assert_null(strstr(html, "https://"));
+    assert_null(strstr(html, "<link"));
+    assert_null(strstr(html, " src="));
+    assert_null(strstr(html, "url("));
+    assert_null(strstr(html, "import "));
+    static const char *const tags[] = {"table", "section", "script", "style", "select",
+                                       "thead", "tbody", "code", "p"};
+    for (size_t i = 0; i < sizeof tags / sizeof tags[0]; i++) {
+        char open1[32], open2[32], close[32];
+        snprintf(open1, sizeof open1, "<%s>", tags[i]);
+        snprintf(open2, sizeof open2, "<%s ", tags[i]);
+        snprintf(close, sizeof close, "</%s>", tags[i]);
+        size_t o = count_of(html, open1) + count_of(html, open2), c = count_of(html, close);
+        if (o != c)
+            fail_msg("<%s>: %zu opened, %zu closed", tags[i], o, c);
+    }
+    assert_int_equal(count_of(html, "<script"), 2);
+    assert_int_equal(count_of(html, "<canvas id=\"view\""), 1);
+    free(html);
+    sr_run_release(&r);
+}
+
+static void report_shows_parameters_alignment_timings_and_layers(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    assert_non_null(strstr(html, "<tr><th>parameter set</th><td>coarse</td></tr>"));
+    assert_non_null(strstr(html, "<tr><th>sectors</th><td class=\"n\">8</td></tr>"));
+    assert_non_null(strstr(html, "<td class=\"n\">-12.500000</td>"));
+    assert_non_null(strstr(html, "Fit quality: 0.875"));
+    assert_non_null(strstr(html, "<tr><th>align</th><td class=\"n\">0.500</td></tr>"));
+    assert_non_null(strstr(html, "<tr><th>total</th><td class=\"n\">1.250</td></tr>"));
+    /* one option per layer, the first section's first layer selected */
+    assert_int_equal(count_of(html, "<option value="), LAYERS);
+    assert_non_null(strstr(html, "<option value=\"0\" selected>0, z 2.00 mm (section 1)"));
+    /* the data block: 3 layers, the missing point as null */
+    assert_int_equal(count_of(html, "{\"z\":"), LAYERS);
+    assert_non_null(strstr(html, "null,null"));
+    /* the restored box and one patch, all shown */
+    assert_non_null(strstr(html, "All 24 stored triangles shown."));
+    assert_int_equal(count_of(html, "{\"section\":1,\"v\":["), 1);
+    free(html);
+    sr_run_release(&r);
+}
+
+static void report_decimates_meshes_over_the_budget_and_says_so(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    sr_mesh_release(&r.restored);
+    sr_err err = {{0}};
+    assert_int_equal(sr_shape_cylinder(10, 0, 20, 400, &r.restored, &err), SR_OK);
+    size_t stored = r.restored.tri_count + 12;
+    sr_report_info info;
+    char *html = build(&r, 200, &info);
+    assert_int_equal(info.tri_stored, stored);
+    assert_true(info.decimated);
+    assert_true(info.tri_shown <= 200);
+    assert_true(info.tri_shown >= 20);
+    char note[160];
+    snprintf(note, sizeof note, "Shown with %zu of the %zu stored triangles", info.tri_shown,
+             stored);
+    assert_non_null(strstr(html, note));
+    free(html);
+    sr_run_release(&r);
+}
+
+static void decimate_keeps_a_small_mesh_and_reduces_a_large_one(void **state)
+{
+    (void)state;
+    sr_err err = {{0}};
+    sr_mesh big = {0}, out = {0};
+    assert_int_equal(sr_shape_cylinder(5, 0, 50, 2000, &big, &err), SR_OK);
+    assert_int_equal(sr_report_decimate(&big, big.tri_count, &out, &err), SR_OK);
+    assert_int_equal(out.tri_count, big.tri_count);
+    assert_memory_equal(out.xyz, big.xyz, 3 * big.vertex_count * sizeof(double));
+    sr_mesh_release(&out);
+    assert_int_equal(sr_report_decimate(&big, 1000, &out, &err), SR_OK);
+    assert_true(out.tri_count <= 1000 && out.tri_count > 100);
+    for (size_t t = 0; t < out.tri_count; t++) {
+        uint32_t a = out.tri[3 * t], b = out.tri[3 * t + 1], c = out.tri[3 * t + 2];
+        assert_true(a < out.vertex_count && b < out.vertex_count && c < out.vertex_count);
+        assert_true(a != b && b != c && a != c);
+    }
+    /* every vertex stays inside the cylinder's bounding box */
+    for (size_t i = 0; i < out.vertex_count; i++) {
+        assert_true(fabs(out.xyz[3 * i]) <= 5 + 1e-9 && fabs(out.xyz[3 * i + 1]) <= 5 + 1e-9);
+        assert_true(out.xyz[3 * i + 2] >= -1e-9 && out.xyz[3 * i + 2] <= 50 + 1e-9);
+    }
+    sr_mesh_release(&out);
+    sr_mesh_release(&big);
+}
+
+static void report_of_a_failed_run_without_meshes(void **state)
+{
+    fixture *fx = *state;
+    sr_run w;
+    memset(&w, 0, sizeof w);
+    w.instance_id = fx->instance;
+    w.symmetry = (sr_symmetry){SR_SYM_MIRROR, 0, 0};
+    w.params = (sr_params){"default", 10, 12, 0.9, 0.8, 0.07, 0.2, 1.5, ""};
+    snprintf(w.method, sizeof w.method, "paper");
+    w.fit_quality = -1;
+    snprintf(w.error, sizeof w.error, "cannot align 'scan' <no area>");
+    sr_err err = {{0}};
+    int64_t id;
+    assert_int_equal(sr_catalog_run_add(fx->cat, &w, &id, &err), SR_OK);
+    sr_run r;
+    assert_int_equal(sr_catalog_run_get(fx->cat, id, SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS,
+                                        &r, &err),
+                     SR_OK);
+    char *html = build(&r, 0, NULL);
+    assert_non_null(strstr(html, "<strong class=\"failed\">failed</strong>: cannot align "
+                              "&#39;scan&#39; &lt;no area&gt;"));
+    assert_non_null(strstr(html, "No meshes were stored with this run"));
+    assert_non_null(strstr(html, "No missing section was found"));
+    assert_non_null(strstr(html, "The run did not reach the alignment."));
+    assert_null(strstr(html, "feature-table"));
+    free(html);
+    sr_run_release(&r);
+}
+
+int main(void)
+{
+#define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
+    const struct CMUnitTest tests[] = {
+        T(report_shows_the_section_figures_in_the_feature_table),
+        T(report_escapes_advice_and_names),
+        T(report_is_self_contained_and_balanced),
+        T(report_shows_parameters_alignment_timings_and_layers),
+        T(report_decimates_meshes_over_the_budget_and_says_so),
+        cmocka_unit_test(decimate_keeps_a_small_mesh_and_reduces_a_large_one),
+        T(report_of_a_failed_run_without_meshes),
+    };
+#undef T
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
