@@ -30,12 +30,18 @@ static const char usage[] =
     "              --symmetry axial|mirror|glide [--order N] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
-    "              [--no-union] [--no-record] [--json]\n"
+    "              [--method robust|paper] [--no-union] [--no-record] [--json]\n"
     "\n"
-    "Aligns the damaged scan with its symmetry axis or plane, slices it into layers and\n"
-    "sectors (paper Algorithms 1-2), finds what is missing layer by layer (Algorithm 4\n"
-    "for axial, 5 for mirror/glide), builds a closed patch mesh for every missing\n"
-    "section (Algorithm 6) and the restored part (scan united with the patches).\n"
+    "Aligns the damaged scan with its symmetry axis or plane, slices it into layers,\n"
+    "finds what is missing layer by layer, builds a closed patch mesh for every missing\n"
+    "section and the restored part (scan united with the patches).\n"
+    "\n"
+    "Method 'robust' (default) works on each layer's real cross-section (closed\n"
+    "contours with holes) restored by the vote of the symmetry: mirror/glide images,\n"
+    "the rotations of an n-fold part, or for a continuous axis the radii that hold\n"
+    "material round most of the circle (so keys, bores, bolt holes, slots and teeth are\n"
+    "kept). Method 'paper' is the paper's Algorithms 1-6 on the farthest point per\n"
+    "sector (kept as the baseline).\n"
     "\n"
     "  INSTANCE        a damaged instance id from the catalogue (its symmetry is the\n"
     "                  default for --symmetry)\n"
@@ -55,6 +61,7 @@ static const char usage[] =
     "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
     "                  all in the frame of the input scan\n"
     "  --format F      format of restored/patches (default stl)\n"
+    "  --method M      robust (default) or paper\n"
     "  --no-union      restored = scan + patches as separate shells (no boolean)\n"
     "  --no-record     do not record the run in the catalogue\n"
     "  --json          print one JSON object: alignment, sections, timings, run_id\n"
@@ -84,6 +91,13 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", source);
+    printf("  method:     %s", sr_recon_method_name(r->method));
+    if (r->method == SR_METHOD_ROBUST)
+        printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
+               r->noise_mm, 2 * r->open_mm);
+    printf("\n");
+    if (r->repair_note[0])
+        printf("  note:       %s\n", r->repair_note);
     printf("  parameters: set '%s', %d layers x %d sectors, gamma %g/%g, min depth %g mm\n",
            p->name, p->layers, p->sectors, p->gamma_axis, p->gamma_plane, p->min_depth_mm);
     printf("  alignment: axis point (%.3f, %.3f, %.3f) mm, direction (%.5f, %.5f, %.5f)\n",
@@ -130,6 +144,10 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     json_symmetry(&j, sym);
     json_key(&j, "params");
     json_params(&j, p);
+    json_key(&j, "method");
+    json_string(&j, sr_recon_method_name(r->method));
+    json_key(&j, "noise_mm");
+    json_number(&j, r->noise_mm);
     json_key(&j, "run_id");
     if (run_id > 0)
         json_int(&j, run_id);
@@ -287,7 +305,8 @@ static sr_status record_run(sr_catalog *cat, const sr_instance_info *inst,
                             sr_err *err)
 {
     sr_run run;
-    sr_status st = sr_run_from_result(r, inst->id, sym, p, "paper", &run, err);
+    sr_status st = sr_run_from_result(r, inst->id, sym, p, sr_recon_method_name(r->method),
+                                      &run, err);
     if (st != SR_OK)
         return st;
     if (strcmp(started, run.finished_at) <= 0)
@@ -309,7 +328,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *mesh_file = NULL, *kind = NULL, *order = NULL, *shift = NULL, *layers = NULL,
                *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
-               *params_name = NULL;
+               *params_name = NULL, *method = NULL;
     bool json = false, no_union = false, no_record = false;
     const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},  {"--symmetry", &kind, NULL},
                             {"--order", &order, NULL},     {"--shift", &shift, NULL},
@@ -317,6 +336,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
                             {"--layers", &layers, NULL},   {"--sectors", &sectors, NULL},
                             {"--gamma", &gamma, NULL},     {"--min-depth", &min_depth, NULL},
                             {"--out", &out, NULL},         {"--format", &fmt, NULL},
+                            {"--method", &method, NULL},
                             {"--no-union", NULL, &no_union}, {"--no-record", NULL, &no_record},
                             {"--json", NULL, &json},       {NULL, NULL, NULL}};
     const cli_spec spec = {"reconstruct", usage, opts, 0, 1, "INSTANCE"};
@@ -347,6 +367,12 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_recon_opts ro;
     memset(&ro, 0, sizeof ro);
     ro.skip_union = no_union;
+    if (method) {
+        sr_err merr;
+        sr_err_clear(&merr);
+        if (sr_recon_method_parse(method, "--method", &ro.method, &merr) != SR_OK)
+            return cli_usage_error("%s", merr.msg);
+    }
     if (kind && !cli_parse_symmetry(kind, order, shift, &ro.symmetry))
         return CLI_USAGE;
     if (!kind && (order || shift))
