@@ -91,8 +91,13 @@ static sr_status fill_sections(const sr_recon_result *res, sr_sym_kind kind, sr_
                 o->angle_from_deg = 0;
                 o->angle_to_deg = 360;
             } else {
-                o->angle_from_deg = (double)(s->sector_first % n) * step;
-                o->angle_to_deg = o->angle_from_deg + (double)s->sector_count * step;
+                /* the section's own arc (the paper method's is whole sectors; the
+                 * robust method's is the exact arc of its outline) */
+                o->angle_from_deg = s->angle_min_deg;
+                o->angle_to_deg = s->angle_max_deg >= s->angle_min_deg
+                                      ? s->angle_max_deg
+                                      : s->angle_max_deg + 360.0;
+                (void)step;
             }
         } else {
             /* The plane's trace is at plane_angle; its normal at plane_angle - 90 deg

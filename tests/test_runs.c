@@ -927,9 +927,10 @@ static void reconstruction_of_the_demo_shaft_is_recorded_whole(void **state)
     for (size_t i = 0; i < res.section_count; i++) {
         assert_true(back.sections[i].volume_mm3 == res.sections[i].volume_mm3);
         assert_mesh_equal(&back.sections[i].patch, &res.sections[i].patch);
-        /* the stored patch encloses the section's volume */
-        assert_near(sr_mesh_volume(&back.sections[i].patch), res.sections[i].volume_mm3,
-                    1e-6 * res.sections[i].volume_mm3);
+        /* the stored patch encloses at least the section's missing volume (the robust
+         * method's patch also overlaps the damaged part a little, see patch.h) */
+        assert_true(sr_mesh_volume(&back.sections[i].patch) >=
+                    res.sections[i].volume_mm3 * (1 - 1e-6));
     }
     assert_mesh_equal(&back.restored, &res.restored);
     assert_int_equal(back.layer_count, 40);
