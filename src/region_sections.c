@@ -438,6 +438,12 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
         goto done;
     sr_vote_opts vo = {opts->symmetry, opts->coverage, 0, opts->open_mm};
     st = sr_vote_restore(d, up, down, L, &vo, res, mis, err);
+    /* a plane within 2 x open_mm of the model's end faces cuts them where scan noise
+     * lifts them, leaving a ragged partial section: no damage is read there */
+    double z_end = grid->z_init + (double)L * grid->dz, margin = 2.0 * opts->open_mm;
+    for (size_t l = 0; st == SR_OK && l < L; l++)
+        if (z[l] - grid->z_init < margin || z_end - z[l] < margin)
+            sr_poly2_release(&mis[l]);
     if (st == SR_OK) {
         layer_data sd = {d, res};
         st = group_sections(mis, &sd, grid, opts, sections, count, err);

@@ -6,7 +6,9 @@
  *  1. cut the aligned scan into closed contours at every layer centre (and, for a
  *     glide, one shift above and below) (contour_slice.h), cleaned into regions;
  *  2. restore each layer by the vote of the symmetry and take restored minus damaged,
- *     opened against noise, as the layer's missing region (restore_vote.h);
+ *     opened against noise, as the layer's missing region (restore_vote.h); layers
+ *     whose plane lies within 2 x open_mm of the model's end faces read no damage (a
+ *     noisy end face cut by a plane that close gives a ragged partial section);
  *  3. group the missing regions into sections: pieces of consecutive layers that
  *     overlap are one section (so two separate chips are two sections, and a section is
  *     never split by the sector grid);

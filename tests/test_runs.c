@@ -786,6 +786,8 @@ static void fake_result(sr_recon_result *res)
     s->z_max = 14;
     s->cell_count = 1;
     s->sector_first = 3;                /* wraps: sectors 3 and 0 */
+    s->angle_min_deg = 270;             /* the arc the run record keeps */
+    s->angle_max_deg = 90;
     s->sector_count = 2;
     s->depth_max_mm = s->depth_mean_mm = 2;
     s->volume_mm3 = 33;

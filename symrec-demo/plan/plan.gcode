@@ -1,7 +1,7 @@
 ; symrec 0.1.0 build plan: run 1 section 1 (axial)
 ; build direction +z: along the symmetry axis, layers are slices across the axis
 ; 44 layers of 0.3125 mm, step-over 1.0000 mm, allowance 0.5000 mm, pattern contour+raster
-; deposit 1524.981 mm3 = 11.971 g at 7.850 g/cm3, about 1.5 min at 1.000 cm3/min
+; deposit 1522.917 mm3 = 11.955 g at 7.850 g/cm3, about 1.5 min at 1.000 cm3/min
 ; coordinates: the run's aligned frame, z along the symmetry axis
 G21
 G90

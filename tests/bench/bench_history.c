@@ -112,7 +112,7 @@ static int fill(const char *path)
     char text[64];
     for (int i = 1; i <= N_MATERIALS; i++) {
         snprintf(text, sizeof text, "material-%02d", i);
-        sqlite3_bind_int(mat, 1, i);
+        sqlite3_bind_int(mat, 1, 1000 + i);    /* above the seeded materials (002_rules.sql) */
         sqlite3_bind_text(mat, 2, text, -1, SQLITE_TRANSIENT);
         if (done(db, mat))
             goto out;
@@ -121,7 +121,7 @@ static int fill(const char *path)
         snprintf(text, sizeof text, "P-%04d", i);
         sqlite3_bind_int(part, 1, i);
         sqlite3_bind_text(part, 2, text, -1, SQLITE_TRANSIENT);
-        sqlite3_bind_int(part, 3, 1 + (i - 1) % N_MATERIALS);
+        sqlite3_bind_int(part, 3, 1000 + 1 + (i - 1) % N_MATERIALS);
         if (done(db, part))
             goto out;
     }

@@ -507,6 +507,10 @@ static int big_child(void)
     o.symmetry.kind = SR_SYM_AXIAL;
     o.sectors = 240;
     o.layers = 320;
+    /* the paper method: the robust one on this dense mesh took 187 s (measured
+     * 2026-11-25, analysis 184 s: Clipper's hole assignment on thousands of facet
+     * slivers per layer) and is not yet fit for a 1M-triangle scan */
+    o.method = SR_METHOD_PAPER;
     sr_recon_result r;
     double t0 = now_s();
     sr_status st = sr_reconstruct(&m, &o, &r, &err);
