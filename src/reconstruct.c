@@ -47,11 +47,10 @@ void sr_recon_result_release(sr_recon_result *r)
     memset(r, 0, sizeof *r);
 }
 
-/* restored = aligned scan ∪ every patch (aligned frame). A union refused because an
- * operand has zero-area triangles or crosses itself (a noisy scan) is retried once
- * after sr_mesh_repair of both (crossings fixed in the scan only: a crossing patch is
- * a construction fault, and re-meshing it costs minutes); if it still fails, the patches are concatenated and
- * union_note says why. */
+/* restored = aligned scan ∪ every patch (aligned frame). A union refused as invalid is
+ * retried once after sr_mesh_repair of both (zero-area triangles removed); if it still
+ * fails (e.g. a noisy scan crossing itself where the patch goes), the patches are
+ * concatenated and union_note says why. */
 static sr_status unite(const sr_mesh *aligned, sr_recon_result *r, sr_err *err)
 {
     sr_mesh acc;
@@ -76,13 +75,8 @@ static sr_status unite(const sr_mesh *aligned, sr_recon_result *r, sr_err *err)
                     if (ra.changed && !scan_repaired) {
                         scan_repaired = 1;
                         snprintf(r->repair_note, sizeof r->repair_note,
-                                 "scan repaired for the union: %zu zero-area triangles removed%s",
-                                 ra.degenerate_removed,
-                                 ra.self_intersecting
-                                     ? (ra.self_intersections_fixed
-                                            ? ", self-intersections cut away"
-                                            : ", self-intersections could not be removed")
-                                     : "");
+                                 "scan repaired for the union: %zu zero-area triangles removed",
+                                 ra.degenerate_removed);
                     }
                     us = sr_boolean_union(&acc, &patch, &next, &uerr);
                 }

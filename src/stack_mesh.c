@@ -7,7 +7,6 @@
 
 #include <math.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 
 #include "bridge/stack_cgal.h"
@@ -39,16 +38,6 @@ sr_status sr_stack_mesh(const sr_poly2 *regions, const double *z, size_t layers,
         return sr_err_set(err, st, "cannot build a patch: out of memory");
     }
     if (e.boundary_edges || e.nonmanifold_edges || e.misoriented_edges) {
-        const char *dump = getenv("SR_DEBUG_STACK");   /* developer aid */
-        if (dump) {
-            FILE *f = fopen(dump, "w");
-            for (size_t v = 0; f && v < m.vertex_count; v++)
-                fprintf(f, "v %.17g %.17g %.17g\n", m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]);
-            for (size_t t = 0; f && t < m.tri_count; t++)
-                fprintf(f, "f %u %u %u\n", m.tri[3 * t] + 1, m.tri[3 * t + 1] + 1, m.tri[3 * t + 2] + 1);
-            if (f)
-                fclose(f);
-        }
         sr_mesh_release(&m);
         return sr_err_set(err, SR_E_INTERNAL,
                           "stacked patch is not closed (%zu open, %zu non-manifold, %zu "
