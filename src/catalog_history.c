@@ -15,10 +15,20 @@
  * row with unary '+' so they are not mistaken for better index candidates.
  *
  * Per-run figures: the sections by a LEFT JOIN grouped per run, the processes by one
- * correlated subquery, each a range read of a covering index of 004. The outcome is derived
- * here from the full process list before it is cut to its field. Summaries read one
- * light row per run (part, month, status, volume, outcome) plus the class counts per
- * part in one grouped query, and aggregate them here.
+ * correlated subquery, each a range read of a covering index of 003. The outcome is derived
+ * here from the full process list before it is cut to its field.
+ *
+ * Summaries come one of two ways, aggregated here the same way:
+ *   - from the cells of sql/004_history_summary.sql (running totals per part and month,
+ *     kept by triggers), when the filter selects whole cells: any part, material, and
+ *     dates that are whole months (since the 1st, until the last day of a month), no
+ *     instance, and no 'irregular' start time in the months at the range's ends. A
+ *     few thousand cells instead of every run: the whole history of 100,000 runs in
+ *     a few milliseconds instead of half a second;
+ *   - otherwise from the runs: one light row per run (part, month, status, volume,
+ *     outcome) plus the class counts per part in one grouped query.
+ * Both give the same counts; the average volumes agree to the rounding of the sums
+ * (tests/test_history.c compares them field by field).
  */
 #include "catalog_int.h"
 
@@ -88,6 +98,33 @@ static const char *const classes_sql[BY_COUNT] = {
     H_CLASSES(W_DATE),
 };
 
+/* The same from the cells of 004: ?2 part id, ?3 material id (0 = any), ?4 first month
+ * ('YYYY-MM', "" = open), ?5 the month after the last ("~" = open). No instance
+ * variant: an instance is not a cell. */
+#define C_FROM " FROM history_cells c JOIN parts p ON p.id = c.part_id"
+#define K_FROM " FROM history_class_cells k JOIN parts p ON p.id = k.part_id"
+#define C_REST(t)                                                                         \
+    " AND (?2 = 0 OR +" t ".part_id = ?2) AND (?3 = 0 OR +p.material_id = ?3)"             \
+    " AND +" t ".month >= ?4 AND +" t ".month < ?5"
+
+#define C_RUNS(W)                                                                         \
+    "SELECT p.number, c.month, c.runs, c.failed, c.advised, c.replaced, c.volume_mm3"      \
+    C_FROM W C_REST("c") " AND c.runs > 0"
+
+static const char *const cell_runs_sql[BY_COUNT] = {
+    C_RUNS(" WHERE 1"), NULL, C_RUNS(" WHERE c.part_id = ?2"),
+    C_RUNS(" WHERE p.material_id = ?3"), C_RUNS(" WHERE c.month >= ?4 AND c.month < ?5"),
+};
+
+#define C_CLASSES(W)                                                                      \
+    "SELECT p.number, k.class, sum(k.sections)" K_FROM W C_REST("k")                       \
+    " AND k.sections > 0 GROUP BY k.part_id, k.class"
+
+static const char *const cell_classes_sql[BY_COUNT] = {
+    C_CLASSES(" WHERE 1"), NULL, C_CLASSES(" WHERE k.part_id = ?2"),
+    C_CLASSES(" WHERE p.material_id = ?3"), C_CLASSES(" WHERE k.month >= ?4 AND k.month < ?5"),
+};
+
 /* ---- the filter ---- */
 
 static bool digits(const char *s, int n)
@@ -122,6 +159,9 @@ typedef struct bound_filter {
     int64_t instance_id, part_id, material_id;
     char since[11];
     char until_next[40];       /* the day after until, or "~" */
+    bool whole_months;         /* since a 1st (or open), until a month's last day (or open) */
+    char since_month[8];       /* 'YYYY-MM' of since, or "" */
+    char until_month[16];      /* 'YYYY-MM' of until_next, or "~" */
 } bound_filter;
 
 static sr_status resolve_material(sr_catalog *cat, const char *name, int64_t *out, sr_err *err)
@@ -171,6 +211,8 @@ static sr_status bind_filter(sr_catalog *cat, const sr_history_filter *f, bound_
 {
     memset(b, 0, sizeof *b);
     strcpy(b->until_next, "~");
+    strcpy(b->until_month, "~");
+    b->whole_months = true;
     if (!f)
         return SR_OK;
     int y, m, d;
@@ -179,6 +221,9 @@ static sr_status bind_filter(sr_catalog *cat, const sr_history_filter *f, bound_
             return sr_err_set(err, SR_E_RANGE, "bad since date '%s': expected YYYY-MM-DD",
                               f->since);
         memcpy(b->since, f->since, 11);
+        memcpy(b->since_month, f->since, 7);
+        b->since_month[7] = '\0';
+        b->whole_months = d == 1;
     }
     if (f->until) {
         if (!parse_day(f->until, &y, &m, &d))
@@ -194,11 +239,14 @@ static sr_status bind_filter(sr_catalog *cat, const sr_history_filter *f, bound_
                 y++;
             }
         }
-        if (y > 9999)
+        if (y > 9999) {
             strcpy(b->until_next, "~");
-        else
+        } else {
             snprintf(b->until_next, sizeof b->until_next, "%04d-%02d-%02d", y,
                      m, d);
+            snprintf(b->until_month, sizeof b->until_month, "%04d-%02d", y, m);
+        }
+        b->whole_months = b->whole_months && d == 1;
     }
     if (f->instance_id < 0)
         return sr_err_set(err, SR_E_RANGE, "bad instance id %lld", (long long)f->instance_id);
@@ -227,8 +275,10 @@ static sr_status bind_filter(sr_catalog *cat, const sr_history_filter *f, bound_
     return SR_OK;
 }
 
+/* Prepares sql[b->by] with the filter bound: days for the statements over the runs,
+ * months for those over the cells (`cells`). */
 static sr_status prepare_filtered(sr_catalog *cat, const char *const *sql, const bound_filter *b,
-                                  sqlite3_stmt **out, sr_err *err)
+                                  bool cells, sqlite3_stmt **out, sr_err *err)
 {
     sqlite3_stmt *stmt;
     sr_status st = sr_cat_prepare(cat, sql[b->by], &stmt, err);
@@ -237,8 +287,8 @@ static sr_status prepare_filtered(sr_catalog *cat, const char *const *sql, const
     sqlite3_bind_int64(stmt, 1, b->instance_id);
     sqlite3_bind_int64(stmt, 2, b->part_id);
     sqlite3_bind_int64(stmt, 3, b->material_id);
-    sqlite3_bind_text(stmt, 4, b->since, -1, SQLITE_TRANSIENT);
-    sqlite3_bind_text(stmt, 5, b->until_next, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(stmt, 4, cells ? b->since_month : b->since, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(stmt, 5, cells ? b->until_month : b->until_next, -1, SQLITE_TRANSIENT);
     *out = stmt;
     return SR_OK;
 }
@@ -336,7 +386,7 @@ sr_status sr_catalog_history(sr_catalog *cat, const sr_history_filter *filter,
     if (st != SR_OK)
         return st;
     sqlite3_stmt *stmt;
-    st = prepare_filtered(cat, rows_sql, &b, &stmt, err);
+    st = prepare_filtered(cat, rows_sql, &b, false, &stmt, err);
     if (st != SR_OK)
         return st;
     for (;;) {
@@ -452,11 +502,35 @@ static sr_history_month *month_slot(summary_acc *a, const char *month)
     return slot;
 }
 
-static sr_status read_runs(sr_catalog *cat, const bound_filter *b, summary_acc *a,
+/* Adds `runs` runs of part `number` started in `month`, with their figures. */
+static sr_status acc_runs(summary_acc *a, sr_history_summary *s, const char *number,
+                          const char *month, size_t runs, size_t failed, size_t repair,
+                          size_t replace, double volume, sr_err *err)
+{
+    part_acc *p = part_slot(a, number ? number : "");
+    sr_history_month *mo = p ? month_slot(a, month ? month : "") : NULL;
+    if (!mo)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory summarising the history");
+    s->runs += runs;
+    p->out.runs += runs;
+    mo->runs += runs;
+    s->failed += failed;
+    a->volume_sum += volume;
+    p->volume_sum += volume;
+    s->replace += replace;
+    p->out.replace += replace;
+    s->repair += repair;
+    p->out.repair += repair;
+    s->none += runs - repair - replace;
+    return SR_OK;
+}
+
+/* One row per run (`cells` false) or per cell (`cells` true). */
+static sr_status read_runs(sr_catalog *cat, const bound_filter *b, bool cells, summary_acc *a,
                            sr_history_summary *s, sr_err *err)
 {
     sqlite3_stmt *stmt;
-    sr_status st = prepare_filtered(cat, runs_sql, b, &stmt, err);
+    sr_status st = prepare_filtered(cat, cells ? cell_runs_sql : runs_sql, b, cells, &stmt, err);
     if (st != SR_OK)
         return st;
     for (;;) {
@@ -468,41 +542,36 @@ static sr_status read_runs(sr_catalog *cat, const bound_filter *b, summary_acc *
             return sr_cat_finish(cat, stmt, err, "summarise the history");
         const char *number = (const char *)sqlite3_column_text(stmt, 0);
         const char *month = (const char *)sqlite3_column_text(stmt, 1);
-        const char *status = (const char *)sqlite3_column_text(stmt, 2);
-        double volume = sqlite3_column_double(stmt, 3);
-        int outcome = sqlite3_column_int(stmt, 4);
-        part_acc *p = part_slot(a, number ? number : "");
-        sr_history_month *mo = month_slot(a, month ? month : "");
-        if (!p || !mo) {
-            st = sr_err_set(err, SR_E_NOMEM, "out of memory summarising the history");
-            break;
-        }
-        s->runs++;
-        p->out.runs++;
-        mo->runs++;
-        if (!status || strcmp(status, "ok") != 0)
-            s->failed++;
-        a->volume_sum += volume;
-        p->volume_sum += volume;
-        if (outcome == 2) {
-            s->replace++;
-            p->out.replace++;
-        } else if (outcome == 1) {
-            s->repair++;
-            p->out.repair++;
+        if (cells) {
+            /* runs, failed, advised, replaced, volume; clamped so that a damaged cell
+             * cannot make a count wrap */
+            int64_t n = sqlite3_column_int64(stmt, 2), f = sqlite3_column_int64(stmt, 3),
+                    adv = sqlite3_column_int64(stmt, 4), rep = sqlite3_column_int64(stmt, 5);
+            rep = rep < 0 ? 0 : rep > n ? n : rep;
+            adv = adv < rep ? rep : adv > n ? n : adv;
+            f = f < 0 ? 0 : f > n ? n : f;
+            st = acc_runs(a, s, number, month, (size_t)n, (size_t)f, (size_t)(adv - rep),
+                          (size_t)rep, sqlite3_column_double(stmt, 6), err);
         } else {
-            s->none++;
+            /* status, volume, outcome (0 none, 1 repair, 2 replace) */
+            const char *status = (const char *)sqlite3_column_text(stmt, 2);
+            int outcome = sqlite3_column_int(stmt, 4);
+            st = acc_runs(a, s, number, month, 1, !status || strcmp(status, "ok") != 0,
+                          outcome == 1, outcome == 2, sqlite3_column_double(stmt, 3), err);
         }
+        if (st != SR_OK)
+            break;
     }
     sqlite3_finalize(stmt);
     return st;
 }
 
-static sr_status read_classes(sr_catalog *cat, const bound_filter *b, summary_acc *a,
-                              sr_err *err)
+static sr_status read_classes(sr_catalog *cat, const bound_filter *b, bool cells,
+                              summary_acc *a, sr_err *err)
 {
     sqlite3_stmt *stmt;
-    sr_status st = prepare_filtered(cat, classes_sql, b, &stmt, err);
+    sr_status st =
+        prepare_filtered(cat, cells ? cell_classes_sql : classes_sql, b, cells, &stmt, err);
     if (st != SR_OK)
         return st;
     for (;;) {
@@ -534,20 +603,65 @@ static sr_status read_classes(sr_catalog *cat, const bound_filter *b, summary_ac
     return st;
 }
 
-sr_status sr_catalog_history_summary(sr_catalog *cat, const sr_history_filter *filter,
-                                     sr_history_summary *out, sr_err *err)
+/* Whether the cells answer this filter exactly (see the top of the file): schema 4,
+ * no instance, whole months, and no irregular start time in the first month or the
+ * month after the last (the only months where a day bound and a month bound can
+ * disagree). */
+static sr_status cells_answer(sr_catalog *cat, const bound_filter *b, bool *out, sr_err *err)
+{
+    *out = false;
+    if (cat->schema_version < 4 || b->by == BY_INSTANCE || !b->whole_months)
+        return SR_OK;
+    if (!b->since_month[0] && strcmp(b->until_month, "~") == 0) {
+        *out = true;
+        return SR_OK;
+    }
+    sqlite3_stmt *stmt;
+    sr_status st = sr_cat_prepare(cat,
+                                  "SELECT EXISTS (SELECT 1 FROM history_cells"
+                                  " WHERE month IN (?1, ?2) AND irregular <> 0)",
+                                  &stmt, err);
+    if (st != SR_OK)
+        return st;
+    sqlite3_bind_text(stmt, 1, b->since_month, -1, SQLITE_STATIC);
+    sqlite3_bind_text(stmt, 2, b->until_month, -1, SQLITE_STATIC);
+    bool row;
+    st = sr_cat_step(cat, stmt, &row, err, "summarise the history");
+    bool irregular = st == SR_OK && row && sqlite3_column_int(stmt, 0) != 0;
+    if (st != SR_OK) {
+        sqlite3_finalize(stmt);
+        return st;
+    }
+    st = sr_cat_finish(cat, stmt, err, "summarise the history");
+    if (st == SR_OK)
+        *out = !irregular;
+    return st;
+}
+
+sr_status sr_cat_history_summary_way(sr_catalog *cat, const sr_history_filter *filter,
+                                     sr_cat_summary_way way, sr_history_summary *out,
+                                     bool *used_cells, sr_err *err)
 {
     bound_filter b;
     sr_status st = bind_filter(cat, filter, &b, err);
     if (st != SR_OK)
         return st;
+    bool cells = false;
+    if (way != SR_CAT_SUMMARY_RUNS) {
+        st = cells_answer(cat, &b, &cells, err);
+        if (st != SR_OK)
+            return st;
+        if (way == SR_CAT_SUMMARY_CELLS && !cells)
+            return sr_err_set(err, SR_E_INVALID,
+                              "the history summary cells cannot answer this filter");
+    }
     summary_acc a;
     memset(&a, 0, sizeof a);
     sr_history_summary s;
     memset(&s, 0, sizeof s);
-    st = read_runs(cat, &b, &a, &s, err);
+    st = read_runs(cat, &b, cells, &a, &s, err);
     if (st == SR_OK)
-        st = read_classes(cat, &b, &a, err);
+        st = read_classes(cat, &b, cells, &a, err);
     if (st == SR_OK && a.part_count) {
         s.parts = malloc(a.part_count * sizeof *s.parts);
         if (!s.parts)
@@ -570,8 +684,16 @@ sr_status sr_catalog_history_summary(sr_catalog *cat, const sr_history_filter *f
     s.avg_missing_volume_mm3 = s.runs ? a.volume_sum / (double)s.runs : 0;
     s.repair_fraction =
         s.repair + s.replace ? (double)s.repair / (double)(s.repair + s.replace) : NAN;
+    if (used_cells)
+        *used_cells = cells;
     *out = s;
     return SR_OK;
+}
+
+sr_status sr_catalog_history_summary(sr_catalog *cat, const sr_history_filter *filter,
+                                     sr_history_summary *out, sr_err *err)
+{
+    return sr_cat_history_summary_way(cat, filter, SR_CAT_SUMMARY_AUTO, out, NULL, err);
 }
 
 void sr_history_summary_release(sr_history_summary *s)

@@ -1,7 +1,7 @@
 /*
  * catalog_history.h: the questions a shop asks of its repair history, answered from
  * the run record (runs, sections, advice of sql/001_init.sql, indexed for this by
- * sql/003_history.sql): which runs were made for a part, an instance, a material or
+ * sql/003_history.sql, summed per part and month by sql/004_history_summary.sql): which runs were made for a part, an instance, a material or
  * in a date range, with their damage classes, missing volumes, advice and outcomes;
  * and summaries over the same selection (most frequent damage class and average
  * missing volume per part, repair vs replace, runs per month).
@@ -100,7 +100,11 @@ typedef struct sr_history_summary {
 } sr_history_summary;
 
 /* Summaries over the runs the filter selects (the same checks and errors as
- * sr_catalog_history). *out only on success; release with sr_history_summary_release. */
+ * sr_catalog_history). *out only on success; release with sr_history_summary_release.
+ * Answered from the running totals per part and month of sql/004_history_summary.sql
+ * when the filter selects whole months (no instance, dates from a 1st to a month's
+ * last day or open), else from the runs; the figures are the same either way (the
+ * average volumes to the rounding of their sums). */
 sr_status sr_catalog_history_summary(sr_catalog *cat, const sr_history_filter *filter,
                                      sr_history_summary *out, sr_err *err);
 void sr_history_summary_release(sr_history_summary *s);

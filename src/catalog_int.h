@@ -145,4 +145,23 @@ void sr_cat_column_symmetry(sqlite3_stmt *stmt, int col, sr_symmetry *out);
 sr_status sr_cat_symmetry_write(sr_catalog *cat, int64_t part_id, int64_t instance_id,
                                 const sr_symmetry *sym, sr_err *err);
 
+/* ---- history summaries (catalog_history.c) ---- */
+
+struct sr_history_filter;
+struct sr_history_summary;
+
+/* Which way a history summary is computed: AUTO as sr_catalog_history_summary (the
+ * summary cells of sql/004 when they answer the filter exactly, else the runs); RUNS
+ * always from the runs; CELLS only from the cells (SR_E_INVALID "the history summary
+ * cells cannot answer this filter" when they cannot). *used_cells (may be NULL) tells
+ * which way was taken, on success. For the tests and the bench that compare the two. */
+typedef enum sr_cat_summary_way {
+    SR_CAT_SUMMARY_AUTO = 0,
+    SR_CAT_SUMMARY_RUNS,
+    SR_CAT_SUMMARY_CELLS,
+} sr_cat_summary_way;
+sr_status sr_cat_history_summary_way(sr_catalog *cat, const struct sr_history_filter *filter,
+                                     sr_cat_summary_way way, struct sr_history_summary *out,
+                                     bool *used_cells, sr_err *err);
+
 #endif

@@ -24,6 +24,7 @@
 
 #include "catalog.h"
 #include "catalog_history.h"
+#include "catalog_int.h"
 #include "catalog_runs.h"
 #include "shapes.h"
 #include "support/assert_near.h"
@@ -275,6 +276,377 @@ static void summary_counts_classes_volumes_outcomes_and_months(void **state)
     sr_history_summary_release(&s);
 }
 
+/* ---- the summary cells of sql/004 against the runs ---- */
+
+/* Both summaries field by field. The test volumes are exact binary fractions, so the
+ * sums are exact in any order and the averages must be equal, not merely close. */
+static void assert_same_summary(const sr_history_summary *a, const sr_history_summary *b,
+                                const char *what)
+{
+    if (a->runs != b->runs || a->failed != b->failed || a->repair != b->repair ||
+        a->replace != b->replace || a->none != b->none)
+        fail_msg("%s: runs %zu/%zu failed %zu/%zu repair %zu/%zu replace %zu/%zu none %zu/%zu",
+                 what, a->runs, b->runs, a->failed, b->failed, a->repair, b->repair, a->replace,
+                 b->replace, a->none, b->none);
+    if (!(isnan(a->repair_fraction) && isnan(b->repair_fraction)) &&
+        a->repair_fraction != b->repair_fraction)
+        fail_msg("%s: repair fraction %.17g vs %.17g", what, a->repair_fraction,
+                 b->repair_fraction);
+    if (a->avg_missing_volume_mm3 != b->avg_missing_volume_mm3)
+        fail_msg("%s: average volume %.17g vs %.17g", what, a->avg_missing_volume_mm3,
+                 b->avg_missing_volume_mm3);
+    if (a->part_count != b->part_count || a->month_count != b->month_count)
+        fail_msg("%s: %zu/%zu parts, %zu/%zu months", what, a->part_count, b->part_count,
+                 a->month_count, b->month_count);
+    for (size_t i = 0; i < a->part_count; i++) {
+        const sr_history_part *p = &a->parts[i], *q = &b->parts[i];
+        if (strcmp(p->part_number, q->part_number) != 0 || p->runs != q->runs ||
+            p->avg_missing_volume_mm3 != q->avg_missing_volume_mm3 ||
+            strcmp(p->top_class, q->top_class) != 0 ||
+            p->top_class_sections != q->top_class_sections || p->sections != q->sections ||
+            p->repair != q->repair || p->replace != q->replace)
+            fail_msg("%s: part %s/%s: runs %zu/%zu avg %.17g/%.17g top %s/%s %zu/%zu "
+                     "sections %zu/%zu repair %zu/%zu replace %zu/%zu",
+                     what, p->part_number, q->part_number, p->runs, q->runs,
+                     p->avg_missing_volume_mm3, q->avg_missing_volume_mm3, p->top_class,
+                     q->top_class, p->top_class_sections, q->top_class_sections, p->sections,
+                     q->sections, p->repair, q->repair, p->replace, q->replace);
+    }
+    for (size_t i = 0; i < a->month_count; i++)
+        if (strcmp(a->months[i].month, b->months[i].month) != 0 ||
+            a->months[i].runs != b->months[i].runs)
+            fail_msg("%s: month %s/%s: %zu/%zu runs", what, a->months[i].month,
+                     b->months[i].month, a->months[i].runs, b->months[i].runs);
+}
+
+/* The filters the cells answer, each compared both ways; returns the total runs of the
+ * whole history. The automatic way must take the cells for every one of them. */
+static size_t cells_equal_runs(sr_catalog *cat, const char *when)
+{
+    static const sr_history_filter filters[] = {
+        {0},
+        {.part = "A"},
+        {.part = "B"},
+        {.material = "steel"},
+        {.material = "Bronze"},
+        {.since = "2024-02-01", .until = "2024-02-29"},
+        {.since = "2024-01-01", .until = "2024-03-31"},
+        {.since = "2024-02-01"},
+        {.until = "2024-02-29"},
+        {.part = "A", .since = "2024-02-01", .until = "2024-02-29"},
+        {.material = "Bronze", .since = "2024-03-01"},
+        {.since = "2024-05-01", .until = "2024-06-30"}, /* empty */
+    };
+    size_t total = 0;
+    for (size_t i = 0; i < sizeof filters / sizeof filters[0]; i++) {
+        sr_history_summary runs, cells, autos;
+        bool used = false;
+        sr_err err = {{0}};
+        if (sr_cat_history_summary_way(cat, &filters[i], SR_CAT_SUMMARY_RUNS, &runs, &used,
+                                       &err) != SR_OK)
+            fail_msg("%s, filter %zu, runs: %s", when, i, err.msg);
+        assert_false(used);
+        if (sr_cat_history_summary_way(cat, &filters[i], SR_CAT_SUMMARY_CELLS, &cells, &used,
+                                       &err) != SR_OK)
+            fail_msg("%s, filter %zu, cells: %s", when, i, err.msg);
+        assert_true(used);
+        assert_int_equal(sr_catalog_history_summary(cat, &filters[i], &autos, &err), SR_OK);
+        char what[96];
+        snprintf(what, sizeof what, "%s, filter %zu", when, i);
+        assert_same_summary(&cells, &runs, what);
+        assert_same_summary(&autos, &runs, what);
+        if (i == 0)
+            total = runs.runs;
+        sr_history_summary_release(&runs);
+        sr_history_summary_release(&cells);
+        sr_history_summary_release(&autos);
+    }
+    return total;
+}
+
+static void raw(sr_catalog *cat, const char *sql)
+{
+    char *msg = NULL;
+    if (sqlite3_exec(cat->db, sql, NULL, NULL, &msg) != SQLITE_OK) {
+        fail_msg("%s: %s", sql, msg ? msg : "?");
+        sqlite3_free(msg);
+    }
+}
+
+static int64_t raw_count(sr_catalog *cat, const char *sql)
+{
+    sqlite3_stmt *st;
+    assert_int_equal(sqlite3_prepare_v2(cat->db, sql, -1, &st, NULL), SQLITE_OK);
+    assert_int_equal(sqlite3_step(st), SQLITE_ROW);
+    int64_t n = sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    return n;
+}
+
+/* More runs of both parts and all outcomes over four months, for the cell tests. */
+static void more_runs(fixture *fx)
+{
+    const sec_spec s1[] = {{"gouge", 2.5}, {"chip", 0.75}, {"crack", 4}},
+                   s2[] = {{"wear_band", 8}}, s3[] = {{"chip", 16}, {"chip", 0.5}};
+    const char *rep[] = {"ded", "replace"}, *one[] = {"spray_forming"},
+               *two[] = {"replace", "REPLACE: beyond repair"};
+    add_run(fx, fx->inst[1], "2024-01-31T23:59:59Z", 1, s1, 3, rep, 2);
+    add_run(fx, fx->inst[2], "2024-02-01T00:00:00Z", 1, s2, 1, one, 1);
+    add_run(fx, fx->inst[0], "2024-04-02T09:00:00Z", 1, s3, 2, two, 2);
+    add_run(fx, fx->inst[2], "2024-04-30T09:00:00Z", 0, NULL, 0, NULL, 0);
+    add_run(fx, fx->inst[1], "2024-03-01T00:00:00Z", 1, s2, 1, NULL, 0);
+}
+
+static void summary_cells_equal_the_runs_after_inserts(void **state)
+{
+    fixture *fx = *state;
+    assert_int_equal(cells_equal_runs(fx->cat, "the fixture"), 5);
+    more_runs(fx);
+    assert_int_equal(cells_equal_runs(fx->cat, "more runs"), 10);
+    /* one cell per part and month with runs: A 01 02 03 04, B 02 03 04 */
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM history_cells"), 7);
+    assert_int_equal(raw_count(fx->cat, "SELECT sum(runs) FROM history_cells"), 10);
+}
+
+static void summary_cells_follow_deletes(void **state)
+{
+    fixture *fx = *state;
+    more_runs(fx);
+    char sql[160];
+    /* a run with sections and advice (cascades) */
+    snprintf(sql, sizeof sql, "DELETE FROM runs WHERE id = %lld", (long long)fx->run[0]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "run 1 deleted"), 9);
+    /* one section (its advice goes with it), then one advice of another run */
+    raw(fx->cat, "DELETE FROM sections WHERE id = (SELECT min(id) FROM sections"
+                 " WHERE class = 'chip')");
+    assert_int_equal(cells_equal_runs(fx->cat, "a section deleted"), 9);
+    /* 'replace' advice: run 2 had only that (now none), a run of A2 had it with 'ded'
+     * (now repair), a run of A1 keeps its 'REPLACE: beyond repair' (still replace) */
+    raw(fx->cat, "DELETE FROM advice WHERE process = 'replace'");
+    assert_int_equal(cells_equal_runs(fx->cat, "replace advice deleted"), 9);
+    raw(fx->cat, "DELETE FROM advice WHERE process = 'ded'");
+    assert_int_equal(cells_equal_runs(fx->cat, "ded advice deleted"), 9);
+    /* an instance with all its runs (B1: runs 4, 5 and two more) */
+    snprintf(sql, sizeof sql, "DELETE FROM instances WHERE id = %lld", (long long)fx->inst[2]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "instance B1 deleted"), 5);
+    /* part B has no runs left: no cell of it remains */
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM history_cells c JOIN parts p"
+                                        " ON p.id = c.part_id WHERE p.number = 'B'"),
+                     0);
+    /* with foreign keys off (plain sqlite3): the run's rows stay behind, orphaned, and
+     * count in neither way */
+    raw(fx->cat, "PRAGMA foreign_keys = OFF");
+    snprintf(sql, sizeof sql, "DELETE FROM runs WHERE id = %lld", (long long)fx->run[1]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "run 2 deleted, foreign keys off"), 4);
+    raw(fx->cat, "DELETE FROM sections WHERE run_id NOT IN (SELECT id FROM runs)");
+    raw(fx->cat, "DELETE FROM advice WHERE run_id NOT IN (SELECT id FROM runs)");
+    assert_int_equal(cells_equal_runs(fx->cat, "orphans deleted"), 4);
+    raw(fx->cat, "PRAGMA foreign_keys = ON");
+    /* every run deleted: no cells at all */
+    raw(fx->cat, "DELETE FROM runs");
+    assert_int_equal(cells_equal_runs(fx->cat, "all runs deleted"), 0);
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM history_cells"), 0);
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM history_class_cells"), 0);
+}
+
+static void summary_cells_follow_updates(void **state)
+{
+    fixture *fx = *state;
+    more_runs(fx);
+    char sql[200];
+    /* a run's outcome: a repair advice becomes replace, then back */
+    raw(fx->cat, "UPDATE advice SET process = 'replace' WHERE process = 'spray_forming'");
+    assert_int_equal(cells_equal_runs(fx->cat, "advice now replace"), 10);
+    raw(fx->cat, "UPDATE advice SET process = 'weld_buildup' WHERE process LIKE 'replace%'");
+    assert_int_equal(cells_equal_runs(fx->cat, "no replace left"), 10);
+    /* an advice moved to another run (a run without advice) */
+    snprintf(sql, sizeof sql,
+             "UPDATE advice SET run_id = %lld, section_id = NULL WHERE id ="
+             " (SELECT min(id) FROM advice)",
+             (long long)fx->run[3]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "advice moved"), 10);
+    /* a run's start moves to another month, its status flips */
+    snprintf(sql, sizeof sql,
+             "UPDATE runs SET started_at = '2024-04-15T00:00:00Z', status = 'failed',"
+             " error = 'x' WHERE id = %lld",
+             (long long)fx->run[0]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "run 1 moved to April, failed"), 10);
+    /* a run moves to an instance of the other part */
+    snprintf(sql, sizeof sql, "UPDATE runs SET instance_id = %lld WHERE id = %lld",
+             (long long)fx->inst[2], (long long)fx->run[1]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "run 2 moved to part B"), 10);
+    /* a section's class and volume */
+    raw(fx->cat, "UPDATE sections SET class = 'crack', volume_mm3 = 64 WHERE class = 'wear_band'");
+    assert_int_equal(cells_equal_runs(fx->cat, "sections reclassified"), 10);
+    /* an instance moves to the other part with its runs */
+    snprintf(sql, sizeof sql, "UPDATE instances SET part_id = (SELECT id FROM parts WHERE"
+                              " number = 'B') WHERE id = %lld",
+             (long long)fx->inst[1]);
+    raw(fx->cat, sql);
+    assert_int_equal(cells_equal_runs(fx->cat, "instance A2 moved to part B"), 10);
+    /* a part's material changes: nothing to move, the answer follows */
+    raw(fx->cat, "UPDATE parts SET material_id = (SELECT id FROM materials WHERE name ="
+                 " 'Bronze') WHERE number = 'A'");
+    assert_int_equal(cells_equal_runs(fx->cat, "part A now bronze"), 10);
+    /* an update of other columns changes nothing */
+    raw(fx->cat, "UPDATE runs SET method = 'robust'");
+    assert_int_equal(cells_equal_runs(fx->cat, "method changed"), 10);
+}
+
+static void summary_takes_the_runs_when_cells_cannot_answer(void **state)
+{
+    fixture *fx = *state;
+    sr_history_filter by_instance = {.instance_id = fx->inst[0]};
+    sr_history_filter mid_month = {.since = "2024-02-02"};
+    sr_history_filter to_mid_month = {.until = "2024-02-28"};
+    const sr_history_filter *fs[] = {&by_instance, &mid_month, &to_mid_month};
+    for (int i = 0; i < 3; i++) {
+        sr_history_summary s;
+        bool used = true;
+        sr_err err = {{0}};
+        assert_int_equal(sr_cat_history_summary_way(fx->cat, fs[i], SR_CAT_SUMMARY_AUTO, &s,
+                                                    &used, &err),
+                         SR_OK);
+        assert_false(used);
+        sr_history_summary_release(&s);
+        memset(&s, 0xab, sizeof s);
+        assert_int_equal(sr_cat_history_summary_way(fx->cat, fs[i], SR_CAT_SUMMARY_CELLS, &s,
+                                                    &used, &err),
+                         SR_E_INVALID);
+        assert_msg_has(err, "cannot answer this filter");
+    }
+    /* the instance's summary itself: runs 1 and 2 */
+    sr_history_summary s;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_history_summary(fx->cat, &by_instance, &s, &err), SR_OK);
+    assert_int_equal(s.runs, 2);
+    assert_int_equal(s.replace, 1);
+    sr_history_summary_release(&s);
+}
+
+static void an_irregular_start_time_sends_its_months_to_the_runs(void **state)
+{
+    fixture *fx = *state;
+    /* '2024-02' sorts before '2024-02-01': a day filter from 2024-02-01 leaves it out,
+     * but it sits in the February cell */
+    add_run(fx, fx->inst[0], "2024-02", 1, NULL, 0, NULL, 0);
+    sr_history_filter from_feb = {.since = "2024-02-01"};
+    sr_history_filter to_jan = {.until = "2024-01-31"};
+    sr_history_filter march = {.since = "2024-03-01", .until = "2024-03-31"};
+    sr_history_summary runs, s;
+    bool used;
+    sr_err err = {{0}};
+    assert_int_equal(sr_cat_history_summary_way(fx->cat, &from_feb, SR_CAT_SUMMARY_AUTO, &s,
+                                                &used, &err),
+                     SR_OK);
+    assert_false(used);
+    assert_int_equal(s.runs, 4); /* runs 2..5, not the irregular one */
+    sr_history_summary_release(&s);
+    assert_int_equal(sr_cat_history_summary_way(fx->cat, &to_jan, SR_CAT_SUMMARY_AUTO, &s,
+                                                &used, &err),
+                     SR_OK);
+    assert_false(used);
+    assert_int_equal(s.runs, 2); /* run 1 and, by the day filter, the irregular one */
+    sr_history_summary_release(&s);
+    /* months away from it still come from the cells, and agree */
+    assert_int_equal(sr_cat_history_summary_way(fx->cat, &march, SR_CAT_SUMMARY_AUTO, &s,
+                                                &used, &err),
+                     SR_OK);
+    assert_true(used);
+    assert_int_equal(sr_cat_history_summary_way(fx->cat, &march, SR_CAT_SUMMARY_RUNS, &runs,
+                                                NULL, &err),
+                     SR_OK);
+    assert_same_summary(&s, &runs, "march");
+    sr_history_summary_release(&s);
+    sr_history_summary_release(&runs);
+    /* the whole history counts it in its month either way */
+    assert_int_equal(sr_cat_history_summary_way(fx->cat, NULL, SR_CAT_SUMMARY_CELLS, &s, &used,
+                                                &err),
+                     SR_OK);
+    assert_int_equal(sr_cat_history_summary_way(fx->cat, NULL, SR_CAT_SUMMARY_RUNS, &runs, NULL,
+                                                &err),
+                     SR_OK);
+    assert_same_summary(&s, &runs, "whole history");
+    assert_int_equal(s.runs, 6);
+    assert_int_equal(s.months[1].runs, 3);
+    sr_history_summary_release(&s);
+    sr_history_summary_release(&runs);
+}
+
+/* A catalogue made at schema version 3 (before the cells) with runs, then opened by
+ * this build: migration 004 fills the cells from the runs already there. */
+static void migration_004_backfills_the_cells(void **state)
+{
+    (void)state;
+    fixture fx;
+    memset(&fx, 0, sizeof fx);
+    assert_int_equal(tmpdir_make(&fx.dir), 0);
+    char db[TMPDIR_PATH_MAX];
+    tmpdir_join(&fx.dir, "v3.db", db);
+    sr_sql_file v3[4];
+    for (int i = 0; i < 3; i++)
+        v3[i] = sr_sql_files[i];
+    v3[3] = (sr_sql_file){NULL, NULL};
+    assert_string_equal(v3[2].name, "003_history.sql");
+    sr_err err = {{0}};
+    assert_int_equal(sr_cat_open_with(db, SR_CATALOG_CREATE, v3, &fx.cat, &err), SR_OK);
+    assert_int_equal(raw_count(fx.cat, "PRAGMA user_version"), 3);
+    assert_int_equal(raw_count(fx.cat, "SELECT count(*) FROM sqlite_schema WHERE name ="
+                                       " 'history_cells'"),
+                     0);
+    sr_mesh m = {0};
+    assert_int_equal(sr_shape_cylinder(10, 0, 20, 8, &m, &err), SR_OK);
+    sr_part_new pa = {.number = "A", .name = "shaft", .material = "Steel", .mesh = &m};
+    sr_part_new pb = {.number = "B", .name = "bush", .material = "Bronze", .mesh = &m};
+    int64_t id;
+    assert_int_equal(sr_catalog_part_add(fx.cat, &pa, &id, &err), SR_OK);
+    assert_int_equal(sr_catalog_part_add(fx.cat, &pb, &id, &err), SR_OK);
+    const char *parts[3] = {"A", "A", "B"};
+    for (int i = 0; i < 3; i++) {
+        sr_instance_new in = {.part = parts[i], .mesh = &m};
+        assert_int_equal(sr_catalog_instance_add(fx.cat, &in, &fx.inst[i], &err), SR_OK);
+    }
+    sr_mesh_release(&m);
+    const sec_spec s1[] = {{"chip", 10}, {"chip", 5}}, s2[] = {{"gouge", 20}};
+    const char *p1[] = {"spray_forming"}, *p2[] = {"replace"};
+    add_run(&fx, fx.inst[0], "2024-01-10T08:00:00Z", 1, s1, 2, p1, 1);
+    add_run(&fx, fx.inst[0], "2024-02-01T00:00:00Z", 1, s2, 1, p2, 1);
+    add_run(&fx, fx.inst[2], "2024-03-31T10:00:00Z", 0, NULL, 0, NULL, 0);
+    more_runs(&fx);
+    sr_history_summary before;
+    assert_int_equal(sr_catalog_history_summary(fx.cat, NULL, &before, &err), SR_OK);
+    sr_catalog_close(fx.cat);
+
+    assert_int_equal(sr_catalog_open(db, 0, &fx.cat, &err), SR_OK);
+    assert_int_equal(raw_count(fx.cat, "PRAGMA user_version"), 4);
+    assert_int_equal(raw_count(fx.cat, "SELECT sum(runs) FROM history_cells"), 8);
+    assert_int_equal(raw_count(fx.cat, "SELECT sum(sections) FROM history_class_cells"), 10);
+    sr_history_summary after;
+    bool used = false;
+    assert_int_equal(sr_cat_history_summary_way(fx.cat, NULL, SR_CAT_SUMMARY_CELLS, &after,
+                                                &used, &err),
+                     SR_OK);
+    assert_true(used);
+    assert_same_summary(&after, &before, "backfilled vs version 3");
+    assert_int_equal(after.runs, 8);
+    assert_int_equal(after.replace, 3);
+    assert_int_equal(after.failed, 2);
+    sr_history_summary_release(&after);
+    sr_history_summary_release(&before);
+    assert_int_equal(cells_equal_runs(fx.cat, "backfilled"), 8);
+    /* and the triggers run from then on */
+    add_run(&fx, fx.inst[1], "2024-02-10T00:00:00Z", 1, s2, 1, p2, 1);
+    assert_int_equal(cells_equal_runs(fx.cat, "a run after the upgrade"), 9);
+    sr_catalog_close(fx.cat);
+    tmpdir_remove(&fx.dir);
+}
+
 static void expect_refused(fixture *fx, const sr_history_filter *f, sr_status want,
                            const char *msg)
 {
@@ -370,6 +742,12 @@ int main(void)
         T(the_last_day_of_a_year_and_a_leap_day_are_whole_days),
         T(a_callback_can_stop_the_query),
         cmocka_unit_test(outcome_names),
+        T(summary_cells_equal_the_runs_after_inserts),
+        T(summary_cells_follow_deletes),
+        T(summary_cells_follow_updates),
+        T(summary_takes_the_runs_when_cells_cannot_answer),
+        T(an_irregular_start_time_sends_its_months_to_the_runs),
+        cmocka_unit_test(migration_004_backfills_the_cells),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);
