@@ -1,19 +1,23 @@
 /*
  * cmd_report.c: `symrec report RUN --out FILE.html`: reads run RUN whole (meshes and
- * layers) with its instance and part, has src/report_html.c build the page, and writes
+ * layers) with its instance, part and the part's material (the density of the build
+ * plans), has src/report_html.c build the page, and writes
  * it atomically: into a temporary file beside FILE, flushed to disk, then renamed over
  * FILE, so FILE is either the old file or the whole new report, never half of one.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "catalog_rules.h"
 #include "catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
+#include "plan.h"
 #include "report_html.h"
 
 static const char usage_report[] =
@@ -22,15 +26,20 @@ static const char usage_report[] =
     "Writes the report of run RUN as one self-contained HTML file that works offline\n"
     "(no network; the style, the script and the data are inside the file): the restored\n"
     "part with its patches highlighted in 3D (drag to rotate), the damaged and restored\n"
-    "outline of each layer (mm, aligned frame), the missing sections with their\n"
-    "features (z range mm, angles degrees or side, depth mm, volume mm³, area mm²), the\n"
-    "advice with the rules that fired, and the run's parameters, alignment and timings.\n"
+    "outline of each layer (mm, aligned frame) with the build plan drawn over it (the\n"
+    "layer's missing region, deposit region and deposition paths: contour rings and\n"
+    "raster), the build plan's figures per section (as 'symrec plan' makes it with its\n"
+    "default settings and the density of the part's material; none for a section\n"
+    "advised 'replace'), the missing sections with their features (z range mm, angles\n"
+    "degrees or side, depth mm, volume mm³, area mm²), the advice with the rules that\n"
+    "fired, and the run's parameters, alignment and timings.\n"
     "\n"
     "  --out FILE           the HTML file to write (replaced atomically)\n"
     "  --max-triangles N    display budget of the 3D view, all meshes together\n"
     "                       (default 60000; larger meshes are decimated for display)\n"
     "  --json               print {\"run\", \"out\", \"bytes\", \"triangles_stored\",\n"
-    "                       \"triangles_shown\", \"decimated\"} instead of a sentence\n";
+    "                       \"triangles_shown\", \"decimated\", \"plan_sections\",\n"
+    "                       \"plan_layers\", \"replace_sections\"} instead of a sentence\n";
 
 /* Writes data to path through a temporary file in the same folder and a rename. */
 static bool write_atomic(const char *path, const char *data, size_t len)
@@ -120,12 +129,22 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
     st = sr_catalog_instance_get(cat, run.instance_id, &inst, &err);
     if (st == SR_OK)
         st = sr_catalog_part_find(cat, run.part_number, &part, &err);
+    /* the build plans as `symrec plan` makes them: default settings, the density of the
+     * part's material when the catalogue knows it */
+    sr_plan_opts po;
+    sr_plan_opts_init(&po);
+    sr_material mat;
+    sr_err quiet;
+    if (st == SR_OK && part.material[0] &&
+        sr_catalog_material_get(cat, part.material, &mat, &quiet) == SR_OK &&
+        isfinite(mat.density_g_cm3) && mat.density_g_cm3 > 0)
+        po.density_g_cm3 = mat.density_g_cm3;
     sr_catalog_close(cat);
     if (st != SR_OK) {
         sr_run_release(&run);
         return cli_fail(st, &err);
     }
-    sr_report_opts ro = {(size_t)budget, &inst, &part};
+    sr_report_opts ro = {(size_t)budget, &inst, &part, &po};
     char *html = NULL;
     size_t len = 0;
     sr_report_info info;
@@ -153,6 +172,12 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         json_int(&j, (int64_t)info.tri_shown);
         json_key(&j, "decimated");
         json_bool(&j, info.decimated != 0);
+        json_key(&j, "plan_sections");
+        json_int(&j, (int64_t)info.plan_sections);
+        json_key(&j, "plan_layers");
+        json_int(&j, (int64_t)info.plan_layers);
+        json_key(&j, "replace_sections");
+        json_int(&j, (int64_t)info.replace_sections);
         json_object_end(&j);
         json_finish(&j);
     } else {
@@ -161,6 +186,12 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
             printf("; 3D view decimated from %zu to %zu triangles", info.tri_stored,
                    info.tri_shown);
         printf(")\n");
+        if (info.plan_sections)
+            printf("build plan of %zu section%s, %zu layers with their tool paths\n",
+                   info.plan_sections, info.plan_sections == 1 ? "" : "s", info.plan_layers);
+        if (info.replace_sections)
+            printf("no build plan for %zu section%s: the advice is to replace the part\n",
+                   info.replace_sections, info.replace_sections == 1 ? "" : "s");
     }
     return CLI_OK;
 }

@@ -7,8 +7,14 @@
  * as one JSON block (<script type="application/json">, with '<', '>' and '&' written
  * as \u escapes so no text can end the element) and the inline script that draws the
  * 3D view on a 2D canvas (painter's order, flat shading, rotate by dragging, zoom by
- * the wheel) and the outlines of the selected layer as SVG. No address of any kind
- * appears in the page: it works from a single file, offline.
+ * the wheel) and the outlines of the selected layer as SVG, with the build plans of the
+ * sections over them: each plan layer built from the selected run layer draws its
+ * missing region (filled), its deposit region (dashed) and its deposition paths
+ * (contour rings and raster runs in two colours). No address of any kind appears in
+ * the page: it works from a single file, offline.
+ *
+ * The plans are made here with plan.h (sr_plan_build, the options given or the
+ * defaults), one per section not advised 'replace'.
  *
  * Meshes over the display budget are reduced by vertex clustering (a grid coarsened
  * until the budget holds); the page states the stored and shown triangle counts.
@@ -21,7 +27,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
+#include "plan.h"
 #include "symmetry.h"
 
 #define DEFAULT_BUDGET 60000
@@ -314,6 +322,208 @@ static void put_points(sb *b, const double *xy, size_t n)
     sb_put(b, "]");
 }
 
+/* A region or a set of polylines as [[x,y,x,y,...],...], 1e-5 mm (the polygon grid). */
+static void put_poly(sb *b, const sr_poly2 *p)
+{
+    sb_put(b, "[");
+    for (size_t c = 0; c < p->contour_count; c++) {
+        sb_put(b, c ? ",[" : "[");
+        for (size_t i = p->start[c]; i < p->start[c + 1]; i++) {
+            if (i > p->start[c])
+                sb_put(b, ",");
+            sb_jnum(b, p->xy[2 * i], "%.5f");
+            sb_put(b, ",");
+            sb_jnum(b, p->xy[2 * i + 1], "%.5f");
+        }
+        sb_put(b, "]");
+    }
+    sb_put(b, "]");
+}
+
+/* ---- build plans ---- */
+
+/* The plan of one section, or why there is none. */
+typedef struct report_plan {
+    const sr_run_section *section;
+    bool replace;               /* advised 'replace': no plan */
+    bool built;                 /* plan holds a plan */
+    char why[512];              /* no plan, not replace: the plan module's message */
+    const char *process;        /* the advised process ("" = none) */
+    sr_plan plan;
+} report_plan;
+
+/* The advice for section `index` (0-based): replace when that section's or a
+ * whole-part advice begins 'replace'; *process = the section's first advised process. */
+static bool advised_replace(const sr_run *r, size_t index, const char **process)
+{
+    bool replace = false;
+    *process = "";
+    for (size_t i = 0; i < r->advice_count; i++) {
+        const sr_run_advice *a = &r->advice[i];
+        if (a->section_index >= 0 && (size_t)a->section_index != index)
+            continue;
+        if (a->section_index >= 0 && !**process)
+            *process = a->process;
+        if (strncasecmp(a->process, "replace", 7) == 0)
+            replace = true;
+    }
+    return replace;
+}
+
+static void plans_release(report_plan *p, size_t n)
+{
+    for (size_t i = 0; p && i < n; i++)
+        sr_plan_release(&p[i].plan);
+    free(p);
+}
+
+/* One entry per section. SR_E_NOMEM only; a plan that cannot be made says why. */
+static sr_status plans_build(const sr_run *r, const sr_plan_opts *opts, report_plan **out,
+                             sr_err *err)
+{
+    *out = NULL;
+    if (!r->section_count)
+        return SR_OK;
+    report_plan *p = calloc(r->section_count, sizeof *p);
+    if (!p)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory building the report");
+    for (size_t i = 0; i < r->section_count; i++) {
+        p[i].section = &r->sections[i];
+        p[i].replace = advised_replace(r, r->sections[i].index, &p[i].process);
+        if (p[i].replace)
+            continue;
+        sr_err e;
+        sr_err_clear(&e);
+        sr_status st = sr_plan_build(r, r->sections[i].index, opts, &p[i].plan, &e);
+        if (st == SR_E_NOMEM) {
+            plans_release(p, r->section_count);
+            return sr_err_set(err, SR_E_NOMEM, "out of memory building the report's plans");
+        }
+        p[i].built = st == SR_OK;
+        if (!p[i].built)
+            snprintf(p[i].why, sizeof p[i].why, "%s", e.msg[0] ? e.msg : sr_status_str(st));
+    }
+    *out = p;
+    return SR_OK;
+}
+
+/* The build plan section: one row per section with the plan's figures, or why not. */
+static void plan_table(sb *b, const sr_run *r, const report_plan *p)
+{
+    sb_put(b, "<section id=\"plans\"><h2>Build plans</h2>\n");
+    if (r->section_count == 0) {
+        sb_put(b, "<p>No missing section: no build plan.</p></section>\n");
+        return;
+    }
+    bool all_replace = true;
+    for (size_t i = 0; i < r->section_count; i++)
+        all_replace = all_replace && p[i].replace;
+    if (all_replace) {
+        sb_put(b, "<p id=\"no-plan\">No build plan: the advice is to replace the part "
+                  "(beyond repair).</p></section>\n");
+        return;
+    }
+    const sr_plan *any = NULL;
+    for (size_t i = 0; i < r->section_count && !any; i++)
+        if (p[i].built)
+            any = &p[i].plan;
+    if (any)
+        sb_printf(b, "<p class=\"note\">Per section, layer by layer along +z of the aligned "
+                     "frame, as <code>symrec plan RUN --section K</code> writes it: pattern %s, "
+                     "step-over %.3g mm, machining allowance %.3g mm, density %.3g g/cm³, "
+                     "deposition rate %.3g cm³/min. The paths of the selected layer are "
+                     "drawn in the plot above.</p>\n",
+                  sr_plan_pattern_name(any->opts.pattern), any->opts.step_over_mm,
+                  any->opts.allowance_mm, any->opts.density_g_cm3, any->opts.rate_cm3_min);
+    sb_put(b, "<table id=\"plan-table\"><thead><tr><th>section</th><th>advice</th>"
+              "<th>layers</th><th>layer (mm)</th><th>missing (mm³)</th>"
+              "<th>deposit (mm³)</th><th>mass (g)</th><th>build time (min)</th>"
+              "<th>path (mm)</th></tr></thead><tbody>\n");
+    for (size_t i = 0; i < r->section_count; i++) {
+        const report_plan *q = &p[i];
+        sb_printf(b, "<tr class=\"plan\"><td class=\"n\">%zu</td><td>", q->section->index + 1);
+        sb_html(b, q->process[0] ? q->process : "-");
+        if (q->built) {
+            const sr_plan *pl = &q->plan;
+            sb_printf(b,
+                      "</td><td class=\"n\">%zu</td><td class=\"n\">%.3f</td>"
+                      "<td class=\"n\">%.1f</td><td class=\"n\">%.1f</td>"
+                      "<td class=\"n\">%.2f</td><td class=\"n\">%.1f</td>"
+                      "<td class=\"n\">%.0f</td></tr>\n",
+                      pl->layer_count, pl->opts.layer_mm, pl->missing_volume_mm3,
+                      pl->deposit_volume_mm3, pl->deposit_mass_g, pl->build_time_min,
+                      pl->path_length_mm);
+        } else {
+            sb_put(b, "</td><td colspan=\"7\">No build plan: ");
+            if (q->replace)
+                sb_put(b, "the advice is to replace the part (beyond repair).");
+            else
+                sb_html(b, q->why);
+            sb_put(b, "</td></tr>\n");
+        }
+    }
+    sb_put(b, "</tbody></table></section>\n");
+}
+
+/* The plans in the data block: per section {"section", "replace", "why", and when
+ * built "layer_mm", "allowance_mm", "step_over_mm", "layers": [{"zb", "z" (bottom and
+ * top of the layer's slab, mm), "rf", "rl" (the run layers it was built from),
+ * "m" (missing region), "g" (deposit region), "paths": [{"k": 1 ring | 2 raster,
+ * "p": [x, y, ...]}]}]}. */
+static void put_plans(sb *b, const sr_run *r, const report_plan *p)
+{
+    sb_put(b, ",\"plans\":[");
+    for (size_t i = 0; i < r->section_count; i++) {
+        const report_plan *q = &p[i];
+        sb_printf(b, "%s{\"section\":%zu,\"replace\":%s,\"why\":", i ? "," : "",
+                  q->section->index + 1, q->replace ? "true" : "false");
+        if (q->built || q->replace)
+            sb_put(b, "null");
+        else
+            sb_jstr(b, q->why);
+        if (!q->built) {
+            sb_put(b, ",\"layers\":[]}");
+            continue;
+        }
+        const sr_plan *pl = &q->plan;
+        sb_put(b, ",\"layer_mm\":");
+        sb_jnum(b, pl->opts.layer_mm, "%.6g");
+        sb_put(b, ",\"allowance_mm\":");
+        sb_jnum(b, pl->opts.allowance_mm, "%.6g");
+        sb_put(b, ",\"step_over_mm\":");
+        sb_jnum(b, pl->opts.step_over_mm, "%.6g");
+        sb_put(b, ",\"layers\":[");
+        for (size_t k = 0; k < pl->layer_count; k++) {
+            const sr_plan_layer *L = &pl->layers[k];
+            sb_put(b, k ? ",{\"zb\":" : "{\"zb\":");
+            sb_jnum(b, L->z_bottom_mm, "%.5f");
+            sb_put(b, ",\"z\":");
+            sb_jnum(b, L->z_top_mm, "%.5f");
+            sb_printf(b, ",\"rf\":%zu,\"rl\":%zu,\"m\":", L->run_layer_first,
+                      L->run_layer_last);
+            put_poly(b, &L->missing);
+            sb_put(b, ",\"g\":");
+            put_poly(b, &L->region);
+            sb_put(b, ",\"paths\":[");
+            for (size_t c = 0; c < L->paths.contour_count; c++) {
+                sb_printf(b, "%s{\"k\":%d,\"p\":[", c ? "," : "",
+                          L->path_kind ? (int)L->path_kind[c] : 0);
+                for (size_t j = L->paths.start[c]; j < L->paths.start[c + 1]; j++) {
+                    if (j > L->paths.start[c])
+                        sb_put(b, ",");
+                    sb_jnum(b, L->paths.xy[2 * j], "%.5f");
+                    sb_put(b, ",");
+                    sb_jnum(b, L->paths.xy[2 * j + 1], "%.5f");
+                }
+                sb_put(b, "]}");
+            }
+            sb_put(b, "]}");
+        }
+        sb_put(b, "]}");
+    }
+    sb_put(b, "]");
+}
+
 /* ---- static parts ---- */
 
 static const char style[] =
@@ -330,7 +540,9 @@ static const char style[] =
     "max-width:100%}"
     "#layer-plot svg{border:1px solid #d0d6de;background:#fff;max-width:100%;height:auto}"
     ".key{display:inline-block;width:2em;height:0;border-top:3px solid;margin:0 .3em "
-    ".25em 1em}";
+    ".25em 1em}"
+    ".swatch{display:inline-block;width:1.4em;height:.9em;margin:0 .3em -.1em 1em;"
+    "background:#f6b26b;opacity:.6}";
 
 /* The viewer and the outline plot. Plain ES5, no external anything. */
 static const char script[] =
@@ -388,10 +600,23 @@ static const char script[] =
     "draw();\n"
     /* outlines */
     "var sel=document.getElementById('layer-select'),plot=document.getElementById('layer-plot');\n"
+    "var zb=document.getElementById('plot-zoom');\n"
     "var L=data.layers,ex=[Infinity,Infinity,-Infinity,-Infinity];\n"
-    "L.forEach(function(l){[l.d,l.r].forEach(function(a){for(var i=0;i+1<a.length;i+=2)"
+    "function grow(a){for(var i=0;i+1<a.length;i+=2)"
     "{if(a[i]===null||a[i+1]===null)continue;if(a[i]<ex[0])ex[0]=a[i];if(a[i+1]<ex[1])"
-    "ex[1]=a[i+1];if(a[i]>ex[2])ex[2]=a[i];if(a[i+1]>ex[3])ex[3]=a[i+1];}});});\n"
+    "ex[1]=a[i+1];if(a[i]>ex[2])ex[2]=a[i];if(a[i+1]>ex[3])ex[3]=a[i+1];}}\n"
+    "L.forEach(function(l){grow(l.d);grow(l.r);});\n"
+    /* build plans: the plan layers made from run layer i */
+    "var PL=data.plans||[];\n"
+    "PL.forEach(function(p){p.layers.forEach(function(q){q.g.forEach(grow);});});\n"
+    "function planLayers(i){var out=[];PL.forEach(function(p){p.layers.forEach(function(q,k)"
+    "{if(i>=q.rf&&i<=q.rl)out.push({p:p,q:q,k:k});});});return out;}\n"
+    "function area(c,S,cls){var d='';c.forEach(function(a){if(a.length<6)return;d+='M';"
+    "for(var j=0;j+1<a.length;j+=2)d+=(j?' L':'')+fmt(S.x(a[j]))+' '+fmt(S.y(a[j+1]));"
+    "d+=' Z ';});return d?'<path class=\"'+cls+'\" d=\"'+d+'\"/>':'';}\n"
+    "function path(a,S,cls){var pts=[];for(var j=0;j+1<a.length;j+=2)"
+    "pts.push(fmt(S.x(a[j]))+','+fmt(S.y(a[j+1])));"
+    "return pts.length>1?'<polyline class=\"'+cls+'\" points=\"'+pts.join(' ')+'\"/>':'';}\n"
     "function fmt(x){return (Math.round(x*1000)/1000).toString();}\n"
     "function lines(a,S,cls){var n=a.length/2,out='',cur=[];\n"
     " function flush(){if(cur.length>1)out+='<polyline class=\"'+cls+'\" points=\"'+"
@@ -402,15 +627,36 @@ static const char script[] =
     "function plotLayer(){if(!plot)return;if(!L.length||!(ex[2]>=ex[0])){plot.innerHTML="
     "'<p class=\"note\">no per-layer outlines stored with this run</p>';return;}\n"
     " var i=sel?parseInt(sel.value,10):0;if(!(i>=0&&i<L.length))i=0;var l=L[i];\n"
-    " var W=640,H=640,m=30,span=Math.max(ex[2]-ex[0],ex[3]-ex[1],1e-9),k=(W-2*m)/span;\n"
-    " var S={x:function(x){return m+(x-ex[0])*k;},y:function(y){return H-m-(y-ex[1])*k;}};\n"
+    " var pls=planLayers(i),plan='',np=0,E=ex,zoomed=false;\n"
+    /* zoomed to the deposit regions of the layer's plans (with a margin) */
+    " if(zb&&zb.checked&&pls.length){var z=[Infinity,Infinity,-Infinity,-Infinity];\n"
+    "  pls.forEach(function(e){e.q.g.forEach(function(a){for(var j=0;j+1<a.length;j+=2){"
+    "if(a[j]<z[0])z[0]=a[j];if(a[j+1]<z[1])z[1]=a[j+1];if(a[j]>z[2])z[2]=a[j];"
+    "if(a[j+1]>z[3])z[3]=a[j+1];}});});\n"
+    "  if(z[2]>=z[0]){var g=0.15*Math.max(z[2]-z[0],z[3]-z[1])+1;"
+    "E=[z[0]-g,z[1]-g,z[2]+g,z[3]+g];zoomed=true;}}\n"
+    " var W=640,H=640,m=30,span=Math.max(E[2]-E[0],E[3]-E[1],1e-9),k=(W-2*m)/span;\n"
+    " var x0=(E[0]+E[2]-span)/2,y0=(E[1]+E[3]-span)/2;\n"
+    " var S={x:function(x){return m+(x-x0)*k;},y:function(y){return H-m-(y-y0)*k;}};\n"
+    " pls.forEach(function(e){plan+=area(e.q.m,S,'mr')+area(e.q.g,S,'gr');});\n"
+    " pls.forEach(function(e){e.q.paths.forEach(function(t){var s=path(t.p,S,t.k===1?'tp ring':"
+    "'tp raster');if(s){plan+=s;np++;}});});\n"
+    " var cap=pls.length?pls.map(function(e){return 'section '+e.p.section+' plan layer '+"
+    "(e.k+1)+'/'+e.p.layers.length;}).join(', ')+': '+np+' paths':'no build plan in this layer';\n"
     " var svg='<svg viewBox=\"0 0 '+W+' '+H+'\" width=\"'+W+'\" height=\"'+H+'\" role=\"img\">'+"
     "'<style>.dm{fill:none;stroke:#b3261e;stroke-width:2}.rs{fill:none;stroke:#1f5fbf;"
-    "stroke-width:1.5;stroke-dasharray:6 4}</style>'+"
+    "stroke-width:1.5;stroke-dasharray:6 4}.mr{fill:#f6b26b;fill-opacity:.45;stroke:none;"
+    "fill-rule:nonzero}.gr{fill:none;stroke:#8a5a00;stroke-width:1;stroke-dasharray:3 3}"
+    ".tp{fill:none;stroke-width:1.2}.ring{stroke:#0b7a3e}.raster{stroke:#6a1b9a}</style>'+"
+    "plan+lines(l.r,S,'rs')+lines(l.d,S,'dm')+"
+    "'<rect x=\"0\" y=\"0\" width=\"'+W+'\" height=\"44\" fill=\"#fff\" fill-opacity=\".85\"/>'+"
     "'<text x=\"'+m+'\" y=\"20\" font-size=\"13\">layer '+i+', z = '+fmt(l.z)+' mm (aligned "
-    "frame; '+fmt(span)+' mm across)</text>'+lines(l.r,S,'rs')+lines(l.d,S,'dm')+'</svg>';\n"
-    " plot.innerHTML=svg;}\n"
-    "if(sel)sel.addEventListener('change',plotLayer);plotLayer();\n"
+    "frame; '+fmt(span)+' mm across'+(zoomed?', zoomed to the build plan':'')+')</text>'+"
+    "'<text x=\"'+m+'\" y=\"38\" font-size=\"12\" class=\"plan-caption\">'+cap+'</text>'+"
+    "'</svg>';\n"
+    " plot.innerHTML=svg;plot.setAttribute('data-paths',String(np));}\n"
+    "if(sel)sel.addEventListener('change',plotLayer);"
+    "if(zb)zb.addEventListener('change',plotLayer);plotLayer();\n"
     "document.body.setAttribute('data-rendered','1');\n"
     "})();\n";
 
@@ -673,6 +919,12 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
             decimated |= shown[i].tri_count < m->tri_count;
         }
     }
+    report_plan *plans = NULL;
+    if (st == SR_OK) {
+        sr_plan_opts defaults;
+        sr_plan_opts_init(&defaults);
+        st = plans_build(run, opts && opts->plan ? opts->plan : &defaults, &plans, err);
+    }
     if (st != SR_OK) {
         for (size_t i = 0; i < nm; i++)
             sr_mesh_release(&shown[i]);
@@ -755,7 +1007,13 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
         sb_put(&b, "<p class=\"note\">Damaged outline <span class=\"key\" "
                    "style=\"border-color:#b3261e\"></span> and restored outline <span "
                    "class=\"key\" style=\"border-color:#1f5fbf;border-top-style:dashed\">"
-                   "</span> of one layer, in the aligned frame (mm).</p>\n"
+                   "</span> of one layer, in the aligned frame (mm); in a layer with a build "
+                   "plan, the missing region<span class=\"swatch\"></span>, the deposit "
+                   "region (allowance added) <span class=\"key\" style=\"border-color:"
+                   "#8a5a00;border-top-style:dotted\"></span> and the deposition paths: "
+                   "contour rings <span class=\"key\" style=\"border-color:#0b7a3e\">"
+                   "</span> and raster <span class=\"key\" style=\"border-color:#6a1b9a\">"
+                   "</span>.</p>\n"
                    "<p><label>Layer <select id=\"layer-select\">");
         size_t first = run->section_count ? run->sections[0].layer_first : 0;
         if (first >= run->layer_count)
@@ -773,14 +1031,15 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
                 sb_printf(&b, " (section %d)", in);
             sb_put(&b, "</option>");
         }
-        sb_put(&b, "</select></label></p>\n");
+        sb_put(&b, "</select></label> <label><input type=\"checkbox\" id=\"plot-zoom\" "
+                   "checked> zoom to the build plan</label></p>\n");
     } else {
         sb_put(&b, "<p class=\"note\">No per-layer outlines were stored with this run (or "
                    "they were not read).</p>\n");
     }
-    sb_put(&b, "<div id=\"layer-plot\"></div>\n<p class=\"note\">Tool paths per layer: "
-               "see <code>symrec plan RUN</code>.</p>\n</section>\n");
+    sb_put(&b, "<div id=\"layer-plot\"></div>\n</section>\n");
 
+    plan_table(&b, run, plans);
     section_table(&b, run);
     advice_table(&b, run);
     params_tables(&b, run);
@@ -822,13 +1081,22 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
         put_points(&b, run->restored_xy + l * per, run->sectors);
         sb_put(&b, "}");
     }
-    sb_put(&b, "]}</script>\n<script>\n");
+    sb_put(&b, "]");
+    put_plans(&b, run, plans);
+    sb_put(&b, "}</script>\n<script>\n");
     sb_put(&b, script);
     sb_put(&b, "</script>\n</body>\n</html>\n");
 
     for (size_t i = 0; i < nm; i++)
         sr_mesh_release(&shown[i]);
     free(shown);
+    size_t plan_sections = 0, plan_layers = 0, replace_sections = 0;
+    for (size_t i = 0; plans && i < run->section_count; i++) {
+        plan_sections += plans[i].built;
+        plan_layers += plans[i].built ? plans[i].plan.layer_count : 0;
+        replace_sections += plans[i].replace;
+    }
+    plans_release(plans, run->section_count);
     if (b.failed || !b.p) {
         free(b.p);
         return sr_err_set(err, SR_E_NOMEM, "out of memory building the report");
@@ -837,6 +1105,9 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
         info->tri_stored = stored;
         info->tri_shown = tri_shown;
         info->decimated = decimated;
+        info->plan_sections = plan_sections;
+        info->plan_layers = plan_layers;
+        info->replace_sections = replace_sections;
     }
     *out = b.p;
     *out_len = b.len;

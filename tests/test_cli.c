@@ -2991,8 +2991,19 @@ static void report_writes_a_self_contained_page_of_the_run(void **state)
     jv v = parse_json(r.out);
     assert_true(jget(&v, "decimated")->b);
     assert_true(jnum(&v, "triangles_shown") <= 200);
+    /* every section has a build plan (with its layers) or is advised replace */
+    double planned = jnum(&v, "plan_sections"), replaced = jnum(&v, "replace_sections");
+    assert_true(planned + replaced >= 1);
+    assert_true(planned == 0 || jnum(&v, "plan_layers") >= planned);
     jv_release(&v);
     result_free(&r);
+    html = read_text(out);
+    assert_non_null(html);
+    if (planned > 0)
+        expect_contains(html, "<table id=\"plan-table\">");
+    else
+        expect_contains(html, "No build plan: the advice is to replace the part");
+    free(html);
 }
 
 static void report_refuses_a_wrong_run_and_bad_arguments(void **state)

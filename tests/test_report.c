@@ -19,10 +19,14 @@
 #include <string.h>
 
 #include "catalog.h"
+#include "bridge/polygon.h"
 #include "catalog_runs.h"
+#include "plan.h"
 #include "report_html.h"
 #include "shapes.h"
 #include "support/assert_near.h"
+#include "support/json_query.h"
+#include "support/synth_run.h"
 #include "support/tmpdir.h"
 
 typedef struct fixture {
@@ -166,7 +170,7 @@ static size_t count_of(const char *hay, const char *needle)
 
 static char *build(const sr_run *r, size_t budget, sr_report_info *info)
 {
-    sr_report_opts o = {budget, NULL, NULL};
+    sr_report_opts o = {budget, NULL, NULL, NULL};
     char *html = NULL;
     size_t len = 0;
     sr_err err = {{0}};
@@ -363,6 +367,235 @@ static void report_of_a_failed_run_without_meshes(void **state)
     sr_run_release(&r);
 }
 
+/* ---- build plans and tool paths ---- */
+
+/* A shaft r = 20 (10 layers 1 mm apart, 72 sectors of 5 degrees) with a chip 2 mm
+ * deep in layers 2..7, sectors 2..9 (10..50 degrees), as tests/test_plan.c's, made by
+ * tests/support/synth_run.c, stored with the advice `process` for the chip and read
+ * back whole (layers included, or not: `what`). */
+static void chipped_shaft_run(fixture *fx, const char *process, unsigned what, sr_run *out)
+{
+    sr_run r;
+    synth_run_make(&r, 10, 72, 20, 20, 0);
+    sr_run_section *sec = synth_run_dig(&r, 2, 7, 2, 8, 2.0, 0);
+    snprintf(sec->damage_class, sizeof sec->damage_class, "chip");
+    r.instance_id = fx->instance;
+    r.params = (sr_params){"coarse", 10, 72, 0.9, 0.8, 0.07, 0.2, 1.5, ""};
+    r.fit_quality = -1;
+    sr_run_advice adv = {0, 0, "", "", "because", NULL};
+    snprintf(adv.process, sizeof adv.process, "%s", process);
+    r.advice = &adv;
+    r.advice_count = 1;
+    sr_err err = {{0}};
+    int64_t id;
+    if (sr_catalog_run_add(fx->cat, &r, &id, &err) != SR_OK)
+        fail_msg("run add: %s", err.msg);
+    r.advice = NULL;
+    r.advice_count = 0;
+    synth_run_free(&r);
+    if (sr_catalog_run_get(fx->cat, id, what, out, &err) != SR_OK)
+        fail_msg("run get: %s", err.msg);
+}
+
+/* The page's JSON data block, malloc'd. */
+static char *data_block(const char *html)
+{
+    const char *open = "<script type=\"application/json\" id=\"report-data\">";
+    const char *p = strstr(html, open);
+    assert_non_null(p);
+    p += strlen(open);
+    const char *end = strstr(p, "</script>");
+    assert_non_null(end);
+    char *json = strndup(p, (size_t)(end - p));
+    assert_non_null(json);
+    assert_true(jq_valid(json));
+    return json;
+}
+
+/* Reads the numbers of a JSON array of numbers ("[1.5,-2,...]") into xy (cap doubles);
+ * returns how many. */
+static size_t read_numbers(const char *text, double *xy, size_t cap)
+{
+    assert_non_null(text);
+    const char *p = text;
+    assert_int_equal(*p, '[');
+    p++;
+    size_t n = 0;
+    while (*p && *p != ']') {
+        char *end;
+        double v = strtod(p, &end);
+        assert_true(end > p);
+        assert_true(n < cap);
+        xy[n++] = v;
+        p = end;
+        if (*p == ',')
+            p++;
+    }
+    assert_int_equal(*p, ']');
+    return n;
+}
+
+/* A region from the data block ("[[x,y,...],[...]]" at path). */
+static void read_region(const char *json, const char *path, sr_poly2 *out)
+{
+    sr_poly2_init(out);
+    long n = jq_len(json, path);
+    assert_true(n >= 0);
+    static double xy[20000];
+    for (long c = 0; c < n; c++) {
+        char sub[200];
+        snprintf(sub, sizeof sub, "%s[%ld]", path, c);
+        char *text = jq_text(json, sub);
+        size_t k = read_numbers(text, xy, sizeof xy / sizeof xy[0]);
+        free(text);
+        assert_int_equal(k % 2, 0);
+        assert_int_equal(sr_poly2_add_contour(out, xy, k / 2, NULL), SR_OK);
+    }
+}
+
+/* The damaged outline of run layer l as a region. */
+static void damaged_region(const sr_run *r, size_t l, sr_poly2 *out)
+{
+    sr_poly2_init(out);
+    assert_int_equal(sr_poly2_add_contour(out, r->damaged_xy + 2 * l * r->sectors, r->sectors,
+                                          NULL),
+                     SR_OK);
+}
+
+static void report_carries_the_tool_paths_of_every_planned_layer(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    chipped_shaft_run(fx, "spray_forming", SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS, &r);
+    /* the plan `symrec plan` would make: default settings */
+    sr_plan plan;
+    sr_err err = {{0}};
+    assert_int_equal(sr_plan_build(&r, 0, NULL, &plan, &err), SR_OK);
+    assert_int_equal(plan.layer_count, 6); /* run layers 2..7, one plan layer each */
+    sr_report_info info;
+    char *html = build(&r, 0, &info);
+    assert_int_equal(info.plan_sections, 1);
+    assert_int_equal(info.plan_layers, 6);
+    assert_int_equal(info.replace_sections, 0);
+    /* the plan table row: 6 layers of 1 mm */
+    assert_non_null(strstr(html, "<table id=\"plan-table\">"));
+    assert_non_null(strstr(html, "<td>spray_forming</td><td class=\"n\">6</td>"
+                                 "<td class=\"n\">1.000</td>"));
+    char *json = data_block(html);
+    assert_int_equal(jq_len(json, "$.plans"), 1);
+    assert_near(jq_num(json, "$.plans[0].section"), 1, 0);
+    assert_int_equal(jq_len(json, "$.plans[0].layers"), 6);
+    double allowance = jq_num(json, "$.plans[0].allowance_mm");
+    assert_near(allowance, 0.5, 0);
+    size_t points = 0, rings = 0, rasters = 0;
+    static double xy[20000];
+    for (size_t k = 0; k < plan.layer_count; k++) {
+        const sr_plan_layer *L = &plan.layers[k];
+        char path[160];
+        snprintf(path, sizeof path, "$.plans[0].layers[%zu].rf", k);
+        assert_near(jq_num(json, path), (double)L->run_layer_first, 0);
+        snprintf(path, sizeof path, "$.plans[0].layers[%zu].rl", k);
+        assert_near(jq_num(json, path), (double)L->run_layer_last, 0);
+        snprintf(path, sizeof path, "$.plans[0].layers[%zu].z", k);
+        assert_near(jq_num(json, path), L->z_top_mm, 1e-5);
+        /* the missing region as the page carries it: the plan's, to the grid */
+        sr_poly2 missing, grown;
+        snprintf(path, sizeof path, "$.plans[0].layers[%zu].m", k);
+        read_region(json, path, &missing);
+        assert_near(sr_poly2_area(&missing), L->missing_area_mm2, 1e-6);
+        assert_true(L->missing_area_mm2 > 10);
+        sr_poly2_init(&grown);
+        assert_int_equal(sr_poly2_offset(&missing, allowance, 1, &grown, NULL), SR_OK);
+        sr_poly2 dam;
+        damaged_region(&r, L->run_layer_first, &dam);
+        /* the paths: as many as planned, of the planned kinds and lengths, every point
+         * inside the missing region grown by the allowance and never inside the part */
+        snprintf(path, sizeof path, "$.plans[0].layers[%zu].paths", k);
+        assert_int_equal(jq_len(json, path), (long)L->paths.contour_count);
+        assert_true(L->paths.contour_count > 0);
+        for (size_t c = 0; c < L->paths.contour_count; c++) {
+            snprintf(path, sizeof path, "$.plans[0].layers[%zu].paths[%zu].k", k, c);
+            assert_near(jq_num(json, path), L->path_kind[c], 0);
+            rings += L->path_kind[c] == SR_PLAN_PATH_RING;
+            rasters += L->path_kind[c] == SR_PLAN_PATH_RASTER;
+            snprintf(path, sizeof path, "$.plans[0].layers[%zu].paths[%zu].p", k, c);
+            char *text = jq_text(json, path);
+            size_t n = read_numbers(text, xy, sizeof xy / sizeof xy[0]);
+            free(text);
+            assert_int_equal(n, 2 * (L->paths.start[c + 1] - L->paths.start[c]));
+            for (size_t i = 0; i < n; i += 2) {
+                assert_near(xy[i], L->paths.xy[2 * L->paths.start[c] + i], 1e-5);
+                if (sr_poly2_contains(&grown, xy[i], xy[i + 1]) == 0)
+                    fail_msg("layer %zu path %zu point (%g, %g) outside the missing region "
+                             "grown by %g mm", k, c, xy[i], xy[i + 1], allowance);
+                assert_int_not_equal(sr_poly2_contains(&dam, xy[i], xy[i + 1]), 1);
+                points++;
+            }
+        }
+        sr_poly2_release(&dam);
+        sr_poly2_release(&grown);
+        sr_poly2_release(&missing);
+    }
+    assert_true(points > 100);
+    assert_true(rings >= 6);  /* contour+raster: a ring per layer at least */
+    assert_true(rasters > 0);
+    /* the plot draws them: the script knows the plan layers and both kinds of path */
+    assert_non_null(strstr(html, "function planLayers(i)"));
+    assert_non_null(strstr(html, "'tp ring':'tp raster'"));
+    free(json);
+    free(html);
+    sr_plan_release(&plan);
+    sr_run_release(&r);
+}
+
+static void report_of_a_replace_run_says_there_is_no_build_plan(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    chipped_shaft_run(fx, "replace", SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS, &r);
+    sr_report_info info;
+    char *html = build(&r, 0, &info);
+    assert_int_equal(info.plan_sections, 0);
+    assert_int_equal(info.plan_layers, 0);
+    assert_int_equal(info.replace_sections, 1);
+    assert_non_null(strstr(html, "<p id=\"no-plan\">No build plan: the advice is to replace "
+                                 "the part (beyond repair).</p>"));
+    assert_null(strstr(html, "plan-table"));
+    char *json = data_block(html);
+    assert_int_equal(jq_len(json, "$.plans"), 1);
+    char *rep = jq_text(json, "$.plans[0].replace");
+    assert_string_equal(rep, "1");
+    free(rep);
+    assert_int_equal(jq_len(json, "$.plans[0].layers"), 0);
+    free(json);
+    free(html);
+    sr_run_release(&r);
+}
+
+static void a_section_without_a_plan_says_why(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    /* read without the layer polylines: the plan module refuses, the page says why */
+    chipped_shaft_run(fx, "ded", SR_RUN_WITH_MESHES, &r);
+    sr_report_info info;
+    char *html = build(&r, 0, &info);
+    assert_int_equal(info.plan_sections, 0);
+    assert_int_equal(info.replace_sections, 0);
+    char want[128];
+    snprintf(want, sizeof want, "<td colspan=\"7\">No build plan: run %lld has no layer polylines",
+             (long long)r.id);
+    assert_non_null(strstr(html, want));
+    char *json = data_block(html);
+    char *why = jq_text(json, "$.plans[0].why");
+    assert_non_null(why);
+    assert_non_null(strstr(why, "has no layer polylines"));
+    free(why);
+    free(json);
+    free(html);
+    sr_run_release(&r);
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -374,6 +607,9 @@ int main(void)
         T(report_decimates_meshes_over_the_budget_and_says_so),
         cmocka_unit_test(decimate_keeps_a_small_mesh_and_reduces_a_large_one),
         T(report_of_a_failed_run_without_meshes),
+        T(report_carries_the_tool_paths_of_every_planned_layer),
+        T(report_of_a_replace_run_says_there_is_no_build_plan),
+        T(a_section_without_a_plan_says_why),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);

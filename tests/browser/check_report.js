@@ -2,7 +2,8 @@
 // check_report.js: loads a symrec HTML report in a real headless browser and checks
 // that it works: no console error or uncaught exception, no network request, the 3D
 // canvas drawn (pixels that are not the background), the outline plot rendered as SVG,
-// and the feature table with the expected rows.
+// the build plans' tool paths drawn in the plot for the layers that have them (as many
+// as the page's data holds), and the feature table with the expected rows.
 //
 //   node tests/browser/check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER]
 //
@@ -105,7 +106,27 @@ async function main() {
     var svg = plot ? plot.querySelector('svg') : null;
     var rows = document.querySelectorAll('#feature-table tbody tr');
     var classes = Array.prototype.map.call(rows, function (r) { return r.cells[1].textContent; });
-    return { rendered: document.body.getAttribute('data-rendered'), ink: ink,
+    // the build plans: select the run layer of each plan layer in turn (at most 12 of
+    // them) and count the tool paths drawn against the paths in the page's data
+    var data = JSON.parse(document.getElementById('report-data').textContent);
+    var sel = document.getElementById('layer-select'), planned = 0, drawn = 0, want = 0, bad = [];
+    (data.plans || []).forEach(function (p) {
+      p.layers.forEach(function (q, k) {
+        if (!sel || k % Math.max(1, Math.ceil(p.layers.length / 12)) !== 0) return;
+        sel.value = String(q.rf); sel.dispatchEvent(new Event('change'));
+        var n = plot.querySelectorAll('svg polyline.tp').length, w = 0;
+        (data.plans || []).forEach(function (p2) { p2.layers.forEach(function (q2) {
+          if (q.rf >= q2.rf && q.rf <= q2.rl) q2.paths.forEach(function (t) { if (t.p.length >= 4) w++; }); }); });
+        planned++; drawn += n; want += w;
+        if (n !== w || n === 0) bad.push('layer ' + q.rf + ': ' + n + ' of ' + w + ' paths drawn');
+      });
+    });
+    var replaced = (data.plans || []).filter(function (p) { return p.replace; }).length;
+    var noPlan = document.getElementById('no-plan');
+    return { planned: planned, pathsDrawn: drawn, pathsWanted: want, planProblems: bad,
+      replaced: replaced, allReplace: (data.plans || []).length > 0 && replaced === data.plans.length,
+      noPlanText: noPlan ? noPlan.textContent : '',
+      rendered: document.body.getAttribute('data-rendered'), ink: ink,
       canvas: cv ? cv.width * cv.height : 0, svg: !!svg,
       polylines: svg ? svg.querySelectorAll('polyline').length : 0,
       rows: rows.length, classes: classes, title: document.title,
@@ -126,6 +147,9 @@ async function main() {
   check(v.rows === expectedRows, `feature table has ${v.rows} rows, expected ${expectedRows}`);
   check(v.classes.every((c) => c.length > 0), 'a feature row without a damage class');
   check(/^symrec report: run \d+/.test(v.title), `title '${v.title}'`);
+  v.planProblems.forEach((p) => failures.push('tool paths: ' + p));
+  check(!v.allReplace || /No build plan/.test(v.noPlanText),
+    'every section advised replace but the page does not say there is no build plan');
   return v;
 }
 
@@ -139,7 +163,9 @@ function finish(v) {
     process.exit(1);
   }
   console.log(`check_report: ok: ${url}: canvas ${v.ink} px drawn, ${v.polylines} outline ` +
-    `polylines, ${v.rows} feature rows (${v.classes.join(', ')}), ${v.advice} advice rows`);
+    `polylines, ${v.rows} feature rows (${v.classes.join(', ')}), ${v.advice} advice rows, ` +
+    `tool paths drawn in ${v.planned} plan layers (${v.pathsDrawn} paths)` +
+    (v.replaced ? `, ${v.replaced} section(s) advised replace` : ''));
   process.exit(0);
 }
 main().then(finish, (e) => {
