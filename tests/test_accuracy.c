@@ -329,8 +329,8 @@ static void robust_finds_nothing_on_an_intact_part(void **state)
 }
 
 /* Issue 4 item 7 / issue 6: the restored part (the damaged scan united with its
- * patches by CGAL) compared with the intact part by `compare` (compare.h), for the
- * planar parts whose unions are quick: volume within 1 %, surface deviation both ways
+ * patches by CGAL) compared with the intact part by `compare` (compare.h), for every
+ * part but the lever: one closed surface, volume within 1 %, surface deviation both ways
  * mean <= 0.05 mm and max <= 1 mm (measured: see the printed figures). */
 static void robust_restored_part_matches_the_intact_part(void **state)
 {
@@ -483,7 +483,7 @@ static void truth_reader_reports_a_missing_file(void **state)
 int main(void)
 {
     enum { NR = sizeof robust_cases / sizeof robust_cases[0] };
-    struct CMUnitTest tests[sizeof cases / sizeof cases[0] + 2 * NR + 3 + 4];
+    struct CMUnitTest tests[sizeof cases / sizeof cases[0] + 2 * NR + 8 + 4];
     static char rnames[2 * NR][96];
     size_t n = 0;
     static char names[sizeof cases / sizeof cases[0]][96];
@@ -503,10 +503,16 @@ int main(void)
         tests[n++] = (struct CMUnitTest){rnames[2 * i + 1], robust_finds_nothing_on_an_intact_part,
                                          NULL, NULL, (void *)&robust_cases[i]};
     }
-    static const char *const compared[] = {"rail_glide_chipped", "bracket_broken_ear",
-                                           "u_clamp_broken_arm"};
-    static char cnames[3][96];
-    for (size_t i = 0; i < 3; i++) {
+    /* every part but the lever (its known shortfall): before the patch regions were
+     * closed against 10 um slits, thin voids left inside the patch put internal faces
+     * 5 mm deep into the restored axial parts (max deviation 4-6 mm) */
+    static const char *const compared[] = {
+        "shaft_chipped_shoulder", "bushing_gouged",     "keyed_shaft_dent",
+        "flange_broken_rim",      "spur_gear_broken_tooth", "rail_glide_chipped",
+        "bracket_broken_ear",     "u_clamp_broken_arm"};
+    enum { NC = sizeof compared / sizeof compared[0] };
+    static char cnames[NC][96];
+    for (size_t i = 0; i < NC; i++) {
         snprintf(cnames[i], sizeof cnames[i], "%s_robust_restored_matches_intact", compared[i]);
         tests[n++] = (struct CMUnitTest){cnames[i], robust_restored_part_matches_the_intact_part,
                                          NULL, NULL, (void *)compared[i]};
