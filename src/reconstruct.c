@@ -3,6 +3,9 @@
  */
 #include "reconstruct.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -211,8 +214,52 @@ static sr_status paper_union_patches(const sr_layer_grid *grid, const sr_analysi
     return SR_OK;
 }
 
+/* out = the scan followed by the patches (aligned frame, mapped back by the inverse of
+ * xf) as separate shells, allocated once at its final size. */
+static sr_status concatenate(const sr_mesh *scan, const double xf[12], const sr_section *secs,
+                             size_t count, sr_mesh *out)
+{
+    size_t nv = scan->vertex_count, nt = scan->tri_count;
+    for (size_t i = 0; i < count; i++) {
+        nv += secs[i].patch.vertex_count;
+        nt += secs[i].patch.tri_count;
+    }
+    sr_mesh m;
+    sr_status st = sr_mesh_alloc(&m, nv, nt);
+    if (st != SR_OK)
+        return st;
+    memcpy(m.xyz, scan->xyz, scan->vertex_count * 3 * sizeof(double));
+    memcpy(m.tri, scan->tri, scan->tri_count * 3 * sizeof(uint32_t));
+    double inv[12];
+    sr_xform_rigid_inverse(inv, xf);
+    size_t v0 = scan->vertex_count, t0 = scan->tri_count;
+    for (size_t i = 0; i < count; i++) {
+        const sr_mesh *p = &secs[i].patch;
+        for (size_t v = 0; v < p->vertex_count; v++)
+            sr_xform_apply(inv, p->xyz + 3 * v, m.xyz + 3 * (v0 + v));
+        for (size_t k = 0; k < 3 * p->tri_count; k++)
+            m.tri[3 * t0 + k] = p->tri[k] + (uint32_t)v0;
+        v0 += p->vertex_count;
+        t0 += p->tri_count;
+    }
+    *out = m;
+    return SR_OK;
+}
+
 /* The scan in the aligned frame: its own vertex array, the scan's triangle array
  * borrowed (never written, never freed here). */
+/* Gives the heap's free memory back to the system (glibc). The alignment's grid and the
+ * aligned copy are tens of MB on a big scan; glibc keeps freed blocks of that size in
+ * its heap (its mmap threshold grows with every large block freed), so without this the
+ * restored mesh would be allocated on top of them and the process's peak would count
+ * both. */
+static void heap_trim(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
+
 static sr_status aligned_make(const sr_mesh *scan, const double xf[12], sr_mesh *out)
 {
     double *xyz = malloc((scan->vertex_count ? scan->vertex_count : 1) * 3 * sizeof(double));
@@ -256,6 +303,7 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
         if (st != SR_OK)
             goto fail;
     }
+    heap_trim(); /* the alignment's structures */
     st = aligned_make(scan, r.alignment.xform, &aligned);
     if (st != SR_OK) {
         sr_err_set(err, st, "out of memory copying the scan");
@@ -305,8 +353,9 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
 
     /* the aligned copy is done with: free it before the restored mesh is made */
     aligned_release(&aligned);
+    heap_trim();
     if (opts->skip_union) {
-        st = sr_mesh_copy(&r.restored, scan);
+        st = concatenate(scan, r.alignment.xform, r.sections, r.section_count, &r.restored);
         if (st != SR_OK) {
             sr_err_set(err, st, "out of memory joining patches");
             goto fail;
@@ -332,14 +381,6 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
         sr_mesh_transform(&r.sections[i].patch, inv);
         r.patch_volume_mm3 += r.sections[i].volume_mm3;
     }
-    if (opts->skip_union)
-        for (size_t i = 0; i < r.section_count; i++) {
-            st = sr_mesh_append(&r.restored, &r.sections[i].patch);
-            if (st != SR_OK) {
-                sr_err_set(err, st, "out of memory joining patches");
-                goto fail;
-            }
-        }
     r.timings.union_s = now_s() - t;
     r.scan_volume_mm3 = sr_mesh_volume(scan);
     r.restored_volume_mm3 = sr_mesh_volume(&r.restored);
