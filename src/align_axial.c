@@ -27,6 +27,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define NL_MAX 200000
+
 /* Area-weighted median of |res| (sorts a copy of index pairs by value). */
 typedef struct wres {
     double r, w;
@@ -47,22 +49,26 @@ bool al_axial_normal_lines(const al_surface *s, double a_out[3], double c_out[3]
     double a[3] = {0, 0, 1}, abar[3] = {0, 0, 0};
     double cut = INFINITY;
     bool ok = false;
+    /* on a big scan every k-th triangle (at most ~NL_MAX of them): the estimate is only a
+     * candidate for the ICP, and eight weighted passes over a million triangles took
+     * 0.2 s; scans up to NL_MAX triangles use all of them */
+    size_t step = s->count > NL_MAX ? (s->count + NL_MAX - 1) / NL_MAX : 1;
     for (int iter = 0; iter < 8; iter++) {
         double M[36] = {0};
-        for (size_t i = 0; i < s->count; i++) {
-            const uint32_t *f = s->mesh->tri + 3 * (size_t)s->tri[i];
+        for (size_t i = 0; i < s->count; i += step) {
+            const uint32_t *f = s->mesh->tri + 3 * al_tri_of(s, i);
             const double *pa = s->mesh->xyz + 3 * (size_t)f[0],
                          *pb = s->mesh->xyz + 3 * (size_t)f[1],
                          *pc = s->mesh->xyz + 3 * (size_t)f[2];
             double p[3], z[6];
             for (int k = 0; k < 3; k++)
                 p[k] = (pa[k] + pb[k] + pc[k]) / 3 - g[k];
-            const double *n = s->nrm + 3 * i;
+            double n[3], w;
+            al_surface_normal(s, i, n, &w);
             v3_cross(p, n, z);
             z[3] = n[0];
             z[4] = n[1];
             z[5] = n[2];
-            double w = s->area[i];
             if (iter > 0) {
                 double r = fabs(v3_dot(a, z) + v3_dot(abar, n));
                 if (!(r < cut))
@@ -139,18 +145,19 @@ bool al_axial_normal_lines(const al_surface *s, double a_out[3], double c_out[3]
         double wsum = 0;
         size_t stride = s->count > 20000 ? s->count / 20000 : 1, nres = 0;
         for (size_t i = 0; i < s->count; i += stride) {
-            const uint32_t *f = s->mesh->tri + 3 * (size_t)s->tri[i];
+            const uint32_t *f = s->mesh->tri + 3 * al_tri_of(s, i);
             const double *pa = s->mesh->xyz + 3 * (size_t)f[0],
                          *pb = s->mesh->xyz + 3 * (size_t)f[1],
                          *pc = s->mesh->xyz + 3 * (size_t)f[2];
             double p[3], z[3];
             for (int k = 0; k < 3; k++)
                 p[k] = (pa[k] + pb[k] + pc[k]) / 3 - g[k];
-            const double *n = s->nrm + 3 * i;
+            double n[3], area;
+            al_surface_normal(s, i, n, &area);
             v3_cross(p, n, z);
             res[nres].r = fabs(v3_dot(a, z) + v3_dot(abar, n));
-            res[nres].w = s->area[i];
-            wsum += s->area[i];
+            res[nres].w = area;
+            wsum += area;
             nres++;
         }
         qsort(res, nres, sizeof *res, wres_cmp);

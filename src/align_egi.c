@@ -82,8 +82,11 @@ int al_egi_mirror_normals(const al_surface *s, double (*out)[3], int max_out)
     int found = 0;
     if (!h || !e || !cen || !dir || !score)
         goto done;
-    for (size_t i = 0; i < s->count; i++)
-        h[bin_of(s->nrm + 3 * i)] += s->area[i];
+    for (size_t i = 0; i < s->count; i++) {
+        double n[3], area;
+        al_surface_normal(s, i, n, &area);
+        h[bin_of(n)] += area;
+    }
     for (int b = 0; b < NBIN; b++)
         bin_center(b, cen + 3 * b);
     /* tent blur: weight 1 - angle / BLUR, so the score falls off smoothly with the

@@ -87,25 +87,39 @@ void al_rot_axis(const double k[3], double ang, double r[9]);
 typedef struct al_surface {
     const sr_mesh *mesh;
     size_t count;          /* triangles with non-zero area */
-    uint32_t *tri;         /* count indices into mesh->tri */
-    double *nrm;           /* count by 3 unit outward normals */
-    double *area;          /* count areas, mm^2 */
+    uint32_t *tri;         /* count indices into mesh->tri; NULL when every triangle has
+                            * an area (the identity: use al_tri_of) */
+    float *nrm;            /* count by 3 unit outward normals, rounded to float: only to
+                            * skip far triangles (with a margin); the exact normal is
+                            * recomputed where it is used (al_surface_normal) */
     double total_area;
     double centroid[3];    /* area centroid of the surface */
     double cov[9];         /* area-weighted covariance of the surface about centroid */
     double bmin[3], bmax[3];
     double diag;           /* bounding-box diagonal, mm */
-    /* uniform grid of triangles (indices into tri) for closest-point queries */
+    /* uniform grid of triangles (indices into tri) for closest-point queries, stored by
+     * bricks of 4 x 4 x 4 cells: only bricks the surface passes through hold cells */
     double origin[3];
     double cell;
-    int dim[3];
-    uint32_t *cell_start;  /* dim[0]*dim[1]*dim[2] + 1 offsets into cell_items */
+    int dim[3];            /* cells */
+    int bdim[3];           /* bricks */
+    uint32_t *brick_slot;  /* per brick: its slot, or UINT32_MAX (no triangle) */
+    uint32_t *cell_start;  /* slots * 64 + 1 offsets into cell_items */
     uint32_t *cell_items;
-    uint8_t *empty_rings;  /* per cell: Chebyshev distance (in cells, <= 255) to the
-                            * nearest cell holding a triangle */
+    uint8_t *brick_rings;  /* per brick: Chebyshev distance (in bricks, <= 255) to the
+                            * nearest brick holding a triangle */
     uint32_t *stamp;       /* count: last query that tested the triangle */
     uint32_t stamp_id;
 } al_surface;
+
+/* The mesh triangle of surface triangle i. */
+static inline size_t al_tri_of(const al_surface *s, size_t i)
+{
+    return s->tri ? (size_t)s->tri[i] : i;
+}
+
+/* Unit normal (exactly as the surface was built) and area of surface triangle i. */
+void al_surface_normal(const al_surface *s, size_t i, double n[3], double *area);
 
 /* Builds the surface data and grid of a validated mesh. SR_E_INVALID when no triangle
  * has an area, SR_E_NOMEM. On failure *s is released. */

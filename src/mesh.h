@@ -73,10 +73,14 @@ typedef struct sr_mesh_edges {
     size_t boundary_edges;      /* edges used by exactly one triangle */
     size_t nonmanifold_edges;   /* edges used by three or more triangles */
     size_t misoriented_edges;   /* two-triangle edges traversed the same way by both */
+    size_t nonmanifold_vertices;/* vertices whose triangles form more than one fan
+                                 * (triangles joined across the edges they share at
+                                 * the vertex): two cones touching at their tips */
 } sr_mesh_edges;
 
-/* Counts edges by use. A mesh is closed when boundary and non-manifold edges are 0,
- * and consistently oriented when misoriented_edges is 0 too. */
+/* Counts edges by use, and vertices by fan. A mesh is closed when boundary and
+ * non-manifold edges are 0, and consistently oriented when misoriented_edges is 0 too;
+ * it is a manifold surface when nonmanifold_vertices is 0 as well. */
 sr_status sr_mesh_edge_stats(const sr_mesh *mesh, sr_mesh_edges *out);
 
 /* True when every edge is shared by exactly two triangles, traversed in opposite

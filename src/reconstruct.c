@@ -3,7 +3,11 @@
  */
 #include "reconstruct.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -47,29 +51,45 @@ void sr_recon_result_release(sr_recon_result *r)
     memset(r, 0, sizeof *r);
 }
 
-/* restored = aligned scan ∪ every patch (aligned frame). A union refused as invalid is
- * retried once after sr_mesh_repair of both (zero-area triangles removed); if it still
- * fails (e.g. a noisy scan crossing itself where the patch goes), the patches are
- * concatenated and union_note says why. */
-static sr_status unite(const sr_mesh *aligned, sr_recon_result *r, sr_err *err)
+/* restored = scan ∪ every patch, in the scan's frame. The patches are in the aligned
+ * frame (xf: scan -> aligned); each union is local (sr_boolean_union_local: only the
+ * scan's triangles near the patch go through CGAL, mapped into the aligned frame, and
+ * the scan's other vertices keep their coordinates); the first makes the restored mesh,
+ * the next ones grow it in place, so the scan is never copied twice. A union refused as invalid is retried once after
+ * sr_mesh_repair of both (zero-area triangles removed); if it still fails (e.g. a noisy
+ * scan crossing itself where the patch goes), the patches are concatenated and
+ * union_note says why. */
+static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
+                       const sr_mesh *upatches, sr_err *err)
 {
-    sr_mesh acc;
-    sr_status st = sr_mesh_copy(&acc, aligned);
-    if (st != SR_OK)
-        return sr_err_set(err, st, "out of memory copying the scan");
+    sr_mesh acc = {0};
+    int owned = 0; /* acc holds the restored mesh so far; until then it is the scan */
     r->restored_by_union = 1;
     int scan_repaired = 0;
+    sr_status st;
     for (size_t i = 0; i < r->section_count; i++) {
-        sr_mesh next = {0};
         sr_err uerr = {{0}};
         sr_status us = SR_E_INVALID;
+        const sr_mesh *up = upatches ? &upatches[i] : &r->sections[i].patch;
         if (r->restored_by_union) {
-            us = sr_boolean_union(&acc, &r->sections[i].patch, &next, &uerr);
+            sr_mesh next = {0};
+            us = sr_boolean_union_local(owned ? &acc : scan, NULL, xf, up, NULL, 0,
+                                        owned ? &acc : &next, NULL, &uerr);
+            if (us == SR_OK && !owned) {
+                acc = next;
+                owned = 1;
+            }
             if (us == SR_E_INVALID) {
                 sr_repair_report ra = {0}, rb = {0};
                 sr_mesh patch = {0};
                 sr_err rerr = {{0}};
-                if (sr_mesh_copy(&patch, &r->sections[i].patch) == SR_OK &&
+                if (!owned) {
+                    st = sr_mesh_copy(&acc, scan);
+                    if (st != SR_OK)
+                        return sr_err_set(err, st, "out of memory copying the scan");
+                    owned = 1;
+                }
+                if (sr_mesh_copy(&patch, up) == SR_OK &&
                     sr_mesh_repair(&acc, 1, &ra, &rerr) == SR_OK &&
                     sr_mesh_repair(&patch, 0, &rb, &rerr) == SR_OK && (ra.changed || rb.changed)) {
                     if (ra.changed && !scan_repaired) {
@@ -78,27 +98,186 @@ static sr_status unite(const sr_mesh *aligned, sr_recon_result *r, sr_err *err)
                                  "scan repaired for the union: %zu zero-area triangles removed",
                                  ra.degenerate_removed);
                     }
-                    us = sr_boolean_union(&acc, &patch, &next, &uerr);
+                    us = sr_boolean_union_local(&acc, NULL, xf, &patch, NULL, 0, &acc, NULL,
+                                                &uerr);
                 }
                 sr_mesh_release(&patch);
             }
         }
-        if (us == SR_OK) {
-            sr_mesh_release(&acc);
-            acc = next;
+        if (us == SR_OK)
             continue;
-        }
         if (r->restored_by_union)
             snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1, uerr.msg);
         r->restored_by_union = 0;
-        st = sr_mesh_append(&acc, &r->sections[i].patch);
+        st = SR_OK;
+        if (!owned) {
+            st = sr_mesh_copy(&acc, scan);
+            owned = st == SR_OK;
+        }
+        sr_mesh moved = {0};
+        if (st == SR_OK)
+            st = sr_mesh_copy(&moved, &r->sections[i].patch);
+        if (st == SR_OK) {
+            double inv[12];
+            sr_xform_rigid_inverse(inv, xf);
+            sr_mesh_transform(&moved, inv);
+            st = sr_mesh_append(&acc, &moved);
+        }
+        sr_mesh_release(&moved);
         if (st != SR_OK) {
             sr_mesh_release(&acc);
             return sr_err_set(err, st, "out of memory joining patches");
         }
     }
+    if (!owned) { /* nothing to unite: the scan itself */
+        st = sr_mesh_copy(&acc, scan);
+        if (st != SR_OK)
+            return sr_err_set(err, st, "out of memory copying the scan");
+    }
     r->restored = acc;
     return SR_OK;
+}
+
+/* Paper method: the patches the union uses. Alg. 6's blocks have their inner face at the
+ * damaged radius sampled at the layer's centre, a staircase that weaves through the
+ * fracture surface between the samples: uniting it with the scan cuts tens of thousands
+ * of fine scan triangles (2 s on a 1M-triangle scan) and leaves slivers of the fracture
+ * surface and thin voids between the steps in the restored part. For the union each
+ * damaged cell's inner radius is taken down to the least damaged radius of its 3 x 3
+ * neighbourhood less 0.01 mm (never by more than the cell's depth), so the inner face
+ * lies inside the material and only the rim of the patch cuts the scan. The reported
+ * patches and volumes stay Alg. 6's. *out[i] pairs with sections[i]; on failure the
+ * caller unites the reported patches. */
+static sr_status paper_union_patches(const sr_layer_grid *grid, const sr_analysis *an,
+                                     const sr_section *sections, size_t count,
+                                     sr_mesh **out)
+{
+    size_t L = grid->layers, N = grid->sectors, cells = L * N;
+    double *r = malloc((cells ? cells : 1) * sizeof *r);
+    if (!r)
+        return SR_E_NOMEM;
+    for (size_t l = 0; l < L; l++)
+        for (size_t j = 0; j < N; j++) {
+            size_t c = l * N + j;
+            r[c] = grid->r[c];
+            if (!an->damaged[c] || !(grid->r[c] > 0))
+                continue;
+            double lo = grid->r[c];
+            for (long dl = -1; dl <= 1; dl++)
+                for (long dj = -1; dj <= 1; dj++) {
+                    long ll = (long)l + dl, jj = ((long)j + dj + (long)N) % (long)N;
+                    if (ll < 0 || ll >= (long)L)
+                        continue;
+                    double v = grid->r[(size_t)ll * N + (size_t)jj];
+                    if (v > 0 && v < lo)
+                        lo = v;
+                }
+            double depth = an->restored_r[c] - grid->r[c];
+            double want = lo - 0.01;
+            if (want < grid->r[c] - depth)
+                want = grid->r[c] - depth;
+            r[c] = want > 0 ? want : grid->r[c];
+        }
+    sr_layer_grid g2 = *grid;
+    g2.r = r;
+    sr_section *secs = NULL;
+    size_t n = 0;
+    sr_status st = sr_patch_build(&g2, an, &secs, &n, NULL);
+    free(r);
+    if (st != SR_OK)
+        return st;
+    sr_mesh *m = calloc(count ? count : 1, sizeof *m);
+    if (!m || n != count) {
+        free(m);
+        sr_sections_release(secs, n);
+        return m ? SR_E_INTERNAL : SR_E_NOMEM;
+    }
+    /* same cells, other volumes: pair them by their cells, not by their order */
+    for (size_t i = 0; i < count; i++)
+        for (size_t k = 0; k < n; k++)
+            if (secs[k].patch.tri && secs[k].layer_first == sections[i].layer_first &&
+                secs[k].sector_first == sections[i].sector_first &&
+                secs[k].cell_count == sections[i].cell_count) {
+                m[i] = secs[k].patch;
+                memset(&secs[k].patch, 0, sizeof secs[k].patch);
+                break;
+            }
+    sr_sections_release(secs, n);
+    for (size_t i = 0; i < count; i++)
+        if (!m[i].tri) {
+            for (size_t k = 0; k < count; k++)
+                sr_mesh_release(&m[k]);
+            free(m);
+            return SR_E_INTERNAL;
+        }
+    *out = m;
+    return SR_OK;
+}
+
+/* out = the scan followed by the patches (aligned frame, mapped back by the inverse of
+ * xf) as separate shells, allocated once at its final size. */
+static sr_status concatenate(const sr_mesh *scan, const double xf[12], const sr_section *secs,
+                             size_t count, sr_mesh *out)
+{
+    size_t nv = scan->vertex_count, nt = scan->tri_count;
+    for (size_t i = 0; i < count; i++) {
+        nv += secs[i].patch.vertex_count;
+        nt += secs[i].patch.tri_count;
+    }
+    sr_mesh m;
+    sr_status st = sr_mesh_alloc(&m, nv, nt);
+    if (st != SR_OK)
+        return st;
+    memcpy(m.xyz, scan->xyz, scan->vertex_count * 3 * sizeof(double));
+    memcpy(m.tri, scan->tri, scan->tri_count * 3 * sizeof(uint32_t));
+    double inv[12];
+    sr_xform_rigid_inverse(inv, xf);
+    size_t v0 = scan->vertex_count, t0 = scan->tri_count;
+    for (size_t i = 0; i < count; i++) {
+        const sr_mesh *p = &secs[i].patch;
+        for (size_t v = 0; v < p->vertex_count; v++)
+            sr_xform_apply(inv, p->xyz + 3 * v, m.xyz + 3 * (v0 + v));
+        for (size_t k = 0; k < 3 * p->tri_count; k++)
+            m.tri[3 * t0 + k] = p->tri[k] + (uint32_t)v0;
+        v0 += p->vertex_count;
+        t0 += p->tri_count;
+    }
+    *out = m;
+    return SR_OK;
+}
+
+/* The scan in the aligned frame: its own vertex array, the scan's triangle array
+ * borrowed (never written, never freed here). */
+/* Gives the heap's free memory back to the system (glibc). The alignment's grid and the
+ * aligned copy are tens of MB on a big scan; glibc keeps freed blocks of that size in
+ * its heap (its mmap threshold grows with every large block freed), so without this the
+ * restored mesh would be allocated on top of them and the process's peak would count
+ * both. */
+static void heap_trim(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
+
+static sr_status aligned_make(const sr_mesh *scan, const double xf[12], sr_mesh *out)
+{
+    double *xyz = malloc((scan->vertex_count ? scan->vertex_count : 1) * 3 * sizeof(double));
+    if (!xyz)
+        return SR_E_NOMEM;
+    for (size_t v = 0; v < scan->vertex_count; v++)
+        sr_xform_apply(xf, scan->xyz + 3 * v, xyz + 3 * v);
+    out->xyz = xyz;
+    out->tri = scan->tri;
+    out->vertex_count = scan->vertex_count;
+    out->tri_count = scan->tri_count;
+    return SR_OK;
+}
+
+static void aligned_release(sr_mesh *m)
+{
+    free(m->xyz);
+    memset(m, 0, sizeof *m);
 }
 
 sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
@@ -124,12 +303,12 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
         if (st != SR_OK)
             goto fail;
     }
-    st = sr_mesh_copy(&aligned, scan);
+    heap_trim(); /* the alignment's structures */
+    st = aligned_make(scan, r.alignment.xform, &aligned);
     if (st != SR_OK) {
         sr_err_set(err, st, "out of memory copying the scan");
         goto fail;
     }
-    sr_mesh_transform(&aligned, r.alignment.xform);
     r.timings.align_s = now_s() - t;
     t = now_s();
 
@@ -172,38 +351,44 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     r.timings.patch_s = now_s() - t;
     t = now_s();
 
+    /* the aligned copy is done with: free it before the restored mesh is made */
+    aligned_release(&aligned);
+    heap_trim();
     if (opts->skip_union) {
-        st = sr_mesh_copy(&r.restored, &aligned);
-        for (size_t i = 0; st == SR_OK && i < r.section_count; i++)
-            st = sr_mesh_append(&r.restored, &r.sections[i].patch);
+        st = concatenate(scan, r.alignment.xform, r.sections, r.section_count, &r.restored);
         if (st != SR_OK) {
             sr_err_set(err, st, "out of memory joining patches");
             goto fail;
         }
         snprintf(r.union_note, sizeof r.union_note, "union skipped on request");
     } else {
-        st = unite(&aligned, &r, err);
+        sr_mesh *upatches = NULL;
+        if (opts->method == SR_METHOD_PAPER && r.section_count &&
+            paper_union_patches(&r.grid, &r.analysis, r.sections, r.section_count,
+                                &upatches) != SR_OK)
+            upatches = NULL; /* the reported patches are united instead */
+        st = unite(scan, r.alignment.xform, &r, upatches, err);
+        for (size_t i = 0; upatches && i < r.section_count; i++)
+            sr_mesh_release(&upatches[i]);
+        free(upatches);
         if (st != SR_OK)
             goto fail;
     }
-    r.timings.union_s = now_s() - t;
-
-    /* back to the scan's frame */
+    /* the patches back to the scan's frame */
     double inv[12];
     sr_xform_rigid_inverse(inv, r.alignment.xform);
     for (size_t i = 0; i < r.section_count; i++) {
         sr_mesh_transform(&r.sections[i].patch, inv);
         r.patch_volume_mm3 += r.sections[i].volume_mm3;
     }
-    sr_mesh_transform(&r.restored, inv);
+    r.timings.union_s = now_s() - t;
     r.scan_volume_mm3 = sr_mesh_volume(scan);
     r.restored_volume_mm3 = sr_mesh_volume(&r.restored);
     r.timings.total_s = now_s() - t0;
-    sr_mesh_release(&aligned);
     *out = r;
     return SR_OK;
 fail:
-    sr_mesh_release(&aligned);
+    aligned_release(&aligned);
     sr_recon_result_release(&r);
     return st;
 }

@@ -130,6 +130,51 @@ static void one_flipped_face_is_misoriented(void **state)
     sr_mesh_release(&m);
 }
 
+/* Two cubes sharing one corner vertex: every edge is fine, the vertex has two fans. */
+static void cubes_sharing_a_corner_have_a_nonmanifold_vertex(void **state)
+{
+    sr_mesh m, second;
+    make_cube(&m);
+    make_cube(&second);
+    double t[12] = {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1};
+    sr_mesh_transform(&second, t);
+    assert_int_equal(sr_mesh_append(&m, &second), SR_OK);
+    sr_mesh_release(&second);
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(&m, &e), SR_OK);
+    assert_int_equal(e.nonmanifold_vertices, 0); /* two separate cubes so far */
+    /* weld the second cube's (1,1,1) corner onto the first's */
+    uint32_t keep = UINT32_MAX, drop = UINT32_MAX;
+    for (uint32_t v = 0; v < m.vertex_count; v++) {
+        const double *p = m.xyz + 3 * v;
+        if (p[0] == 1 && p[1] == 1 && p[2] == 1) {
+            if (keep == UINT32_MAX)
+                keep = v;
+            else
+                drop = v;
+        }
+    }
+    assert_true(drop != UINT32_MAX);
+    for (size_t i = 0; i < 3 * m.tri_count; i++)
+        if (m.tri[i] == drop)
+            m.tri[i] = keep;
+    assert_int_equal(sr_mesh_edge_stats(&m, &e), SR_OK);
+    assert_int_equal(e.edge_count, 36);
+    assert_int_equal(e.boundary_edges, 0);
+    assert_int_equal(e.nonmanifold_edges, 0);
+    assert_int_equal(e.nonmanifold_vertices, 1);
+    assert_true(sr_mesh_is_closed(&m)); /* closed: edges only */
+    /* an open fan is one fan: a cube without one face has none */
+    sr_mesh c;
+    make_cube(&c);
+    c.tri_count = 10;
+    assert_int_equal(sr_mesh_edge_stats(&c, &e), SR_OK);
+    assert_int_equal(e.boundary_edges, 4);
+    assert_int_equal(e.nonmanifold_vertices, 0);
+    sr_mesh_release(&m);
+    sr_mesh_release(&c);
+}
+
 static void three_faces_on_an_edge_are_nonmanifold(void **state)
 {
     sr_mesh m, extra;
@@ -324,6 +369,7 @@ int main(void)
         cmocka_unit_test(missing_face_gives_boundary_edges),
         cmocka_unit_test(one_flipped_face_is_misoriented),
         cmocka_unit_test(three_faces_on_an_edge_are_nonmanifold),
+        cmocka_unit_test(cubes_sharing_a_corner_have_a_nonmanifold_vertex),
         cmocka_unit_test(validate_accepts_cube),
         cmocka_unit_test(validate_rejects_empty),
         cmocka_unit_test(validate_rejects_nan_and_names_vertex),

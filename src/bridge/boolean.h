@@ -26,6 +26,38 @@
  * In messages the inputs are called 'first mesh' and 'second mesh'. */
 sr_status sr_boolean_union(const sr_mesh *a, const sr_mesh *b, sr_mesh *out, sr_err *err);
 
+/* out = a ∪ b as sr_boolean_compute(SR_BOOLEAN_UNION, a, a_what, b, b_what, ...) gives
+ * it (same refusals, same surface up to the order of vertices and triangles and to
+ * how a flat polygon cut by the other mesh is split into triangles), for a large a and
+ * a small b: a scan and a patch. Only a's triangles near b (their bounding boxes meet
+ * b's grown by margin_mm; 0 = 1 % of b's bounding-box diagonal) go through CGAL; the
+ * rest of a is copied as it is, so a million-triangle scan is united in a fraction of a
+ * second and CGAL's structures stay small. a is still checked whole (closed, manifold
+ * edges and vertices, oriented, not inside out, no zero-area triangle) but for
+ * crossings only near b (after b's own checks, unlike sr_boolean_compute).
+ *
+ * a_to_b (3x4 rigid, may be NULL = the same frame): b is given in another frame than a;
+ * the union is computed on a mapped by a_to_b (the neighbourhood's vertices only) and
+ * the result is in a's frame: a's vertices keep their coordinates bit for bit, the new
+ * ones are mapped back by the inverse. (A patch built in an aligned frame stays exactly
+ * as built; mapping it into the scan's frame could round touching faces into
+ * crossing ones.)
+ *
+ * When the local union cannot be trusted (b meets no triangle of a, or a component of
+ * it does not, so it lies wholly inside or outside a; the united neighbourhood does not
+ * close up with the rest; CGAL failed on the neighbourhood) the whole-mesh union runs
+ * instead and info->fallback says why. out may be a (a's arrays are then grown and
+ * reused, no second copy of a) or b. info may be NULL. margin_mm negative or not
+ * finite: SR_E_RANGE. */
+typedef struct sr_local_union_info {
+    int local;                  /* 1: united locally; 0: the whole-mesh union ran */
+    size_t neighbourhood_tris;  /* a's triangles in the neighbourhood */
+    char fallback[160];         /* why the whole-mesh union ran ("" when it did not) */
+} sr_local_union_info;
+sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const double *a_to_b,
+                                 const sr_mesh *b, const char *b_what, double margin_mm,
+                                 sr_mesh *out, sr_local_union_info *info, sr_err *err);
+
 /* out = a ∩ b and out = a \ b, same contract. */
 sr_status sr_boolean_intersection(const sr_mesh *a, const sr_mesh *b, sr_mesh *out,
                                   sr_err *err);

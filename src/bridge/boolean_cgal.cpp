@@ -12,6 +12,13 @@
  * halfedge mesh, not self-intersecting; every refusal is SR_E_INVALID naming the input.
  * The result is checked after (CGAL::is_closed, then sr_mesh_is_closed on the arrays).
  *
+ * The local union (sr_boolean_union_local, see the comment above union_local) runs the
+ * same corefinement on a scan's neighbourhood of a patch only, takes CGAL's own
+ * classification of the corefined patches (its output builder's "classify patches"
+ * mode, through a visitor), assembles the union of the neighbourhood from it and
+ * splices it into the untouched rest of the scan; it falls back to the whole-mesh union
+ * whenever the result would not close up.
+ *
  * Deviation samples every vertex and every triangle centroid of a, and asks an AABB
  * tree over b's triangles for the squared distance to the nearest point (CGAL builds a
  * KD-tree of b's reference points on the first query to start each search close). The
@@ -43,8 +50,14 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -134,8 +147,10 @@ bool self_intersects_near(const Mesh &sm, const double box[6])
     return PMP::does_self_intersect(near, sm);
 }
 
-sr_status check_operand(const sr_mesh *m, const char *what, const double *other_box, Mesh &sm,
-                        sr_err *err)
+/* The checks of an operand on its arrays alone, in the order a user can act on:
+ * validate, zero-area triangles, closed, manifold edges, oriented, not inside out.
+ * *edges gets the edge statistics (with the vertex fans). */
+sr_status check_arrays(const sr_mesh *m, const char *what, sr_mesh_edges *edges, sr_err *err)
 {
     sr_mesh_report report;
     sr_status st = sr_mesh_validate(m, what, &report, err);
@@ -159,27 +174,36 @@ sr_status check_operand(const sr_mesh *m, const char *what, const double *other_
                               "'%s' has %zu degenerate (zero-area) triangles", what,
                               degenerate);
     }
-    sr_mesh_edges edges;
-    st = sr_mesh_edge_stats(m, &edges);
+    st = sr_mesh_edge_stats(m, edges);
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory counting the edges of '%s'", what);
-    if (edges.boundary_edges)
+    if (edges->boundary_edges)
         return sr_err_set(err, SR_E_INVALID, "'%s' is not closed (%zu boundary edges)",
-                          what, edges.boundary_edges);
-    if (edges.nonmanifold_edges)
+                          what, edges->boundary_edges);
+    if (edges->nonmanifold_edges)
         return sr_err_set(err, SR_E_INVALID,
                           "'%s' is not manifold (%zu edges shared by three or more "
                           "triangles)",
-                          what, edges.nonmanifold_edges);
-    if (edges.misoriented_edges)
+                          what, edges->nonmanifold_edges);
+    if (edges->misoriented_edges)
         return sr_err_set(err, SR_E_INVALID,
                           "'%s' is not consistently oriented (%zu edges traversed the "
                           "same way by both triangles)",
-                          what, edges.misoriented_edges);
+                          what, edges->misoriented_edges);
     double volume = sr_mesh_volume(m);
     if (!(volume > 0))
         return sr_err_set(err, SR_E_INVALID,
                           "'%s' is inside out (enclosed volume %g mm^3)", what, volume);
+    return SR_OK;
+}
+
+sr_status check_operand(const sr_mesh *m, const char *what, const double *other_box, Mesh &sm,
+                        sr_err *err)
+{
+    sr_mesh_edges edges;
+    sr_status st = check_arrays(m, what, &edges, err);
+    if (st != SR_OK)
+        return st;
     size_t bad_tri = 0;
     if (!build_surface_mesh(m, sm, &bad_tri))
         return sr_err_set(err, SR_E_INVALID,
@@ -310,6 +334,548 @@ sr_status boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_what
     return SR_OK;
 }
 
+/* ---- the local union ----------------------------------------------------------------
+ * a ∪ b for a large closed a (a scan) and a small closed b (a patch): only a's
+ * neighbourhood of b goes through CGAL. N = a's triangles whose bounding box meets b's
+ * box grown by the margin, plus, at a vertex where N's triangles would form more than one
+ * fan, every triangle of that vertex (a halfedge mesh cannot hold such a vertex). Every
+ * triangle of a that b can cut is in N, so no intersection lies on N's border.
+ * corefine_and_compute_union runs on N (open) and b in place: CGAL's output builder
+ * classifies the patches of an open operand by the orientation around the intersection
+ * edges exactly as for a closed one, and the intersection-free patches of N against b
+ * (closed) by a point-in-volume test; only b's intersection-free components would be
+ * misjudged (kept as outside), so each component of b must meet N's surface. After it,
+ * N's border (directed edges, in a's vertex numbers) must be what it was: then the
+ * untouched triangles of a and the new N close up into one surface. Whenever a condition
+ * fails the whole-mesh union runs instead (info->fallback says why). */
+
+const uint32_t no_vertex = UINT32_MAX;
+
+/* Key of the directed edge x -> y. */
+uint64_t he_key(uint32_t x, uint32_t y)
+{
+    return static_cast<uint64_t>(x) << 32 | y;
+}
+
+/* Vertex v of m in the union's frame: mapped by xf (3x4), or as it is (xf NULL). */
+void frame_point(const sr_mesh *m, size_t v, const double *xf, double out[3])
+{
+    const double *p = m->xyz + 3 * v;
+    if (!xf) {
+        out[0] = p[0];
+        out[1] = p[1];
+        out[2] = p[2];
+        return;
+    }
+    sr_xform_apply(xf, p, out);
+}
+
+bool tri_box_meets(const sr_mesh *m, size_t t, const double *xf, const double box[6])
+{
+    const uint32_t *f = m->tri + 3 * t;
+    double q[3][3];
+    for (int j = 0; j < 3; j++)
+        frame_point(m, f[j], xf, q[j]);
+    for (int k = 0; k < 3; k++) {
+        double lo = q[0][k], hi = lo;
+        for (int j = 1; j < 3; j++) {
+            lo = q[j][k] < lo ? q[j][k] : lo;
+            hi = q[j][k] > hi ? q[j][k] : hi;
+        }
+        if (hi < box[k] || lo > box[3 + k])
+            return false;
+    }
+    return true;
+}
+
+/* The directed edges of the triangles flagged in `in`, sorted. */
+std::vector<uint64_t> flagged_halfedges(const sr_mesh *m, const std::vector<uint8_t> &in)
+{
+    std::vector<uint64_t> he;
+    for (size_t t = 0; t < m->tri_count; t++)
+        if (in[t])
+            for (int k = 0; k < 3; k++)
+                he.push_back(he_key(m->tri[3 * t + k], m->tri[3 * t + (k + 1) % 3]));
+    std::sort(he.begin(), he.end());
+    return he;
+}
+
+bool has_key(const std::vector<uint64_t> &sorted, uint64_t key)
+{
+    return std::binary_search(sorted.begin(), sorted.end(), key);
+}
+
+/* Selects N (see above). False when the fans cannot be mended in a few rounds. */
+bool select_neighbourhood(const sr_mesh *a, const double *xf, const double box[6],
+                          std::vector<uint8_t> &in, size_t *count)
+{
+    in.assign(a->tri_count, 0);
+    size_t n = 0;
+    for (size_t t = 0; t < a->tri_count; t++)
+        if (tri_box_meets(a, t, xf, box)) {
+            in[t] = 1;
+            n++;
+        }
+    /* Around a vertex v, the triangle after corner (v, x, y) holds the edge v -> y (a's
+     * edges are manifold and oriented). So every run of N's triangles around v ends at
+     * exactly one corner of N whose v -> y is in no triangle of N, and a vertex with two
+     * such corners has N's triangles in several fans: take all of its triangles. */
+    std::vector<uint32_t> bad;
+    for (int round = 0; round < 8; round++) {
+        std::vector<uint64_t> he = flagged_halfedges(a, in);
+        std::vector<uint32_t> starts;
+        for (size_t t = 0; t < a->tri_count; t++) {
+            if (!in[t])
+                continue;
+            const uint32_t *f = a->tri + 3 * t;
+            for (int k = 0; k < 3; k++) {
+                uint32_t v = f[k], y = f[(k + 2) % 3];
+                if (!has_key(he, he_key(v, y)))
+                    starts.push_back(v);
+            }
+        }
+        std::sort(starts.begin(), starts.end());
+        bad.clear();
+        for (size_t i = 0; i + 1 < starts.size(); i++)
+            if (starts[i] == starts[i + 1] && (bad.empty() || bad.back() != starts[i]))
+                bad.push_back(starts[i]);
+        if (bad.empty()) {
+            *count = n;
+            return true;
+        }
+        for (size_t t = 0; t < a->tri_count; t++) {
+            if (in[t])
+                continue;
+            const uint32_t *f = a->tri + 3 * t;
+            for (int k = 0; k < 3; k++)
+                if (std::binary_search(bad.begin(), bad.end(), f[k])) {
+                    in[t] = 1;
+                    n++;
+                    break;
+                }
+        }
+    }
+    return false;
+}
+
+/* Patch flags of one corefined operand, as CGAL's output builder works them out. */
+struct Patch_flags {
+    std::vector<std::size_t> patch;          /* per face index: its patch */
+    boost::dynamic_bitset<> inside;          /* patch inside the other operand */
+    boost::dynamic_bitset<> coplanar;        /* patch on the other operand's surface */
+    boost::dynamic_bitset<> coplanar_union;  /* ... kept once by a union */
+    boost::dynamic_bitset<> not_set;         /* patch with no intersection edge */
+    bool have = false;
+};
+
+/* A corefinement visitor that asks CGAL's output builder for its classification of the
+ * patches (the parts of each surface between intersection edges) instead of a boolean's
+ * output: the builder does this when no output is requested and the visitor declares
+ * Has_extra_functions (CGAL 5.5, Face_graph_output_builder.h). It is the builder's own
+ * exact, orientation-around-the-edge classification, also valid where an operand is
+ * open (its boolean output path is not: CGAL 5.5's consistency check for open operands
+ * rejects every patch it finds inside). */
+struct Classify_visitor : public PMP::Corefinement::Default_visitor<Mesh> {
+    typedef int Has_extra_functions;
+    Patch_flags *flags; /* [0] first operand, [1] second */
+    const Mesh *first;
+    std::vector<uint32_t> *node_vertex; /* [0], [1]: per intersection node, the
+                                         * operand's vertex at it (no_vertex if none) */
+
+    void record(std::size_t node, Vertex_index v, const Mesh &tm)
+    {
+        std::vector<uint32_t> &m = node_vertex[&tm == first ? 0 : 1];
+        if (m.size() <= node)
+            m.resize(node + 1, no_vertex);
+        m[node] = static_cast<uint32_t>(v.idx());
+    }
+
+    /* a vertex made for a node (an edge or a face of this operand was cut there) */
+    void new_vertex_added(std::size_t node, Vertex_index v, const Mesh &tm)
+    {
+        record(node, v, tm);
+    }
+
+    /* an operand's own vertex at a node: an end of the cutting edge h1, or the vertex
+     * of the other operand the edge passes through */
+    void intersection_point_detected(std::size_t node, int sdim, Mesh::Halfedge_index h1,
+                                     Mesh::Halfedge_index h2, const Mesh &tm1,
+                                     const Mesh &tm2, bool is_target_coplanar,
+                                     bool is_source_coplanar)
+    {
+        if (is_target_coplanar)
+            record(node, tm1.target(h1), tm1);
+        if (is_source_coplanar)
+            record(node, tm1.source(h1), tm1);
+        if (sdim == PMP::Corefinement::ON_VERTEX)
+            record(node, tm2.target(h2), tm2);
+    }
+
+    template <class Fim>
+    void export_flags(Fim fim, const std::vector<std::size_t> &ids,
+                      const boost::dynamic_bitset<> &inside,
+                      const boost::dynamic_bitset<> &coplanar,
+                      const boost::dynamic_bitset<> &coplanar_union,
+                      const boost::dynamic_bitset<> &not_set, Mesh &tm)
+    {
+        Patch_flags &f = flags[&tm == first ? 0 : 1];
+        f.patch.assign(tm.num_faces(), 0);
+        for (Mesh::Face_index fd : tm.faces())
+            f.patch[fd.idx()] = ids[get(fim, fd)];
+        f.inside = inside;
+        f.coplanar = coplanar;
+        f.coplanar_union = coplanar_union;
+        f.not_set = not_set;
+        f.have = true;
+    }
+
+    template <class H>
+    void register_halfedge_pair(H, H, bool, bool, bool, bool, bool = false, bool = false,
+                                bool = false, bool = false)
+    {
+    }
+};
+
+/* The local result as arrays: vertex ids below base are a's vertices, the others index
+ * `fresh` (new points) as id - base. */
+struct Local_result {
+    std::vector<uint32_t> tri;
+    std::vector<double> fresh;
+};
+
+/* Appends a new point to the local result, mapped back to a's frame (back NULL: as it
+ * is). */
+void push_point(Local_result &res, const Point &p, const double *back)
+{
+    double q[3] = {p.x(), p.y(), p.z()};
+    if (back)
+        sr_xform_apply(back, q, q);
+    res.fresh.push_back(q[0]);
+    res.fresh.push_back(q[1]);
+    res.fresh.push_back(q[2]);
+}
+
+/* Writes the local result into *dst, which holds a's arrays (its own copy, or a's very
+ * arrays when the union is in place) with room for the growth: N's triangles out, the
+ * local result in, vertices no triangle uses any more dropped. Cannot fail. */
+void splice_local(sr_mesh *dst, const std::vector<uint8_t> &in, const Local_result &res)
+{
+    size_t nv = dst->vertex_count, w = 0;
+    for (size_t t = 0; t < dst->tri_count; t++)
+        if (in[t]) {
+            continue;
+        } else {
+            if (w != t)
+                memmove(dst->tri + 3 * w, dst->tri + 3 * t, 3 * sizeof(uint32_t));
+            w++;
+        }
+    if (!res.fresh.empty())
+        memcpy(dst->xyz + 3 * nv, res.fresh.data(), res.fresh.size() * sizeof(double));
+    size_t next = nv + res.fresh.size() / 3;
+    memcpy(dst->tri + 3 * w, res.tri.data(), res.tri.size() * sizeof(uint32_t));
+    w += res.tri.size() / 3;
+    std::vector<uint32_t> remap(next, no_vertex);
+    for (size_t i = 0; i < 3 * w; i++)
+        remap[dst->tri[i]] = 0;
+    size_t kept = 0;
+    for (size_t v = 0; v < next; v++)
+        if (remap[v] != no_vertex) {
+            if (kept != v)
+                memmove(dst->xyz + 3 * kept, dst->xyz + 3 * v, 3 * sizeof(double));
+            remap[v] = static_cast<uint32_t>(kept++);
+        }
+    for (size_t i = 0; i < 3 * w; i++)
+        dst->tri[i] = remap[dst->tri[i]];
+    dst->vertex_count = kept;
+    dst->tri_count = w;
+}
+
+/* Unites the corefined N (sm) and b (mb) from the patch flags: N's patches outside b
+ * (and its coplanar patches a union keeps), b's patches outside a, joined at the
+ * intersection nodes. False (why
+ * set) when a patch of b has no intersection edge (inside or outside a cannot be told
+ * from N alone) or an intersection-free patch of N sits on b's surface. */
+bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
+                    const double *back, Mesh &sm,
+                    Mesh::Property_map<Vertex_index, uint32_t> orig, Mesh &mb,
+                    Patch_flags flags[2], const std::vector<uint32_t> node_vertex[2],
+                    Local_result &res, char *why, size_t why_size)
+{
+    Patch_flags &f1 = flags[0], &f2 = flags[1];
+    if (f2.not_set.any()) {
+        snprintf(why, why_size, "a part of '%s' meets no triangle of '%s'", b_what, a_what);
+        return false;
+    }
+    if (f1.not_set.any()) { /* N's patches away from b: inside or outside b */
+        CGAL::Side_of_triangle_mesh<Mesh, K> side(mb);
+        boost::dynamic_bitset<> done(f1.not_set.size());
+        for (Mesh::Face_index fd : sm.faces()) {
+            std::size_t pid = f1.patch[fd.idx()];
+            if (!f1.not_set.test(pid) || done.test(pid))
+                continue;
+            done.set(pid);
+            if (f1.coplanar.test(pid)) {
+                f1.coplanar_union.set(pid);
+                continue;
+            }
+            Mesh::Halfedge_index h = sm.halfedge(fd);
+            const Point &p = sm.point(sm.source(h)), &q = sm.point(sm.target(h)),
+                        &r = sm.point(sm.target(sm.next(h)));
+            CGAL::Bounded_side bs = side(CGAL::centroid(p, q, r));
+            if (bs == CGAL::ON_BOUNDARY) {
+                snprintf(why, why_size, "a part of '%s' touches '%s' away from the intersection",
+                         a_what, b_what);
+                return false;
+            }
+            if (bs == CGAL::ON_BOUNDED_SIDE)
+                f1.inside.set(pid);
+        }
+    }
+    boost::dynamic_bitset<> use1 = ~f1.inside - f1.coplanar;
+    if (f1.coplanar.any())
+        use1 |= f1.coplanar_union;
+    boost::dynamic_bitset<> use2 = ~f2.inside - f2.coplanar;
+
+    const uint32_t base = static_cast<uint32_t>(a->vertex_count);
+    std::vector<uint32_t> id1(sm.num_vertices(), no_vertex), id2(mb.num_vertices(), no_vertex);
+    auto id_of_n = [&](Vertex_index v) {
+        uint32_t &id = id1[v.idx()];
+        if (id == no_vertex) {
+            if (orig[v] != no_vertex) {
+                id = orig[v];
+            } else {
+                id = base + static_cast<uint32_t>(res.fresh.size() / 3);
+                push_point(res, sm.point(v), back);
+            }
+        }
+        return id;
+    };
+    /* b's vertices at intersection nodes are N's vertices at the same nodes (by node,
+     * not by position: distinct nodes may round to the same point) */
+    for (std::size_t node = 0; node < node_vertex[1].size(); node++) {
+        uint32_t vb = node_vertex[1][node];
+        if (vb != no_vertex && node < node_vertex[0].size() && node_vertex[0][node] != no_vertex)
+            id2[vb] = id_of_n(Vertex_index(node_vertex[0][node]));
+    }
+    for (Mesh::Face_index fd : sm.faces()) {
+        if (!use1.test(f1.patch[fd.idx()]))
+            continue;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(fd)))
+            res.tri.push_back(id_of_n(v));
+    }
+    for (Mesh::Face_index fd : mb.faces()) {
+        if (!use2.test(f2.patch[fd.idx()]))
+            continue;
+        for (Vertex_index v : mb.vertices_around_face(mb.halfedge(fd))) {
+            uint32_t &id = id2[v.idx()];
+            if (id == no_vertex) {
+                id = base + static_cast<uint32_t>(res.fresh.size() / 3);
+                push_point(res, mb.point(v), back);
+            }
+            res.tri.push_back(id);
+        }
+    }
+    return true;
+}
+
+/* True when the local result closes up with the rest of a: its open edges are exactly
+ * N's border (border_before: a's directed edges of N with no N triangle across), and
+ * elsewhere every edge has two triangles running it both ways and every vertex one
+ * fan. */
+bool local_result_fits(const Local_result &res, const std::vector<uint64_t> &border_before,
+                       size_t base)
+{
+    size_t nt = res.tri.size() / 3;
+    if (nt == 0)
+        return false;
+    std::vector<uint64_t> he;
+    he.reserve(3 * nt);
+    for (size_t t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            he.push_back(he_key(res.tri[3 * t + k], res.tri[3 * t + (k + 1) % 3]));
+    std::sort(he.begin(), he.end());
+    if (std::adjacent_find(he.begin(), he.end()) != he.end())
+        return false; /* an edge run twice the same way: not oriented or not manifold */ /* an edge run twice the same way: not oriented or not manifold */
+    std::vector<uint64_t> open;
+    for (uint64_t k : he) {
+        uint32_t x = static_cast<uint32_t>(k >> 32), y = static_cast<uint32_t>(k);
+        if (!std::binary_search(he.begin(), he.end(), he_key(y, x))) {
+            if (x >= base || y >= base)
+                return false;
+            open.push_back(k);
+        }
+    }
+    if (open != border_before) /* both sorted */
+        return false;
+    /* fans: the local result's own check (edges are fine by now) */
+    sr_mesh m;
+    m.tri = const_cast<uint32_t *>(res.tri.data());
+    m.tri_count = nt;
+    m.xyz = nullptr;
+    m.vertex_count = 0;
+    sr_mesh_edges e;
+    if (sr_mesh_edge_stats(&m, &e) != SR_OK)
+        return false;
+    return e.nonmanifold_edges == 0 && e.misoriented_edges == 0 && e.nonmanifold_vertices == 0;
+}
+
+/* The local union proper. SR_OK with *done = false when a condition for it fails
+ * (why in `why`): the caller runs the whole-mesh union. */
+sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
+                      const sr_mesh *b, const char *b_what, double margin, sr_mesh *out,
+                      bool *done,
+                      char *why, size_t why_size, size_t *n_tris, sr_err *err)
+{
+    *done = false;
+    /* a: every check of check_operand that needs no halfedge mesh, on all of a */
+    sr_mesh_edges edges;
+    sr_status st = check_arrays(a, a_what, &edges, err);
+    if (st != SR_OK)
+        return st;
+    if (edges.nonmanifold_vertices)
+        return sr_err_set(err, SR_E_INVALID,
+                          "'%s' has a non-manifold vertex (%zu vertices whose triangles "
+                          "form more than one fan)",
+                          a_what, edges.nonmanifold_vertices);
+    /* b: all of check_operand (it is small) */
+    double box_a[6], box_b[6];
+    for (size_t v = 0; v < a->vertex_count; v++) {
+        double q[3];
+        frame_point(a, v, xf, q);
+        for (int k = 0; k < 3; k++) {
+            box_a[k] = v == 0 || q[k] < box_a[k] ? q[k] : box_a[k];
+            box_a[3 + k] = v == 0 || q[k] > box_a[3 + k] ? q[k] : box_a[3 + k];
+        }
+    }
+    sr_mesh_bbox(b, box_b, box_b + 3);
+    Mesh mb;
+    st = check_operand(b, b_what, box_a, mb, err);
+    if (st != SR_OK)
+        return st;
+
+    /* N and its halfedge mesh; orig = a's vertex number, no_vertex for new ones */
+    double diag = std::sqrt((box_b[3] - box_b[0]) * (box_b[3] - box_b[0]) +
+                            (box_b[4] - box_b[1]) * (box_b[4] - box_b[1]) +
+                            (box_b[5] - box_b[2]) * (box_b[5] - box_b[2]));
+    double grow = margin > 0 ? margin : 0.01 * diag;
+    double box[6];
+    for (int k = 0; k < 3; k++) {
+        box[k] = box_b[k] - grow;
+        box[3 + k] = box_b[3 + k] + grow;
+    }
+    std::vector<uint8_t> in;
+    size_t n = 0;
+    if (!select_neighbourhood(a, xf, box, in, &n)) {
+        snprintf(why, why_size, "the neighbourhood's fans could not be mended");
+        return SR_OK;
+    }
+    *n_tris = n;
+    Mesh sm;
+    auto orig = sm.add_property_map<Vertex_index, uint32_t>("v:orig", no_vertex).first;
+    std::vector<uint32_t> local(a->vertex_count, no_vertex);
+    for (size_t t = 0; t < a->tri_count; t++)
+        if (in[t])
+            for (int k = 0; k < 3; k++) {
+                uint32_t v = a->tri[3 * t + k];
+                if (local[v] == no_vertex) {
+                    double p[3];
+                    frame_point(a, v, xf, p);
+                    Vertex_index lv = sm.add_vertex(Point(p[0], p[1], p[2]));
+                    orig[lv] = v;
+                    local[v] = static_cast<uint32_t>(lv.idx());
+                }
+            }
+    for (size_t t = 0; t < a->tri_count; t++)
+        if (in[t]) {
+            const uint32_t *f = a->tri + 3 * t;
+            if (sm.add_face(Vertex_index(local[f[0]]), Vertex_index(local[f[1]]),
+                            Vertex_index(local[f[2]])) == Mesh::null_face()) {
+                snprintf(why, why_size, "the neighbourhood is not a halfedge mesh");
+                return SR_OK;
+            }
+        }
+    std::vector<uint32_t>().swap(local);
+    if (self_intersects_near(sm, box_b))
+        return sr_err_set(err, SR_E_INVALID, "'%s' intersects itself where the other mesh is",
+                          a_what);
+    /* N's border before: a's directed edges of N with no N triangle across */
+    std::vector<uint64_t> border_before;
+    for (Mesh::Halfedge_index h : sm.halfedges())
+        if (sm.is_border(h)) {
+            Mesh::Halfedge_index o = sm.opposite(h);
+            border_before.push_back(he_key(orig[sm.source(o)], orig[sm.target(o)]));
+        }
+    std::sort(border_before.begin(), border_before.end());
+
+    Patch_flags flags[2];
+    std::vector<uint32_t> node_vertex[2];
+    Classify_visitor vis;
+    vis.flags = flags;
+    vis.first = &sm;
+    vis.node_vertex = node_vertex;
+    const std::array<boost::optional<Mesh *>, 4> no_output = {{boost::none, boost::none,
+                                                               boost::none, boost::none}};
+    PMP::corefine_and_compute_boolean_operations(sm, mb, no_output,
+                                                 CGAL::parameters::visitor(vis));
+    if (!flags[0].have || !flags[1].have) { /* no intersection at all */
+        snprintf(why, why_size, "'%s' meets no triangle of '%s'", b_what, a_what);
+        return SR_OK;
+    }
+    Local_result res;
+    double back[12];
+    if (xf)
+        sr_xform_rigid_inverse(back, xf);
+    if (!assemble_local(a, a_what, b_what, xf ? back : nullptr, sm, orig, mb, flags,
+                        node_vertex, res, why, why_size))
+        return SR_OK;
+    if (!local_result_fits(res, border_before, a->vertex_count)) {
+        snprintf(why, why_size, "the united neighbourhood does not close up with the rest");
+        return SR_OK;
+    }
+    size_t nt = a->tri_count - n + res.tri.size() / 3, nv = a->vertex_count + res.fresh.size() / 3;
+    if (nt > SR_MESH_MAX_COUNT || nv > SR_MESH_MAX_COUNT)
+        return sr_err_set(err, SR_E_RANGE, "union of '%s' and '%s': result too large "
+                          "(%zu triangles)", a_what, b_what, nt);
+    size_t tri_room = nt > a->tri_count ? nt : a->tri_count;
+
+    /* the arrays: a's own (in place) or a copy, with room to grow; nothing of *out is
+     * changed before every allocation has succeeded */
+#ifdef __GLIBC__
+    /* what the checks and the neighbourhood used (the edge statistics' lists alone are
+     * 14 MB for a million triangles) goes back to the system first: glibc keeps freed
+     * blocks of that size in its heap, and the result would come on top of them */
+    malloc_trim(0);
+#endif
+    sr_mesh dst;
+    if (out == a) {
+        double *xyz = static_cast<double *>(realloc(out->xyz, nv * 3 * sizeof(double)));
+        if (!xyz)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        out->xyz = xyz;
+        uint32_t *tri = static_cast<uint32_t *>(realloc(out->tri, tri_room * 3 * sizeof(uint32_t)));
+        if (!tri)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        out->tri = tri;
+        dst = *out;
+    } else {
+        if (sr_mesh_alloc(&dst, nv, tri_room) != SR_OK)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        memcpy(dst.xyz, a->xyz, a->vertex_count * 3 * sizeof(double));
+        memcpy(dst.tri, a->tri, a->tri_count * 3 * sizeof(uint32_t));
+        dst.vertex_count = a->vertex_count;
+        dst.tri_count = a->tri_count;
+    }
+    splice_local(&dst, in, res);
+    if (out == b)
+        sr_mesh_release(out);
+    *out = dst;
+    *done = true;
+    return SR_OK;
+}
+
 sr_status boolean_entry(sr_boolean_op op, const sr_mesh *a, const char *a_what,
                         const sr_mesh *b, const char *b_what, sr_mesh *out, sr_err *err)
 {
@@ -378,6 +944,57 @@ sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_w
                              sr_err *err)
 {
     return boolean_entry(op, a, a_what, b, b_what, out, err);
+}
+
+sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const double *a_to_b,
+                                 const sr_mesh *b, const char *b_what, double margin_mm,
+                                 sr_mesh *out, sr_local_union_info *info, sr_err *err)
+{
+    sr_local_union_info local_info;
+    if (!info)
+        info = &local_info;
+    memset(info, 0, sizeof *info);
+    if (!a_what)
+        a_what = "first mesh";
+    if (!b_what)
+        b_what = "second mesh";
+    if (!(margin_mm >= 0) || !std::isfinite(margin_mm))
+        return sr_err_set(err, SR_E_RANGE, "bad union margin %g mm: expected 0 or more",
+                          margin_mm);
+    try {
+        bool done = false;
+        size_t n = 0;
+        sr_status st = union_local(a, a_what, a_to_b, b, b_what, margin_mm, out, &done,
+                                   info->fallback, sizeof info->fallback, &n, err);
+        info->neighbourhood_tris = n;
+        if (st != SR_OK || done) {
+            info->local = done ? 1 : 0;
+            return st;
+        }
+    } catch (...) {
+        /* CGAL threw on the neighbourhood: the whole-mesh union decides */
+        snprintf(info->fallback, sizeof info->fallback,
+                 "the union of the neighbourhood failed");
+    }
+    if (!a_to_b)
+        return boolean_entry(SR_BOOLEAN_UNION, a, a_what, b, b_what, out, err);
+    /* the whole-mesh union in b's frame, the result brought back to a's */
+    sr_mesh moved, res;
+    if (sr_mesh_copy(&moved, a) != SR_OK)
+        return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory", a_what,
+                          b_what);
+    sr_mesh_transform(&moved, a_to_b);
+    sr_status st = boolean_entry(SR_BOOLEAN_UNION, &moved, a_what, b, b_what, &res, err);
+    sr_mesh_release(&moved);
+    if (st != SR_OK)
+        return st;
+    double back[12];
+    sr_xform_rigid_inverse(back, a_to_b);
+    sr_mesh_transform(&res, back);
+    if (out == a || out == b)
+        sr_mesh_release(out);
+    *out = res;
+    return SR_OK;
 }
 
 sr_status sr_boolean_union(const sr_mesh *a, const sr_mesh *b, sr_mesh *out, sr_err *err)

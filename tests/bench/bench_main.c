@@ -507,9 +507,12 @@ static int big_child(void)
     o.symmetry.kind = SR_SYM_AXIAL;
     o.sectors = 240;
     o.layers = 320;
-    /* the paper method: the robust one on this dense mesh took 187 s (measured
-     * 2026-11-25, analysis 184 s: Clipper's hole assignment on thousands of facet
-     * slivers per layer) and is not yet fit for a 1M-triangle scan */
+    /* the paper method: the robust one on this dense mesh takes 42 s (measured
+     * 2026-11-25 after the local union: analysis 35 s, 60 % of it in Clipper's
+     * PointInPolygon under JoinCommonEdges, i.e. the containment tests when the
+     * thousands of facet slivers per layer are joined; its union 5.5 s, the stacked
+     * patch's walls cut the dense scan all along the rim) and is not yet fit for a
+     * 1M-triangle scan */
     o.method = SR_METHOD_PAPER;
     sr_recon_result r;
     double t0 = now_s();
