@@ -51,83 +51,100 @@ void sr_recon_result_release(sr_recon_result *r)
     memset(r, 0, sizeof *r);
 }
 
+/* out = `scan` (or any mesh in its frame) followed by the patches (aligned frame,
+ * mapped back by the inverse of xf) as separate shells, allocated once at its final
+ * size. */
+static sr_status concatenate(const sr_mesh *scan, const double xf[12], const sr_section *secs,
+                             size_t count, sr_mesh *out)
+{
+    size_t nv = scan->vertex_count, nt = scan->tri_count;
+    for (size_t i = 0; i < count; i++) {
+        nv += secs[i].patch.vertex_count;
+        nt += secs[i].patch.tri_count;
+    }
+    sr_mesh m;
+    sr_status st = sr_mesh_alloc(&m, nv, nt);
+    if (st != SR_OK)
+        return st;
+    memcpy(m.xyz, scan->xyz, scan->vertex_count * 3 * sizeof(double));
+    memcpy(m.tri, scan->tri, scan->tri_count * 3 * sizeof(uint32_t));
+    double inv[12];
+    sr_xform_rigid_inverse(inv, xf);
+    size_t v0 = scan->vertex_count, t0 = scan->tri_count;
+    for (size_t i = 0; i < count; i++) {
+        const sr_mesh *p = &secs[i].patch;
+        for (size_t v = 0; v < p->vertex_count; v++)
+            sr_xform_apply(inv, p->xyz + 3 * v, m.xyz + 3 * (v0 + v));
+        for (size_t k = 0; k < 3 * p->tri_count; k++)
+            m.tri[3 * t0 + k] = p->tri[k] + (uint32_t)v0;
+        v0 += p->vertex_count;
+        t0 += p->tri_count;
+    }
+    *out = m;
+    return SR_OK;
+}
+
 /* restored = scan ∪ every patch, in the scan's frame. The patches are in the aligned
  * frame (xf: scan -> aligned); each union is local (sr_boolean_union_local: only the
  * scan's triangles near the patch go through CGAL, mapped into the aligned frame, and
  * the scan's other vertices keep their coordinates); the first makes the restored mesh,
- * the next ones grow it in place, so the scan is never copied twice. A union refused as invalid is retried once after
- * sr_mesh_repair of both (zero-area triangles removed); if it still fails (e.g. a noisy
- * scan crossing itself where the patch goes), the patches are concatenated and
+ * the next ones grow it in place, so the scan is never copied twice. A union refused as
+ * invalid is retried once after sr_mesh_repair of both (zero-area triangles removed);
+ * if it still fails (e.g. a noisy scan crossing itself where the patch goes), that
+ * patch and the ones after it are concatenated to what was united so far and
  * union_note says why. */
 static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
                        const sr_mesh *upatches, sr_err *err)
 {
     sr_mesh acc = {0};
     int owned = 0; /* acc holds the restored mesh so far; until then it is the scan */
-    r->restored_by_union = 1;
     int scan_repaired = 0;
     sr_status st;
+    r->restored_by_union = 1;
     for (size_t i = 0; i < r->section_count; i++) {
         sr_err uerr = {{0}};
-        sr_status us = SR_E_INVALID;
         const sr_mesh *up = upatches ? &upatches[i] : &r->sections[i].patch;
-        if (r->restored_by_union) {
-            sr_mesh next = {0};
-            us = sr_boolean_union_local(owned ? &acc : scan, NULL, xf, up, NULL, 0,
-                                        owned ? &acc : &next, NULL, &uerr);
-            if (us == SR_OK && !owned) {
-                acc = next;
+        sr_mesh next = {0};
+        sr_status us = sr_boolean_union_local(owned ? &acc : scan, NULL, xf, up, NULL, 0,
+                                              owned ? &acc : &next, NULL, &uerr);
+        if (us == SR_OK && !owned) {
+            acc = next;
+            owned = 1;
+        }
+        if (us == SR_E_INVALID) {
+            sr_repair_report ra = {0}, rb = {0};
+            sr_mesh patch = {0};
+            sr_err rerr = {{0}};
+            if (!owned) {
+                st = sr_mesh_copy(&acc, scan);
+                if (st != SR_OK)
+                    return sr_err_set(err, st, "out of memory copying the scan");
                 owned = 1;
             }
-            if (us == SR_E_INVALID) {
-                sr_repair_report ra = {0}, rb = {0};
-                sr_mesh patch = {0};
-                sr_err rerr = {{0}};
-                if (!owned) {
-                    st = sr_mesh_copy(&acc, scan);
-                    if (st != SR_OK)
-                        return sr_err_set(err, st, "out of memory copying the scan");
-                    owned = 1;
+            if (sr_mesh_copy(&patch, up) == SR_OK && sr_mesh_repair(&acc, &ra, &rerr) == SR_OK &&
+                sr_mesh_repair(&patch, &rb, &rerr) == SR_OK && (ra.changed || rb.changed)) {
+                if (ra.changed && !scan_repaired) {
+                    scan_repaired = 1;
+                    snprintf(r->repair_note, sizeof r->repair_note,
+                             "scan repaired for the union: %zu zero-area triangles removed",
+                             ra.degenerate_removed);
                 }
-                if (sr_mesh_copy(&patch, up) == SR_OK &&
-                    sr_mesh_repair(&acc, 1, &ra, &rerr) == SR_OK &&
-                    sr_mesh_repair(&patch, 0, &rb, &rerr) == SR_OK && (ra.changed || rb.changed)) {
-                    if (ra.changed && !scan_repaired) {
-                        scan_repaired = 1;
-                        snprintf(r->repair_note, sizeof r->repair_note,
-                                 "scan repaired for the union: %zu zero-area triangles removed",
-                                 ra.degenerate_removed);
-                    }
-                    us = sr_boolean_union_local(&acc, NULL, xf, &patch, NULL, 0, &acc, NULL,
-                                                &uerr);
-                }
-                sr_mesh_release(&patch);
+                us = sr_boolean_union_local(&acc, NULL, xf, &patch, NULL, 0, &acc, NULL,
+                                            &uerr);
             }
+            sr_mesh_release(&patch);
         }
         if (us == SR_OK)
             continue;
-        if (r->restored_by_union)
-            snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1, uerr.msg);
+        snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1, uerr.msg);
         r->restored_by_union = 0;
-        st = SR_OK;
-        if (!owned) {
-            st = sr_mesh_copy(&acc, scan);
-            owned = st == SR_OK;
-        }
-        sr_mesh moved = {0};
-        if (st == SR_OK)
-            st = sr_mesh_copy(&moved, &r->sections[i].patch);
-        if (st == SR_OK) {
-            double inv[12];
-            sr_xform_rigid_inverse(inv, xf);
-            sr_mesh_transform(&moved, inv);
-            st = sr_mesh_append(&acc, &moved);
-        }
-        sr_mesh_release(&moved);
-        if (st != SR_OK) {
-            sr_mesh_release(&acc);
+        st = concatenate(owned ? &acc : scan, xf, r->sections + i, r->section_count - i,
+                         &next);
+        sr_mesh_release(&acc);
+        if (st != SR_OK)
             return sr_err_set(err, st, "out of memory joining patches");
-        }
+        r->restored = next;
+        return SR_OK;
     }
     if (!owned) { /* nothing to unite: the scan itself */
         st = sr_mesh_copy(&acc, scan);
@@ -210,38 +227,6 @@ static sr_status paper_union_patches(const sr_layer_grid *grid, const sr_analysi
             free(m);
             return SR_E_INTERNAL;
         }
-    *out = m;
-    return SR_OK;
-}
-
-/* out = the scan followed by the patches (aligned frame, mapped back by the inverse of
- * xf) as separate shells, allocated once at its final size. */
-static sr_status concatenate(const sr_mesh *scan, const double xf[12], const sr_section *secs,
-                             size_t count, sr_mesh *out)
-{
-    size_t nv = scan->vertex_count, nt = scan->tri_count;
-    for (size_t i = 0; i < count; i++) {
-        nv += secs[i].patch.vertex_count;
-        nt += secs[i].patch.tri_count;
-    }
-    sr_mesh m;
-    sr_status st = sr_mesh_alloc(&m, nv, nt);
-    if (st != SR_OK)
-        return st;
-    memcpy(m.xyz, scan->xyz, scan->vertex_count * 3 * sizeof(double));
-    memcpy(m.tri, scan->tri, scan->tri_count * 3 * sizeof(uint32_t));
-    double inv[12];
-    sr_xform_rigid_inverse(inv, xf);
-    size_t v0 = scan->vertex_count, t0 = scan->tri_count;
-    for (size_t i = 0; i < count; i++) {
-        const sr_mesh *p = &secs[i].patch;
-        for (size_t v = 0; v < p->vertex_count; v++)
-            sr_xform_apply(inv, p->xyz + 3 * v, m.xyz + 3 * (v0 + v));
-        for (size_t k = 0; k < 3 * p->tri_count; k++)
-            m.tri[3 * t0 + k] = p->tri[k] + (uint32_t)v0;
-        v0 += p->vertex_count;
-        t0 += p->tri_count;
-    }
     *out = m;
     return SR_OK;
 }

@@ -131,6 +131,27 @@ static void read_truth(const char *part, sr_truth *t)
     assert_int_equal(st, SR_OK);
 }
 
+/* Reconstructs `file` of `part` by the robust method (the default) given only the
+ * symmetry kind (and order) from its truth.json; asserts it succeeded. */
+static void robust_reconstruct(const char *part, const char *file, int skip_union,
+                               sr_truth *truth, sr_recon_result *r)
+{
+    read_truth(part, truth);
+    sr_mesh scan = {0};
+    read_mesh(part, file, &scan);
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry.kind = truth->symmetry.kind;
+    o.symmetry.order = truth->symmetry.order;
+    o.skip_union = skip_union;
+    sr_err err = {{0}};
+    sr_status st = sr_reconstruct(&scan, &o, r, &err);
+    if (st != SR_OK)
+        print_error("%s %s: %s\n", part, file, err.msg);
+    assert_int_equal(st, SR_OK);
+    sr_mesh_release(&scan);
+}
+
 static void part_reconstructs_within_measured_bounds(void **state)
 {
     const part_case *pc = *state;
@@ -266,20 +287,9 @@ static void robust_part_restores_the_missing_volume(void **state)
     if (!parts_present())
         skip();
     sr_truth truth;
-    read_truth(rc->name, &truth);
-    sr_mesh scan = {0};
-    read_mesh(rc->name, "damaged_posed.stl", &scan);
-    sr_recon_opts o;
-    memset(&o, 0, sizeof o);
-    o.symmetry.kind = truth.symmetry.kind;
-    o.symmetry.order = truth.symmetry.order;
-    o.skip_union = 1;               /* the union is exercised by test_boolean and bench */
     sr_recon_result r;
-    sr_err err = {{0}};
-    sr_status st = sr_reconstruct(&scan, &o, &r, &err);
-    if (st != SR_OK)
-        print_error("%s: %s\n", rc->name, err.msg);
-    assert_int_equal(st, SR_OK);
+    /* the union is exercised by robust_restored_part_matches_the_intact_part */
+    robust_reconstruct(rc->name, "damaged_posed.stl", 1, &truth, &r);
     double rel = (r.patch_volume_mm3 - truth.missing_volume) / truth.missing_volume;
     print_message("%-23s robust: %zu section(s), patch %.1f / missing %.1f mm^3 = %+.2f %%, "
                   "%.2f s\n",
@@ -289,7 +299,6 @@ static void robust_part_restores_the_missing_volume(void **state)
         assert_true(sr_mesh_is_closed(&r.sections[i].patch));
     size_t sections = r.section_count;
     sr_recon_result_release(&r);
-    sr_mesh_release(&scan);
     if (rc->shortfall) {
         print_message("  known shortfall: the break straddles the mirror plane\n");
         assert_true(rel < 0 && fabs(rel) <= rc->max_err);
@@ -308,19 +317,8 @@ static void robust_u_clamp_scan_gives_one_closed_patch(void **state)
     if (!parts_present())
         skip();
     sr_truth truth;
-    read_truth("u_clamp_broken_arm", &truth);
-    sr_mesh scan = {0};
-    read_mesh("u_clamp_broken_arm", "damaged_scan.stl", &scan);
-    sr_recon_opts o;
-    memset(&o, 0, sizeof o);
-    o.symmetry.kind = truth.symmetry.kind;
-    o.skip_union = 1;
     sr_recon_result r;
-    sr_err err = {{0}};
-    sr_status st = sr_reconstruct(&scan, &o, &r, &err);
-    if (st != SR_OK)
-        print_error("u_clamp_broken_arm scan: %s\n", err.msg);
-    assert_int_equal(st, SR_OK);
+    robust_reconstruct("u_clamp_broken_arm", "damaged_scan.stl", 1, &truth, &r);
     double rel = (r.patch_volume_mm3 - truth.missing_volume) / truth.missing_volume;
     print_message("u_clamp_broken_arm scan: %zu section(s), patch %.1f / missing %.1f mm^3 = "
                   "%+.2f %%\n",
@@ -329,7 +327,6 @@ static void robust_u_clamp_scan_gives_one_closed_patch(void **state)
     assert_true(sr_mesh_is_closed(&r.sections[0].patch));
     assert_true(fabs(rel) <= 0.05);
     sr_recon_result_release(&r);
-    sr_mesh_release(&scan);
 }
 
 /* Issue 6: no section at all on any intact part (canonical frame, default settings). */
@@ -339,25 +336,12 @@ static void robust_finds_nothing_on_an_intact_part(void **state)
     if (!parts_present())
         skip();
     sr_truth truth;
-    read_truth(rc->name, &truth);
-    sr_mesh m = {0};
-    read_mesh(rc->name, "intact.stl", &m);
-    sr_recon_opts o;
-    memset(&o, 0, sizeof o);
-    o.symmetry.kind = truth.symmetry.kind;
-    o.symmetry.order = truth.symmetry.order;
-    o.skip_union = 1;
     sr_recon_result r;
-    sr_err err = {{0}};
-    sr_status st = sr_reconstruct(&m, &o, &r, &err);
-    if (st != SR_OK)
-        print_error("%s: %s\n", rc->name, err.msg);
-    assert_int_equal(st, SR_OK);
+    robust_reconstruct(rc->name, "intact.stl", 1, &truth, &r);
     print_message("%-23s intact: %zu section(s), %.2f mm^3\n", rc->name, r.section_count,
                   r.patch_volume_mm3);
     size_t sections = r.section_count;
     sr_recon_result_release(&r);
-    sr_mesh_release(&m);
     assert_int_equal(sections, 0);
 }
 
@@ -371,17 +355,11 @@ static void robust_restored_part_matches_the_intact_part(void **state)
     if (!parts_present())
         skip();
     sr_truth truth;
-    read_truth(name, &truth);
-    sr_mesh scan = {0}, intact = {0};
-    read_mesh(name, "damaged_posed.stl", &scan);
-    read_mesh(name, "intact.stl", &intact);
-    sr_recon_opts o;
-    memset(&o, 0, sizeof o);
-    o.symmetry.kind = truth.symmetry.kind;
-    o.symmetry.order = truth.symmetry.order;
     sr_recon_result r;
+    robust_reconstruct(name, "damaged_posed.stl", 0, &truth, &r);
+    sr_mesh intact = {0};
+    read_mesh(name, "intact.stl", &intact);
     sr_err err = {{0}};
-    assert_int_equal(sr_reconstruct(&scan, &o, &r, &err), SR_OK);
     assert_true(r.restored_by_union);
     double m[12];
     sr_truth_to_canonical(&truth, m);
@@ -399,7 +377,6 @@ static void robust_restored_part_matches_the_intact_part(void **state)
     assert_true(c.a_to_b.mean_mm <= 0.05 && c.b_to_a.mean_mm <= 0.05);
     assert_true(c.a_to_b.max_mm <= 1.0 && c.b_to_a.max_mm <= 1.0);
     sr_recon_result_release(&r);
-    sr_mesh_release(&scan);
     sr_mesh_release(&intact);
 }
 

@@ -395,6 +395,63 @@ static void nonmanifold_vertex_input_is_refused(void **state)
     sr_mesh_release(&b);
 }
 
+/* A unit cube whose first triangle (a, b, c) is split at the midpoint m of its edge ab,
+ * closed again by the zero-area triangle (a, b, m): closed, oriented, one needle. */
+static void make_needled_cube(sr_mesh *m)
+{
+    sr_mesh cube;
+    make_cube(&cube);
+    size_t nv = cube.vertex_count, nt = cube.tri_count;
+    assert_int_equal(sr_mesh_alloc(m, nv + 1, nt + 2), SR_OK);
+    memcpy(m->xyz, cube.xyz, 3 * nv * sizeof *m->xyz);
+    memcpy(m->tri, cube.tri, 3 * nt * sizeof *m->tri);
+    uint32_t a = cube.tri[0], b = cube.tri[1], c = cube.tri[2], mid = (uint32_t)nv;
+    for (int k = 0; k < 3; k++)
+        m->xyz[3 * nv + k] = 0.5 * (cube.xyz[3 * a + k] + cube.xyz[3 * b + k]);
+    uint32_t added[9] = {a, mid, c, mid, b, c, a, b, mid};
+    memcpy(m->tri, added, 3 * sizeof *added);                /* (a, m, c) replaces (a, b, c) */
+    memcpy(m->tri + 3 * nt, added + 3, 6 * sizeof *added);   /* (m, b, c), the needle (a, b, m) */
+    sr_mesh_release(&cube);
+}
+
+static void repair_removes_a_needle_and_the_union_then_works(void **state)
+{
+    (void)state;
+    sr_mesh a, b, out;
+    sr_err err = {{0}};
+    make_needled_cube(&a);
+    assert_true(sr_mesh_is_closed(&a));
+    make_box(&b, 0.5, 0, 0, 1.5, 1, 1);
+    assert_int_equal(sr_boolean_union(&a, &b, &out, &err), SR_E_INVALID);
+    assert_string_equal(err.msg, "'first mesh' has 1 degenerate (zero-area) triangles");
+    sr_repair_report rep = {0};
+    assert_int_equal(sr_mesh_repair(&a, &rep, &err), SR_OK);
+    assert_int_equal(rep.changed, 1);
+    assert_int_equal(rep.degenerate_removed, 1);
+    assert_closed_with_volume(&a, 1.0, 1e-12);
+    assert_int_equal(sr_boolean_union(&a, &b, &out, &err), SR_OK);
+    assert_closed_with_volume(&out, 1.5, 1e-9);
+    sr_mesh_release(&out);
+    sr_mesh_release(&a);
+    sr_mesh_release(&b);
+}
+
+static void repair_leaves_a_clean_mesh_alone(void **state)
+{
+    (void)state;
+    sr_mesh a;
+    sr_err err = {{0}};
+    make_cube(&a);
+    double *xyz = a.xyz;
+    sr_repair_report rep = {1, 7};
+    assert_int_equal(sr_mesh_repair(&a, &rep, &err), SR_OK);
+    assert_int_equal(rep.changed, 0);
+    assert_int_equal(rep.degenerate_removed, 0);
+    assert_ptr_equal(a.xyz, xyz);
+    assert_int_equal(a.tri_count, 12);
+    sr_mesh_release(&a);
+}
+
 static void degenerate_triangle_input_is_refused(void **state)
 {
     sr_mesh a, b, out = sentinel();
@@ -671,6 +728,8 @@ int main(void)
         cmocka_unit_test(inconsistently_oriented_input_is_refused),
         cmocka_unit_test(nonmanifold_vertex_input_is_refused),
         cmocka_unit_test(degenerate_triangle_input_is_refused),
+        cmocka_unit_test(repair_removes_a_needle_and_the_union_then_works),
+        cmocka_unit_test(repair_leaves_a_clean_mesh_alone),
         cmocka_unit_test(edge_touching_union_is_refused),
         cmocka_unit_test(unknown_operation_is_refused),
         cmocka_unit_test(self_intersects_tells_overlapping_shells),

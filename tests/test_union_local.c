@@ -224,6 +224,45 @@ static void chipped_cylinder_and_its_patch_unite_locally_as_whole(void **state)
     sr_mesh_release(&intact);
 }
 
+/* A scan that crosses itself where the patch goes (a loose 1.2 mm block stuck through
+ * the cylinder's wall beside the chip, a second shell): every union refuses it, so the
+ * restored part falls back to the scan followed by the patch, mapped back to the
+ * scan's frame, and says why. */
+static void refused_union_falls_back_to_scan_and_patch_shells(void **state)
+{
+    (void)state;
+    sr_mesh cyl, block;
+    make_cylinder(&cyl, 1);
+    make_box(&block, 15.6, 11.2, 19.0, 16.8, 12.4, 20.2);
+    assert_int_equal(sr_mesh_append(&cyl, &block), SR_OK);
+    sr_mesh_release(&block);
+    for (size_t v = 0; v < cyl.vertex_count; v++)
+        cyl.xyz[3 * v] -= 5.0;
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry.kind = SR_SYM_AXIAL;
+    o.have_alignment = 1;
+    sr_xform_identity(o.alignment.xform);
+    o.alignment.xform[3] = 5.0; /* scan -> aligned moves x by 5: the patch comes back */
+    sr_recon_result r;
+    sr_err err = {{0}};
+    assert_int_equal(sr_reconstruct(&cyl, &o, &r, &err), SR_OK);
+    assert_int_equal(r.section_count, 1);
+    assert_int_equal(r.restored_by_union, 0);
+    assert_string_equal(r.union_note,
+                        "section 1: 'first mesh' intersects itself where the other mesh is");
+    const sr_mesh *p = &r.sections[0].patch; /* in the scan's frame by now */
+    assert_int_equal(r.restored.vertex_count, cyl.vertex_count + p->vertex_count);
+    assert_int_equal(r.restored.tri_count, cyl.tri_count + p->tri_count);
+    assert_memory_equal(r.restored.xyz, cyl.xyz, 3 * cyl.vertex_count * sizeof(double));
+    assert_memory_equal(r.restored.xyz + 3 * cyl.vertex_count, p->xyz,
+                        3 * p->vertex_count * sizeof(double));
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&cyl) - sr_mesh_volume(p)) <
+                1e-6);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&cyl);
+}
+
 /* A box on a box's face: the touching faces vanish (coplanar patches). */
 static void touching_faces_unite_locally_as_whole(void **state)
 {
@@ -510,6 +549,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(chipped_cylinder_and_box_unite_locally_as_whole),
         cmocka_unit_test(chipped_cylinder_and_its_patch_unite_locally_as_whole),
+        cmocka_unit_test(refused_union_falls_back_to_scan_and_patch_shells),
         cmocka_unit_test(touching_faces_unite_locally_as_whole),
         cmocka_unit_test(union_in_place_grows_the_first_mesh),
         cmocka_unit_test(shared_parts_unite_locally_as_whole),

@@ -84,18 +84,15 @@ sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_w
 sr_status sr_mesh_self_intersects(const sr_mesh *mesh, int *out, sr_err *err);
 
 /* Makes a closed mesh fit for a boolean: removes zero-area triangles (CGAL PMP
- * remove_degenerate_faces). fix_crossings is reserved (crossing triangles are not
- * re-meshed: CGAL's experimental remover took minutes on scans and its header alone
- * tripled the bridge's build time); self_intersecting stays 0. *mesh is replaced only
- * when something changed. SR_E_INVALID when the mesh is not an oriented manifold. */
+ * remove_degenerate_faces). Crossing triangles are not re-meshed (CGAL's experimental
+ * remover took minutes on scans and its header alone tripled the bridge's build
+ * time). *mesh is replaced only when something changed. SR_E_INVALID when the mesh is
+ * not an oriented manifold. */
 typedef struct sr_repair_report {
     int changed;
     size_t degenerate_removed;
-    int self_intersecting;
-    int self_intersections_fixed;
 } sr_repair_report;
-sr_status sr_mesh_repair(sr_mesh *mesh, int fix_crossings, sr_repair_report *report,
-                         sr_err *err);
+sr_status sr_mesh_repair(sr_mesh *mesh, sr_repair_report *report, sr_err *err);
 
 /* Surface deviation of a from b: for sample points on a (every vertex plus the
  * centroid of every triangle), the unsigned distance to the nearest point of b's

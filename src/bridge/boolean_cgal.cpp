@@ -886,7 +886,7 @@ sr_status boolean_entry(sr_boolean_op op, const sr_mesh *a, const char *a_what,
     }
 }
 
-sr_status repair(sr_mesh *m, int fix_crossings, sr_repair_report *rep, sr_err *err)
+sr_status repair(sr_mesh *m, sr_repair_report *rep, sr_err *err)
 {
     *rep = sr_repair_report();
     sr_status st = sr_mesh_validate(m, "mesh to repair", nullptr, err);
@@ -897,20 +897,22 @@ sr_status repair(sr_mesh *m, int fix_crossings, sr_repair_report *rep, sr_err *e
     if (!build_surface_mesh(m, sm, &bad_tri))
         return sr_err_set(err, SR_E_INVALID,
                           "cannot repair: non-manifold vertex or edge at triangle %zu", bad_tri);
-    size_t before = sm.number_of_faces();
-    bool degenerate = false;
-    for (Mesh::Face_index f : sm.faces())
-        if (PMP::is_degenerate_triangle_face(f, sm)) {
-            degenerate = true;
-            break;
-        }
-    if (degenerate) {
+    auto degenerate_faces = [&sm]() {
+        size_t n = 0;
+        for (Mesh::Face_index f : sm.faces())
+            n += PMP::is_degenerate_triangle_face(f, sm) ? 1 : 0;
+        return n;
+    };
+    size_t before = degenerate_faces();
+    if (before) {
+        /* CGAL collapses or flips edges: the face count need not drop, so what is
+         * reported is the zero-area triangles gone */
         PMP::remove_degenerate_faces(sm);
         sm.collect_garbage();
-        rep->degenerate_removed = before > sm.number_of_faces() ? before - sm.number_of_faces() : 0;
+        size_t after = degenerate_faces();
+        rep->degenerate_removed = before > after ? before - after : 0;
         rep->changed = 1;
     }
-    (void)fix_crossings;
     if (!rep->changed)
         return SR_OK;
     sr_mesh res;
@@ -926,17 +928,14 @@ sr_status repair(sr_mesh *m, int fix_crossings, sr_repair_report *rep, sr_err *e
 
 extern "C" {
 
-sr_status sr_mesh_repair(sr_mesh *mesh, int fix_crossings, sr_repair_report *report,
-                         sr_err *err)
+sr_status sr_mesh_repair(sr_mesh *mesh, sr_repair_report *report, sr_err *err)
 {
     sr_repair_report local;
     try {
-        return repair(mesh, fix_crossings, report ? report : &local, err);
+        return repair(mesh, report ? report : &local, err);
     } catch (...) {
         return status_from_exception(err, "repair");
     }
-
-
 }
 
 sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_what,
