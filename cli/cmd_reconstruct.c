@@ -125,6 +125,8 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
     printf("  scan volume %.1f mm3, restored %.1f mm3 (%s), patches %.1f mm3\n",
            r->scan_volume_mm3, r->restored_volume_mm3,
            r->restored_by_union ? "boolean union" : "separate shells", r->patch_volume_mm3);
+    if (!r->restored_by_union && r->union_note[0])
+        printf("  union:      %s\n", r->union_note);
     printf("  time %.3f s (align %.3f, slice %.3f, analyse %.3f, patch %.3f, union %.3f)\n",
            r->timings.total_s, r->timings.align_s, r->timings.slice_s, r->timings.analyse_s,
            r->timings.patch_s, r->timings.union_s);
@@ -233,6 +235,10 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     if (r->union_note[0]) {
         json_key(&j, "union_note");
         json_string(&j, r->union_note);
+    }
+    if (r->repair_note[0]) {
+        json_key(&j, "repair_note");
+        json_string(&j, r->repair_note);
     }
     json_key(&j, "timings");
     json_object_begin(&j);

@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "bridge/boolean.h"
+#include "mesh_shells.h"
 #include "region_sections.h"
 
 static double now_s(void)
@@ -84,29 +85,60 @@ static sr_status concatenate(const sr_mesh *scan, const double xf[12], const sr_
     return SR_OK;
 }
 
+/* What was repaired in the scan for the unions and what the union left behind, as
+ * repair_note. */
+static void note_repairs(sr_recon_result *r, size_t degenerate, size_t mended,
+                         const sr_void_report *voids)
+{
+    char *p = r->repair_note;
+    size_t room = sizeof r->repair_note;
+    int n = 0;
+    if (degenerate || mended)
+        n = snprintf(p, room, "scan repaired for the union:");
+    if (degenerate && n >= 0 && (size_t)n < room)
+        n += snprintf(p + n, room - (size_t)n, " %zu zero-area triangles removed%s",
+                      degenerate, mended ? "," : "");
+    if (mended && n >= 0 && (size_t)n < room)
+        n += snprintf(p + n, room - (size_t)n,
+                      " %zu triangles replaced where it crossed itself", mended);
+    if (voids && voids->voids_dropped && n >= 0 && (size_t)n < room)
+        n += snprintf(p + n, room - (size_t)n,
+                      "%s%zu void(s) trapped between the patches and the scan filled "
+                      "(%.4f mm3)",
+                      n ? "; " : "", voids->voids_dropped, voids->void_volume_mm3);
+}
+
 /* restored = scan ∪ every patch, in the scan's frame. The patches are in the aligned
  * frame (xf: scan -> aligned); each union is local (sr_boolean_union_local: only the
  * scan's triangles near the patch go through CGAL, mapped into the aligned frame, and
  * the scan's other vertices keep their coordinates); the first makes the restored mesh,
- * the next ones grow it in place, so the scan is never copied twice. A union refused as
+ * the next ones grow it in place, so the scan is never copied twice. Where the scan
+ * crosses itself near a patch (a noisy scan folded over at the fracture's edges) its
+ * neighbourhood is mended first (sr_boolean_union_local_mending). A union refused as
  * invalid is retried once after sr_mesh_repair of both (zero-area triangles removed);
- * if it still fails (e.g. a noisy scan crossing itself where the patch goes), that
+ * if it still fails (e.g. crossings that cannot be mended), that
  * patch and the ones after it are concatenated to what was united so far and
- * union_note says why. */
+ * union_note says why. After the unions, voids of the restored part up to
+ * max_void_mm3 are removed (sr_mesh_drop_voids). */
 static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
-                       const sr_mesh *upatches, sr_err *err)
+                       const sr_mesh *upatches, double max_void_mm3, sr_err *err)
 {
     sr_mesh acc = {0};
     int owned = 0; /* acc holds the restored mesh so far; until then it is the scan */
     int scan_repaired = 0;
+    size_t mended = 0;     /* scan triangles replaced where the scan crossed itself */
+    size_t degenerate = 0; /* zero-area scan triangles removed */
     sr_status st;
     r->restored_by_union = 1;
     for (size_t i = 0; i < r->section_count; i++) {
         sr_err uerr = {{0}};
         const sr_mesh *up = upatches ? &upatches[i] : &r->sections[i].patch;
         sr_mesh next = {0};
-        sr_status us = sr_boolean_union_local(owned ? &acc : scan, NULL, xf, up, NULL, 0,
-                                              owned ? &acc : &next, NULL, &uerr);
+        sr_local_union_info info;
+        sr_status us = sr_boolean_union_local_mending(owned ? &acc : scan, NULL, xf, up, NULL,
+                                                      0, owned ? &acc : &next, &info, &uerr);
+        if (us == SR_OK)
+            mended += info.mended_tris;
         if (us == SR_OK && !owned) {
             acc = next;
             owned = 1;
@@ -125,12 +157,12 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
                 sr_mesh_repair(&patch, &rb, &rerr) == SR_OK && (ra.changed || rb.changed)) {
                 if (ra.changed && !scan_repaired) {
                     scan_repaired = 1;
-                    snprintf(r->repair_note, sizeof r->repair_note,
-                             "scan repaired for the union: %zu zero-area triangles removed",
-                             ra.degenerate_removed);
+                    degenerate = ra.degenerate_removed;
                 }
-                us = sr_boolean_union_local(&acc, NULL, xf, &patch, NULL, 0, &acc, NULL,
-                                            &uerr);
+                us = sr_boolean_union_local_mending(&acc, NULL, xf, &patch, NULL, 0, &acc,
+                                                    &info, &uerr);
+                if (us == SR_OK)
+                    mended += info.mended_tris;
             }
             sr_mesh_release(&patch);
         }
@@ -138,6 +170,7 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
             continue;
         snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1, uerr.msg);
         r->restored_by_union = 0;
+        note_repairs(r, degenerate, mended, NULL);
         st = concatenate(owned ? &acc : scan, xf, r->sections + i, r->section_count - i,
                          &next);
         sr_mesh_release(&acc);
@@ -151,6 +184,17 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
         if (st != SR_OK)
             return sr_err_set(err, st, "out of memory copying the scan");
     }
+    /* pockets the patches closed off against the fracture (layer steps against a
+     * noisy surface) are voids of the restored part no scan could have shown */
+    sr_void_report voids = {0};
+    if (r->section_count) {
+        st = sr_mesh_drop_voids(&acc, max_void_mm3, &voids, err);
+        if (st != SR_OK) {
+            sr_mesh_release(&acc);
+            return st;
+        }
+    }
+    note_repairs(r, degenerate, mended, &voids);
     r->restored = acc;
     return SR_OK;
 }
@@ -352,7 +396,8 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
             paper_union_patches(&r.grid, &r.analysis, r.sections, r.section_count,
                                 &upatches) != SR_OK)
             upatches = NULL; /* the reported patches are united instead */
-        st = unite(scan, r.alignment.xform, &r, upatches, err);
+        st = unite(scan, r.alignment.xform, &r, upatches,
+                   opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, err);
         for (size_t i = 0; upatches && i < r.section_count; i++)
             sr_mesh_release(&upatches[i]);
         free(upatches);

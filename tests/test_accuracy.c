@@ -347,16 +347,21 @@ static void robust_finds_nothing_on_an_intact_part(void **state)
 
 /* Issue 4 item 7 / issue 6: the restored part (the damaged scan united with its
  * patches by CGAL) compared with the intact part by `compare` (compare.h), for every
- * part but the lever: one closed surface, volume within 1 %, surface deviation both ways
+ * posed part but the lever and three noisy scans: one closed surface, volume within 1 %, surface deviation both ways
  * mean <= 0.05 mm and max <= 1 mm (measured: see the printed figures). */
+typedef struct compared_case {
+    const char *name, *file;
+} compared_case;
+
 static void robust_restored_part_matches_the_intact_part(void **state)
 {
-    const char *name = *state;
+    const compared_case *cc = *state;
+    const char *name = cc->name;
     if (!parts_present())
         skip();
     sr_truth truth;
     sr_recon_result r;
-    robust_reconstruct(name, "damaged_posed.stl", 0, &truth, &r);
+    robust_reconstruct(name, cc->file, 0, &truth, &r);
     sr_mesh intact = {0};
     read_mesh(name, "intact.stl", &intact);
     sr_err err = {{0}};
@@ -368,9 +373,9 @@ static void robust_restored_part_matches_the_intact_part(void **state)
     assert_int_equal(sr_compare_meshes(&intact, "intact", &r.restored, "restored", NULL, &c,
                                        &err),
                      SR_OK);
-    print_message("%-23s restored vs intact: volume %+.3f %%, intact->restored max %.3f "
+    print_message("%-23s %s restored vs intact: volume %+.3f %%, intact->restored max %.3f "
                   "mean %.4f mm, restored->intact max %.3f mean %.4f mm\n",
-                  name, c.volume_diff_pct, c.a_to_b.max_mm, c.a_to_b.mean_mm,
+                  name, cc->file, c.volume_diff_pct, c.a_to_b.max_mm, c.a_to_b.mean_mm,
                   c.b_to_a.max_mm, c.b_to_a.mean_mm);
     assert_true(c.closed_b);
     assert_true(fabs(c.volume_diff_pct) <= 1.0);
@@ -493,7 +498,7 @@ static void truth_reader_reports_a_missing_file(void **state)
 int main(void)
 {
     enum { NR = sizeof robust_cases / sizeof robust_cases[0] };
-    struct CMUnitTest tests[sizeof cases / sizeof cases[0] + 2 * NR + 8 + 5];
+    struct CMUnitTest tests[sizeof cases / sizeof cases[0] + 2 * NR + 11 + 5];
     static char rnames[2 * NR][96];
     size_t n = 0;
     static char names[sizeof cases / sizeof cases[0]][96];
@@ -515,17 +520,30 @@ int main(void)
     }
     /* every part but the lever (its known shortfall): before the patch regions were
      * closed against 10 um slits, thin voids left inside the patch put internal faces
-     * 5 mm deep into the restored axial parts (max deviation 4-6 mm) */
-    static const char *const compared[] = {
-        "shaft_chipped_shoulder", "bushing_gouged",     "keyed_shaft_dent",
-        "flange_broken_rim",      "spur_gear_broken_tooth", "rail_glide_chipped",
-        "bracket_broken_ear",     "u_clamp_broken_arm"};
+     * 5 mm deep into the restored axial parts (max deviation 4-6 mm). Noisy scans: the
+     * quick ones (the others are in make bench); before the scan's folds were mended
+     * for the union, their restored parts were scan + patch shells with the fracture
+     * inside (max deviation up to the chip's depth) */
+    static const compared_case compared[] = {
+        {"shaft_chipped_shoulder", "damaged_posed.stl"},
+        {"bushing_gouged", "damaged_posed.stl"},
+        {"keyed_shaft_dent", "damaged_posed.stl"},
+        {"flange_broken_rim", "damaged_posed.stl"},
+        {"spur_gear_broken_tooth", "damaged_posed.stl"},
+        {"rail_glide_chipped", "damaged_posed.stl"},
+        {"bracket_broken_ear", "damaged_posed.stl"},
+        {"u_clamp_broken_arm", "damaged_posed.stl"},
+        {"shaft_chipped_shoulder", "damaged_scan.stl"},
+        {"bracket_broken_ear", "damaged_scan.stl"},
+        {"rail_glide_chipped", "damaged_scan.stl"},
+    };
     enum { NC = sizeof compared / sizeof compared[0] };
     static char cnames[NC][96];
     for (size_t i = 0; i < NC; i++) {
-        snprintf(cnames[i], sizeof cnames[i], "%s_robust_restored_matches_intact", compared[i]);
+        snprintf(cnames[i], sizeof cnames[i], "%s_%s_robust_restored_matches_intact",
+                 compared[i].name, strstr(compared[i].file, "scan") ? "scan" : "posed");
         tests[n++] = (struct CMUnitTest){cnames[i], robust_restored_part_matches_the_intact_part,
-                                         NULL, NULL, (void *)compared[i]};
+                                         NULL, NULL, (void *)&compared[i]};
     }
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(robust_u_clamp_scan_gives_one_closed_patch);
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(intact_shaft_has_nothing_to_repair);

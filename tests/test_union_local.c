@@ -225,17 +225,68 @@ static void chipped_cylinder_and_its_patch_unite_locally_as_whole(void **state)
 }
 
 /* A scan that crosses itself where the patch goes (a loose 1.2 mm block stuck through
- * the cylinder's wall beside the chip, a second shell): every union refuses it, so the
- * restored part falls back to the scan followed by the patch, mapped back to the
- * scan's frame, and says why. */
-static void refused_union_falls_back_to_scan_and_patch_shells(void **state)
+ * the cylinder's wall beside the chip, a second shell): the plain unions refuse it; the
+ * pipeline mends the scan's neighbourhood (the crossing triangles replaced by fills)
+ * and unites, and says what it replaced. */
+static void scan_crossing_itself_beside_the_chip_is_mended_and_united(void **state)
 {
     (void)state;
-    sr_mesh cyl, block;
+    sr_mesh cyl, block, intact;
     make_cylinder(&cyl, 1);
+    make_cylinder(&intact, 0);
     make_box(&block, 15.6, 11.2, 19.0, 16.8, 12.4, 20.2);
     assert_int_equal(sr_mesh_append(&cyl, &block), SR_OK);
     sr_mesh_release(&block);
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry.kind = SR_SYM_AXIAL;
+    o.have_alignment = 1;
+    sr_xform_identity(o.alignment.xform);
+    sr_recon_result r;
+    sr_err err = {{0}};
+    assert_int_equal(sr_reconstruct(&cyl, &o, &r, &err), SR_OK);
+    assert_int_equal(r.section_count, 1);
+    sr_mesh up = {0};
+    assert_int_equal(sr_boolean_union_local(&cyl, NULL, NULL, &r.sections[0].patch, NULL, 0,
+                                            &up, NULL, &err),
+                     SR_E_INVALID);
+    assert_string_equal(err.msg, "'first mesh' intersects itself where the other mesh is");
+    assert_int_equal(r.restored_by_union, 1);
+    assert_string_equal(r.union_note, "");
+    assert_non_null(strstr(r.repair_note, "triangles replaced where it crossed itself"));
+    assert_true(sr_mesh_is_closed(&r.restored));
+    int crossing = 1;
+    assert_int_equal(sr_mesh_self_intersects(&r.restored, &crossing, NULL), SR_OK);
+    assert_int_equal(crossing, 0);
+    /* the restored cylinder: the intact volume up to the patch's error (the chip is
+     * 4 mm deep, about 500 mm^3) and the block's part outside the wall (< 1.8 mm^3) */
+    double vi = sr_mesh_volume(&intact), vd = sr_mesh_volume(&cyl);
+    assert_true(r.restored_volume_mm3 > vd + 0.9 * (vi - vd) - 1.8);
+    assert_true(r.restored_volume_mm3 < vi + 0.02 * (vi - vd) + 1.8);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&cyl);
+    sr_mesh_release(&intact);
+}
+
+/* A scan every union refuses (a hole far from the chip: not closed): the restored part
+ * falls back to the scan followed by the patch, mapped back to the scan's frame, and
+ * says why. */
+static void refused_union_falls_back_to_scan_and_patch_shells(void **state)
+{
+    (void)state;
+    sr_mesh cyl;
+    make_cylinder(&cyl, 1);
+    /* drop one side triangle at the far side (theta = 180 deg), low down */
+    size_t hole = cyl.tri_count;
+    for (size_t t = 0; t < cyl.tri_count && hole == cyl.tri_count; t++) {
+        const double *p = cyl.xyz + 3 * cyl.tri[3 * t];
+        if (p[0] < -19.9 && p[2] > 4 && p[2] < 6)
+            hole = t;
+    }
+    assert_true(hole < cyl.tri_count);
+    memmove(cyl.tri + 3 * hole, cyl.tri + 3 * (hole + 1),
+            3 * (cyl.tri_count - hole - 1) * sizeof(uint32_t));
+    cyl.tri_count--;
     for (size_t v = 0; v < cyl.vertex_count; v++)
         cyl.xyz[3 * v] -= 5.0;
     sr_recon_opts o;
@@ -250,7 +301,7 @@ static void refused_union_falls_back_to_scan_and_patch_shells(void **state)
     assert_int_equal(r.section_count, 1);
     assert_int_equal(r.restored_by_union, 0);
     assert_string_equal(r.union_note,
-                        "section 1: 'first mesh' intersects itself where the other mesh is");
+                        "section 1: 'first mesh' is not closed (3 boundary edges)");
     const sr_mesh *p = &r.sections[0].patch; /* in the scan's frame by now */
     assert_int_equal(r.restored.vertex_count, cyl.vertex_count + p->vertex_count);
     assert_int_equal(r.restored.tri_count, cyl.tri_count + p->tri_count);
@@ -549,6 +600,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(chipped_cylinder_and_box_unite_locally_as_whole),
         cmocka_unit_test(chipped_cylinder_and_its_patch_unite_locally_as_whole),
+        cmocka_unit_test(scan_crossing_itself_beside_the_chip_is_mended_and_united),
         cmocka_unit_test(refused_union_falls_back_to_scan_and_patch_shells),
         cmocka_unit_test(touching_faces_unite_locally_as_whole),
         cmocka_unit_test(union_in_place_grows_the_first_mesh),

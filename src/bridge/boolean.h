@@ -52,11 +52,25 @@ sr_status sr_boolean_union(const sr_mesh *a, const sr_mesh *b, sr_mesh *out, sr_
 typedef struct sr_local_union_info {
     int local;                  /* 1: united locally; 0: the whole-mesh union ran */
     size_t neighbourhood_tris;  /* a's triangles in the neighbourhood */
+    size_t mended_tris;         /* _mending: a's triangles replaced where it crossed itself */
     char fallback[160];         /* why the whole-mesh union ran ("" when it did not) */
 } sr_local_union_info;
 sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const double *a_to_b,
                                  const sr_mesh *b, const char *b_what, double margin_mm,
                                  sr_mesh *out, sr_local_union_info *info, sr_err *err);
+
+/* As sr_boolean_union_local, but where a crosses itself near b (a noisy scan folded
+ * over along the sharp edges of a fracture, where the patch meets it) a's neighbourhood
+ * is mended first (mend.h: the crossing triangles and their one-vertex ring replaced by
+ * a fill of the hole they leave, no new vertices) instead of the union being refused;
+ * info->mended_tris counts the triangles taken out. The restored surface then differs
+ * from a there by at most the size of those triangles. Refused (SR_E_INVALID, naming a)
+ * when the crossings cannot be mended (they reach the neighbourhood's rim, a hole
+ * cannot be filled). The whole-mesh fallback does not mend. */
+sr_status sr_boolean_union_local_mending(const sr_mesh *a, const char *a_what,
+                                         const double *a_to_b, const sr_mesh *b,
+                                         const char *b_what, double margin_mm, sr_mesh *out,
+                                         sr_local_union_info *info, sr_err *err);
 
 /* out = a ∩ b and out = a \ b, same contract. */
 sr_status sr_boolean_intersection(const sr_mesh *a, const sr_mesh *b, sr_mesh *out,

@@ -65,6 +65,7 @@
 
 extern "C" {
 #include "bridge/boolean.h"
+#include "bridge/mend.h"
 #include "mesh.h"
 #include "status.h"
 }
@@ -458,6 +459,52 @@ bool select_neighbourhood(const sr_mesh *a, const double *xf, const double box[6
     return false;
 }
 
+/* Whether p lies inside the closed mesh a (mapped by xf): parity of a's triangles
+ * crossed by each of three rays in unrelated directions, the majority deciding; 1
+ * inside, 0 outside, -1 when a ray runs through an edge or a vertex of a (parity
+ * undefined) in two of them. Linear in a: for the few pieces of a patch that no
+ * triangle of the neighbourhood cuts. */
+int inside_by_rays(const sr_mesh *a, const double *xf, const Point &p)
+{
+    static const double dirs[3][3] = {{0.5773502691896258, 0.5773502691896258 + 1e-3,
+                                       0.5773502691896258 - 2e-3},
+                                      {-0.3120309, 0.8224617, -0.4755931},
+                                      {0.7003127, -0.2101003, 0.6822417}};
+    int in = 0, out = 0;
+    for (int r = 0; r < 3; r++) {
+        K::Ray_3 ray(p, K::Vector_3(dirs[r][0], dirs[r][1], dirs[r][2]));
+        size_t hits = 0;
+        bool clean = true;
+        for (size_t t = 0; t < a->tri_count && clean; t++) {
+            double q[3][3];
+            for (int k = 0; k < 3; k++)
+                frame_point(a, a->tri[3 * t + k], xf, q[k]);
+            Triangle tri(Point(q[0][0], q[0][1], q[0][2]), Point(q[1][0], q[1][1], q[1][2]),
+                         Point(q[2][0], q[2][1], q[2][2]));
+            if (tri.is_degenerate() || !CGAL::do_intersect(ray, tri))
+                continue;
+            /* through an edge or a vertex: the ray meets the triangle's boundary */
+            for (int k = 0; k < 3 && clean; k++) {
+                K::Segment_3 e(tri.vertex(k), tri.vertex((k + 1) % 3));
+                if (CGAL::do_intersect(ray, e))
+                    clean = false;
+            }
+            hits++;
+        }
+        if (!clean)
+            continue;
+        if (hits & 1)
+            in++;
+        else
+            out++;
+    }
+    if (in >= 2)
+        return 1;
+    if (out >= 2)
+        return 0;
+    return -1;
+}
+
 /* Patch flags of one corefined operand, as CGAL's output builder works them out. */
 struct Patch_flags {
     std::vector<std::size_t> patch;          /* per face index: its patch */
@@ -596,15 +643,31 @@ void splice_local(sr_mesh *dst, const std::vector<uint8_t> &in, const Local_resu
  * set) when a patch of b has no intersection edge (inside or outside a cannot be told
  * from N alone) or an intersection-free patch of N sits on b's surface. */
 bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
-                    const double *back, Mesh &sm,
+                    const double *xf, const double *back, Mesh &sm,
                     Mesh::Property_map<Vertex_index, uint32_t> orig, Mesh &mb,
                     Patch_flags flags[2], const std::vector<uint32_t> node_vertex[2],
                     Local_result &res, char *why, size_t why_size)
 {
     Patch_flags &f1 = flags[0], &f2 = flags[1];
-    if (f2.not_set.any()) {
-        snprintf(why, why_size, "a part of '%s' meets no triangle of '%s'", b_what, a_what);
-        return false;
+    if (f2.not_set.any()) { /* b's pieces away from N: inside or outside the whole of a */
+        boost::dynamic_bitset<> done(f2.not_set.size());
+        for (Mesh::Face_index fd : mb.faces()) {
+            std::size_t pid = f2.patch[fd.idx()];
+            if (!f2.not_set.test(pid) || done.test(pid))
+                continue;
+            done.set(pid);
+            Mesh::Halfedge_index h = mb.halfedge(fd);
+            int side = inside_by_rays(a, xf, CGAL::centroid(mb.point(mb.source(h)),
+                                                           mb.point(mb.target(h)),
+                                                           mb.point(mb.target(mb.next(h)))));
+            if (side < 0) {
+                snprintf(why, why_size, "a part of '%s' meets no triangle of '%s'", b_what,
+                         a_what);
+                return false;
+            }
+            if (side == 1)
+                f2.inside.set(pid);
+        }
     }
     if (f1.not_set.any()) { /* N's patches away from b: inside or outside b */
         CGAL::Side_of_triangle_mesh<Mesh, K> side(mb);
@@ -719,12 +782,36 @@ bool local_result_fits(const Local_result &res, const std::vector<uint64_t> &bor
     return e.nonmanifold_edges == 0 && e.misoriented_edges == 0 && e.nonmanifold_vertices == 0;
 }
 
+/* The neighbourhood as a halfedge mesh with property "v:orig" (a's vertex number), from
+ * its arrays: only vertices some triangle uses. False when a triangle is refused. */
+bool build_neighbourhood(const sr_mesh &loc, const std::vector<uint32_t> &loc_orig, Mesh &sm)
+{
+    auto orig = sm.add_property_map<Vertex_index, uint32_t>("v:orig", no_vertex).first;
+    std::vector<uint32_t> id(loc.vertex_count, no_vertex);
+    for (size_t i = 0; i < 3 * loc.tri_count; i++) {
+        uint32_t v = loc.tri[i];
+        if (id[v] == no_vertex) {
+            const double *p = loc.xyz + 3 * v;
+            Vertex_index lv = sm.add_vertex(Point(p[0], p[1], p[2]));
+            orig[lv] = loc_orig[v];
+            id[v] = static_cast<uint32_t>(lv.idx());
+        }
+    }
+    for (size_t t = 0; t < loc.tri_count; t++) {
+        const uint32_t *f = loc.tri + 3 * t;
+        if (sm.add_face(Vertex_index(id[f[0]]), Vertex_index(id[f[1]]),
+                        Vertex_index(id[f[2]])) == Mesh::null_face())
+            return false;
+    }
+    return true;
+}
+
 /* The local union proper. SR_OK with *done = false when a condition for it fails
  * (why in `why`): the caller runs the whole-mesh union. */
 sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
-                      const sr_mesh *b, const char *b_what, double margin, sr_mesh *out,
-                      bool *done,
-                      char *why, size_t why_size, size_t *n_tris, sr_err *err)
+                      const sr_mesh *b, const char *b_what, double margin, bool mend,
+                      sr_mesh *out, bool *done, char *why, size_t why_size, size_t *n_tris,
+                      size_t *mended_tris, double *grow_used, bool *mend_rim, sr_err *err)
 {
     *done = false;
     /* a: every check of check_operand that needs no halfedge mesh, on all of a */
@@ -758,6 +845,7 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
                             (box_b[4] - box_b[1]) * (box_b[4] - box_b[1]) +
                             (box_b[5] - box_b[2]) * (box_b[5] - box_b[2]));
     double grow = margin > 0 ? margin : 0.01 * diag;
+    *grow_used = grow;
     double box[6];
     for (int k = 0; k < 3; k++) {
         box[k] = box_b[k] - grow;
@@ -770,34 +858,75 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
         return SR_OK;
     }
     *n_tris = n;
-    Mesh sm;
-    auto orig = sm.add_property_map<Vertex_index, uint32_t>("v:orig", no_vertex).first;
-    std::vector<uint32_t> local(a->vertex_count, no_vertex);
-    for (size_t t = 0; t < a->tri_count; t++)
-        if (in[t])
-            for (int k = 0; k < 3; k++) {
-                uint32_t v = a->tri[3 * t + k];
-                if (local[v] == no_vertex) {
-                    double p[3];
-                    frame_point(a, v, xf, p);
-                    Vertex_index lv = sm.add_vertex(Point(p[0], p[1], p[2]));
-                    orig[lv] = v;
-                    local[v] = static_cast<uint32_t>(lv.idx());
+    /* N as arrays in b's frame (loc_orig: a's vertex number of each), then as a
+     * halfedge mesh */
+    sr_mesh loc = {nullptr, nullptr, 0, 0};
+    std::vector<double> loc_xyz;
+    std::vector<uint32_t> loc_tri, loc_orig;
+    {
+        std::vector<uint32_t> local(a->vertex_count, no_vertex);
+        loc_tri.reserve(3 * n);
+        for (size_t t = 0; t < a->tri_count; t++)
+            if (in[t])
+                for (int k = 0; k < 3; k++) {
+                    uint32_t v = a->tri[3 * t + k];
+                    if (local[v] == no_vertex) {
+                        double p[3];
+                        frame_point(a, v, xf, p);
+                        local[v] = static_cast<uint32_t>(loc_orig.size());
+                        loc_orig.push_back(v);
+                        loc_xyz.insert(loc_xyz.end(), p, p + 3);
+                    }
+                    loc_tri.push_back(local[v]);
                 }
-            }
-    for (size_t t = 0; t < a->tri_count; t++)
-        if (in[t]) {
-            const uint32_t *f = a->tri + 3 * t;
-            if (sm.add_face(Vertex_index(local[f[0]]), Vertex_index(local[f[1]]),
-                            Vertex_index(local[f[2]])) == Mesh::null_face()) {
-                snprintf(why, why_size, "the neighbourhood is not a halfedge mesh");
-                return SR_OK;
-            }
+    }
+    loc.xyz = loc_xyz.data();
+    loc.vertex_count = loc_orig.size();
+    loc.tri = loc_tri.data();
+    loc.tri_count = n;
+    Mesh sm;
+    if (!build_neighbourhood(loc, loc_orig, sm)) {
+        snprintf(why, why_size, "the neighbourhood is not a halfedge mesh");
+        return SR_OK;
+    }
+    if (self_intersects_near(sm, box_b)) {
+        if (!mend)
+            return sr_err_set(err, SR_E_INVALID,
+                              "'%s' intersects itself where the other mesh is", a_what);
+        /* mend N on a malloc'd copy of its triangles (the mender frees and replaces
+         * the array it is given) */
+        sr_mend_report mr;
+        sr_err merr = {{0}};
+        loc.tri = static_cast<uint32_t *>(malloc(loc_tri.size() * sizeof(uint32_t)));
+        if (!loc.tri)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        memcpy(loc.tri, loc_tri.data(), loc_tri.size() * sizeof(uint32_t));
+        sr_status ms = sr_mesh_mend_crossings(&loc, box_b, &mr, &merr);
+        std::vector<uint32_t> mended;
+        if (ms == SR_OK)
+            mended.assign(loc.tri, loc.tri + 3 * loc.tri_count);
+        free(loc.tri);
+        if (ms == SR_E_NOMEM)
+            return sr_err_set(err, ms, "union of '%s' and '%s': out of memory", a_what,
+                              b_what);
+        if (ms != SR_OK) {
+            *mend_rim = mr.reached_border != 0;
+            return sr_err_set(err, SR_E_INVALID,
+                              "'%s' intersects itself where the other mesh is, and %s",
+                              a_what, merr.msg);
         }
-    std::vector<uint32_t>().swap(local);
-    if (self_intersects_near(sm, box_b))
-        return sr_err_set(err, SR_E_INVALID, "'%s' intersects itself where the other mesh is",
-                          a_what);
+        loc_tri.swap(mended);
+        loc.tri = loc_tri.data();
+        *mended_tris = mr.removed_tris;
+        sm = Mesh();
+        if (!build_neighbourhood(loc, loc_orig, sm)) {
+            snprintf(why, why_size, "the mended neighbourhood is not a halfedge mesh");
+            return SR_OK;
+        }
+    }
+    Mesh::Property_map<Vertex_index, uint32_t> orig =
+        sm.property_map<Vertex_index, uint32_t>("v:orig").first;
     /* N's border before: a's directed edges of N with no N triangle across */
     std::vector<uint64_t> border_before;
     for (Mesh::Halfedge_index h : sm.halfedges())
@@ -825,7 +954,7 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
     double back[12];
     if (xf)
         sr_xform_rigid_inverse(back, xf);
-    if (!assemble_local(a, a_what, b_what, xf ? back : nullptr, sm, orig, mb, flags,
+    if (!assemble_local(a, a_what, b_what, xf, xf ? back : nullptr, sm, orig, mb, flags,
                         node_vertex, res, why, why_size))
         return SR_OK;
     if (!local_result_fits(res, border_before, a->vertex_count)) {
@@ -945,9 +1074,13 @@ sr_status sr_boolean_compute(sr_boolean_op op, const sr_mesh *a, const char *a_w
     return boolean_entry(op, a, a_what, b, b_what, out, err);
 }
 
-sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const double *a_to_b,
-                                 const sr_mesh *b, const char *b_what, double margin_mm,
-                                 sr_mesh *out, sr_local_union_info *info, sr_err *err)
+} // extern "C"
+
+namespace {
+
+sr_status union_local_entry(const sr_mesh *a, const char *a_what, const double *a_to_b,
+                            const sr_mesh *b, const char *b_what, double margin_mm, bool mend,
+                            sr_mesh *out, sr_local_union_info *info, sr_err *err)
 {
     sr_local_union_info local_info;
     if (!info)
@@ -963,9 +1096,22 @@ sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const dou
     try {
         bool done = false;
         size_t n = 0;
-        sr_status st = union_local(a, a_what, a_to_b, b, b_what, margin_mm, out, &done,
-                                   info->fallback, sizeof info->fallback, &n, err);
+        size_t mended = 0;
+        double grow = 0;
+        bool rim = false;
+        sr_status st = union_local(a, a_what, a_to_b, b, b_what, margin_mm, mend, out, &done,
+                                   info->fallback, sizeof info->fallback, &n, &mended, &grow,
+                                   &rim, err);
+        /* crossings reaching the neighbourhood's rim (a fold along an edge that runs out
+         * of it, long triangles): a wider neighbourhood (x4), then all of a */
+        for (int wider = 0; wider < 2 && st == SR_E_INVALID && rim; wider++) {
+            rim = false;
+            st = union_local(a, a_what, a_to_b, b, b_what, wider == 0 ? 4.0 * grow : 1e30,
+                             mend, out, &done, info->fallback, sizeof info->fallback, &n,
+                             &mended, &grow, &rim, err);
+        }
         info->neighbourhood_tris = n;
+        info->mended_tris = mended;
         if (st != SR_OK || done) {
             info->local = done ? 1 : 0;
             return st;
@@ -975,17 +1121,26 @@ sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const dou
         snprintf(info->fallback, sizeof info->fallback,
                  "the union of the neighbourhood failed");
     }
-    if (!a_to_b)
-        return boolean_entry(SR_BOOLEAN_UNION, a, a_what, b, b_what, out, err);
-    /* the whole-mesh union in b's frame, the result brought back to a's */
+    /* the whole-mesh union (in b's frame, the result brought back to a's); a refusal
+     * says why the local one was not used */
     sr_mesh moved, res;
-    if (sr_mesh_copy(&moved, a) != SR_OK)
+    sr_status st;
+    if (!a_to_b) {
+        st = boolean_entry(SR_BOOLEAN_UNION, a, a_what, b, b_what, out, err);
+    } else if (sr_mesh_copy(&moved, a) != SR_OK) {
         return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory", a_what,
                           b_what);
-    sr_mesh_transform(&moved, a_to_b);
-    sr_status st = boolean_entry(SR_BOOLEAN_UNION, &moved, a_what, b, b_what, &res, err);
-    sr_mesh_release(&moved);
-    if (st != SR_OK)
+    } else {
+        sr_mesh_transform(&moved, a_to_b);
+        st = boolean_entry(SR_BOOLEAN_UNION, &moved, a_what, b, b_what, &res, err);
+        sr_mesh_release(&moved);
+    }
+    if (st != SR_OK && st != SR_E_NOMEM && err && info->fallback[0]) {
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        sr_err_set(err, st, "%s (the whole-mesh union ran: %s)", msg, info->fallback);
+    }
+    if (st != SR_OK || !a_to_b)
         return st;
     double back[12];
     sr_xform_rigid_inverse(back, a_to_b);
@@ -994,6 +1149,25 @@ sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const dou
         sr_mesh_release(out);
     *out = res;
     return SR_OK;
+}
+
+} // namespace
+
+extern "C" {
+
+sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const double *a_to_b,
+                                 const sr_mesh *b, const char *b_what, double margin_mm,
+                                 sr_mesh *out, sr_local_union_info *info, sr_err *err)
+{
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, false, out, info, err);
+}
+
+sr_status sr_boolean_union_local_mending(const sr_mesh *a, const char *a_what,
+                                         const double *a_to_b, const sr_mesh *b,
+                                         const char *b_what, double margin_mm, sr_mesh *out,
+                                         sr_local_union_info *info, sr_err *err)
+{
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, true, out, info, err);
 }
 
 sr_status sr_boolean_union(const sr_mesh *a, const sr_mesh *b, sr_mesh *out, sr_err *err)

@@ -1,0 +1,301 @@
+/*
+ * test_mend.c: mending a surface that crosses itself (src/bridge/mend.h) and the union
+ * that mends a scan's neighbourhood first (sr_boolean_union_local_mending,
+ * src/bridge/boolean.h). The fold is made the way scan noise makes one: a vertex of a
+ * cylinder pushed past its neighbour along the surface, so its fan lies over the
+ * neighbour's. Known answers: no crossing is left, the mesh stays closed (or keeps its
+ * border), the enclosed volume moves by no more than the fold's own size, vertices keep
+ * their indices; the mending union has the volume of the unfolded union; what cannot be
+ * mended is refused with a message and the mesh untouched.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "bridge/boolean.h"
+#include "bridge/mend.h"
+#include "mesh.h"
+#include "shapes.h"
+#include "support/assert_near.h"
+
+static double ring_radius(double theta, size_t ring, void *user)
+{
+    (void)theta, (void)ring, (void)user;
+    return 20.0;
+}
+
+/* A cylinder r = 20, z 0..40, 96 segments (3.75 deg), 41 rings (1 mm apart). */
+static void make_ringed_cylinder(sr_mesh *m)
+{
+    double z[41];
+    for (int i = 0; i < 41; i++)
+        z[i] = i;
+    sr_revolve_opts o = {96, 41, z, ring_radius, NULL, NULL};
+    assert_int_equal(sr_shape_revolve(&o, m, NULL), SR_OK);
+    assert_true(sr_mesh_is_closed(m));
+}
+
+static size_t nearest_vertex(const sr_mesh *m, double x, double y, double z)
+{
+    size_t best = 0;
+    double bd = INFINITY;
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        const double *p = m->xyz + 3 * v;
+        double d = (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y) + (p[2] - z) * (p[2] - z);
+        if (d < bd) {
+            bd = d;
+            best = v;
+        }
+    }
+    return best;
+}
+
+/* Folds the surface at angle deg, height z: the vertex there is moved 1.4 times the way
+ * to its neighbour 3.75 deg further on, so its triangles lie over the neighbour's. */
+static void fold_at(sr_mesh *m, double deg, double z)
+{
+    double a = deg * M_PI / 180.0, b = (deg + 3.75) * M_PI / 180.0;
+    size_t v = nearest_vertex(m, 20 * cos(a), 20 * sin(a), z);
+    size_t w = nearest_vertex(m, 20 * cos(b), 20 * sin(b), z);
+    assert_true(v != w);
+    double *p = m->xyz + 3 * v;
+    const double *q = m->xyz + 3 * w;
+    for (int k = 0; k < 3; k++)
+        p[k] += 1.4 * (q[k] - p[k]);
+}
+
+static int crosses(const sr_mesh *m)
+{
+    int x = -1;
+    assert_int_equal(sr_mesh_self_intersects(m, &x, NULL), SR_OK);
+    return x;
+}
+
+/* ---- sr_mesh_mend_crossings --------------------------------------------------------- */
+
+static void folded_cylinder_is_mended_closed_and_keeps_its_volume(void **state)
+{
+    (void)state;
+    sr_mesh m, clean;
+    make_ringed_cylinder(&m);
+    assert_int_equal(sr_mesh_copy(&clean, &m), SR_OK);
+    fold_at(&m, -40, 20);
+    assert_true(crosses(&m));
+    size_t nv = m.vertex_count;
+    sr_mend_report rep;
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_mend_crossings(&m, NULL, &rep, &err), SR_OK);
+    assert_true(rep.crossing_pairs > 0);
+    assert_true(rep.removed_tris >= 2);
+    assert_true(rep.filled_tris > 0);
+    assert_true(rep.rounds >= 1);
+    assert_false(crosses(&m));
+    assert_true(sr_mesh_is_closed(&m));
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(&m, &e), SR_OK);
+    assert_int_equal(e.misoriented_edges, 0);
+    assert_int_equal(e.nonmanifold_vertices, 0);
+    assert_int_equal(m.vertex_count, nv); /* vertex indices stay valid */
+    /* the fill spans the fold's rim: the volume moves by at most the volume of a
+     * cylinder sliver over the removed triangles (a few 1 x 1.3 mm cells, each at most
+     * 0.011 mm from the chord: well under 0.1 mm^3) */
+    assert_near(sr_mesh_volume(&m), sr_mesh_volume(&clean), 0.1);
+    /* and the surface stays where it was, within the fold's size */
+    sr_deviation d;
+    assert_int_equal(sr_mesh_deviation(&m, &clean, &d, NULL), SR_OK);
+    assert_true(d.max_mm < 1.0);
+    sr_mesh_release(&m);
+    sr_mesh_release(&clean);
+}
+
+static void mesh_without_crossings_is_left_as_it_is(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    make_ringed_cylinder(&m);
+    uint32_t *tri = m.tri;
+    size_t nt = m.tri_count;
+    sr_mend_report rep;
+    assert_int_equal(sr_mesh_mend_crossings(&m, NULL, &rep, NULL), SR_OK);
+    assert_int_equal(rep.crossing_pairs, 0);
+    assert_int_equal(rep.rounds, 0);
+    assert_int_equal(rep.removed_tris, 0);
+    assert_ptr_equal(m.tri, tri);
+    assert_int_equal(m.tri_count, nt);
+    sr_mesh_release(&m);
+}
+
+static void fold_outside_the_box_is_not_looked_at(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    make_ringed_cylinder(&m);
+    fold_at(&m, -40, 20);
+    uint32_t *tri = m.tri;
+    double box[6] = {-25, -25, 30, 25, 25, 45}; /* z 30..45: the fold is at z = 20 */
+    sr_mend_report rep;
+    assert_int_equal(sr_mesh_mend_crossings(&m, box, &rep, NULL), SR_OK);
+    assert_int_equal(rep.rounds, 0);
+    assert_ptr_equal(m.tri, tri);
+    assert_true(crosses(&m));
+    /* a box around it: mended */
+    double near[6] = {10, -20, 15, 20, -5, 25};
+    assert_int_equal(sr_mesh_mend_crossings(&m, near, &rep, NULL), SR_OK);
+    assert_true(rep.rounds >= 1);
+    assert_false(crosses(&m));
+    sr_mesh_release(&m);
+}
+
+/* The cylinder's side without its caps: an open sheet whose border must stay. */
+static void open_side(const sr_mesh *closed, sr_mesh *side)
+{
+    assert_int_equal(sr_mesh_copy(side, closed), SR_OK);
+    size_t w = 0;
+    for (size_t t = 0; t < side->tri_count; t++) {
+        const uint32_t *f = side->tri + 3 * t;
+        int on_side = 1; /* the caps are fans to a vertex on the axis */
+        for (int k = 0; k < 3; k++) {
+            const double *p = side->xyz + 3 * f[k];
+            if (fabs(hypot(p[0], p[1]) - 20.0) > 1e-9)
+                on_side = 0;
+        }
+        if (!on_side)
+            continue;
+        memmove(side->tri + 3 * w, f, 3 * sizeof *f);
+        w++;
+    }
+    side->tri_count = w;
+}
+
+static void open_sheet_is_mended_and_keeps_its_border(void **state)
+{
+    (void)state;
+    sr_mesh closed, side;
+    make_ringed_cylinder(&closed);
+    open_side(&closed, &side);
+    sr_mesh_edges before, after;
+    assert_int_equal(sr_mesh_edge_stats(&side, &before), SR_OK);
+    assert_true(before.boundary_edges == 2 * 96);
+    fold_at(&side, 100, 20);
+    assert_true(crosses(&side));
+    sr_mend_report rep;
+    assert_int_equal(sr_mesh_mend_crossings(&side, NULL, &rep, NULL), SR_OK);
+    assert_false(crosses(&side));
+    assert_int_equal(sr_mesh_edge_stats(&side, &after), SR_OK);
+    assert_int_equal(after.boundary_edges, before.boundary_edges);
+    assert_int_equal(after.nonmanifold_edges, 0);
+    assert_int_equal(after.misoriented_edges, 0);
+    sr_mesh_release(&side);
+    sr_mesh_release(&closed);
+}
+
+static void fold_at_the_border_is_refused_and_mesh_untouched(void **state)
+{
+    (void)state;
+    sr_mesh closed, side;
+    make_ringed_cylinder(&closed);
+    open_side(&closed, &side);
+    fold_at(&side, 100, 40); /* a vertex of the top border itself */
+    assert_true(crosses(&side));
+    uint32_t *tri = side.tri;
+    size_t nt = side.tri_count;
+    sr_mend_report rep;
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_mend_crossings(&side, NULL, &rep, &err), SR_E_INVALID);
+    assert_msg_has(err, "cannot mend the crossings");
+    assert_msg_has(err, "border");
+    assert_int_equal(rep.reached_border, 1);
+    assert_ptr_equal(side.tri, tri);
+    assert_int_equal(side.tri_count, nt);
+    sr_mesh_release(&side);
+    sr_mesh_release(&closed);
+}
+
+static void non_manifold_input_is_refused(void **state)
+{
+    (void)state;
+    /* two triangles on the same edge run the same way */
+    double xyz[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0};
+    uint32_t tri[] = {0, 1, 2, 0, 1, 3};
+    sr_mesh m = {xyz, tri, 4, 2};
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_mend_crossings(&m, NULL, NULL, &err), SR_E_INVALID);
+    assert_msg_has(err, "not an oriented manifold");
+    assert_ptr_equal(m.tri, tri);
+    /* NaN coordinates: named as the validator names them */
+    double bad[] = {0, 0, 0, 1, 0, 0, NAN, 1, 0};
+    uint32_t one[] = {0, 1, 2};
+    sr_mesh n = {bad, one, 3, 1};
+    assert_int_equal(sr_mesh_mend_crossings(&n, NULL, NULL, &err), SR_E_INVALID);
+    assert_msg_has(err, "mesh to mend");
+}
+
+/* ---- the mending union -------------------------------------------------------------- */
+
+static void folded_scan_unites_with_a_patch_over_the_fold(void **state)
+{
+    (void)state;
+    sr_mesh scan, clean, box, out, ref;
+    make_ringed_cylinder(&scan);
+    assert_int_equal(sr_mesh_copy(&clean, &scan), SR_OK);
+    fold_at(&scan, -30, 20); /* x = 17.3: inside the box */
+    double lo[3] = {15, -18, 12}, hi[3] = {25, 18, 28};
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+
+    /* the plain local union refuses the fold */
+    sr_err err = {{0}};
+    sr_mesh_init(&out);
+    assert_int_equal(sr_boolean_union_local(&scan, "scan", NULL, &box, "patch", 0, &out, NULL,
+                                            &err),
+                     SR_E_INVALID);
+    assert_msg_has(err, "'scan' intersects itself where the other mesh is");
+
+    /* the mending one unites; the fold lies inside the box, so the result is the union of
+     * the unfolded cylinder and the box */
+    sr_local_union_info info;
+    assert_int_equal(sr_boolean_union_local_mending(&scan, "scan", NULL, &box, "patch", 0,
+                                                    &out, &info, &err),
+                     SR_OK);
+    assert_int_equal(info.local, 1);
+    assert_true(info.mended_tris >= 2);
+    assert_true(sr_mesh_is_closed(&out));
+    assert_false(crosses(&out));
+    assert_int_equal(sr_boolean_union(&clean, &box, &ref, NULL), SR_OK);
+    assert_near(sr_mesh_volume(&out), sr_mesh_volume(&ref), 1e-6 * sr_mesh_volume(&ref));
+    sr_deviation d;
+    assert_int_equal(sr_mesh_deviation(&out, &ref, &d, NULL), SR_OK);
+    assert_true(d.max_mm < 1e-6);
+
+    /* a scan without a fold: nothing mended, the plain union's result */
+    sr_mesh plain;
+    assert_int_equal(sr_boolean_union_local_mending(&clean, "scan", NULL, &box, "patch", 0,
+                                                    &plain, &info, NULL),
+                     SR_OK);
+    assert_int_equal(info.mended_tris, 0);
+    assert_near(sr_mesh_volume(&plain), sr_mesh_volume(&ref), 1e-9 * sr_mesh_volume(&ref));
+    sr_mesh_release(&plain);
+    sr_mesh_release(&ref);
+    sr_mesh_release(&out);
+    sr_mesh_release(&box);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&clean);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(folded_cylinder_is_mended_closed_and_keeps_its_volume),
+        cmocka_unit_test(mesh_without_crossings_is_left_as_it_is),
+        cmocka_unit_test(fold_outside_the_box_is_not_looked_at),
+        cmocka_unit_test(open_sheet_is_mended_and_keeps_its_border),
+        cmocka_unit_test(fold_at_the_border_is_refused_and_mesh_untouched),
+        cmocka_unit_test(non_manifold_input_is_refused),
+        cmocka_unit_test(folded_scan_unites_with_a_patch_over_the_fold),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
