@@ -637,11 +637,32 @@ void splice_local(sr_mesh *dst, const std::vector<uint8_t> &in, const Local_resu
     dst->tri_count = w;
 }
 
+/* Hands each patch of tm with no intersection edge (f.not_set), once, to decide(pid,
+ * point) with a point of it (its first face's centroid); decide marks the patch and
+ * returns false to give up, which this returns. */
+template <class Decide>
+bool classify_free_patches(const Mesh &tm, const Patch_flags &f, Decide decide)
+{
+    boost::dynamic_bitset<> done(f.not_set.size());
+    for (Mesh::Face_index fd : tm.faces()) {
+        std::size_t pid = f.patch[fd.idx()];
+        if (!f.not_set.test(pid) || done.test(pid))
+            continue;
+        done.set(pid);
+        Mesh::Halfedge_index h = tm.halfedge(fd);
+        if (!decide(pid, CGAL::centroid(tm.point(tm.source(h)), tm.point(tm.target(h)),
+                                        tm.point(tm.target(tm.next(h))))))
+            return false;
+    }
+    return true;
+}
+
 /* Unites the corefined N (sm) and b (mb) from the patch flags: N's patches outside b
  * (and its coplanar patches a union keeps), b's patches outside a, joined at the
- * intersection nodes. False (why
- * set) when a patch of b has no intersection edge (inside or outside a cannot be told
- * from N alone) or an intersection-free patch of N sits on b's surface. */
+ * intersection nodes. Patches with no intersection edge are placed by a point of them:
+ * b's against the whole of a (inside_by_rays: N alone cannot tell), N's against b.
+ * False (why set) when that cannot be told (a ray through an edge of a; a patch of N
+ * on b's surface). */
 bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
                     const double *xf, const double *back, Mesh &sm,
                     Mesh::Property_map<Vertex_index, uint32_t> orig, Mesh &mb,
@@ -649,17 +670,9 @@ bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
                     Local_result &res, char *why, size_t why_size)
 {
     Patch_flags &f1 = flags[0], &f2 = flags[1];
-    if (f2.not_set.any()) { /* b's pieces away from N: inside or outside the whole of a */
-        boost::dynamic_bitset<> done(f2.not_set.size());
-        for (Mesh::Face_index fd : mb.faces()) {
-            std::size_t pid = f2.patch[fd.idx()];
-            if (!f2.not_set.test(pid) || done.test(pid))
-                continue;
-            done.set(pid);
-            Mesh::Halfedge_index h = mb.halfedge(fd);
-            int side = inside_by_rays(a, xf, CGAL::centroid(mb.point(mb.source(h)),
-                                                           mb.point(mb.target(h)),
-                                                           mb.point(mb.target(mb.next(h)))));
+    if (f2.not_set.any() &&
+        !classify_free_patches(mb, f2, [&](std::size_t pid, const Point &p) {
+            int side = inside_by_rays(a, xf, p);
             if (side < 0) {
                 snprintf(why, why_size, "a part of '%s' meets no triangle of '%s'", b_what,
                          a_what);
@@ -667,32 +680,28 @@ bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
             }
             if (side == 1)
                 f2.inside.set(pid);
-        }
-    }
-    if (f1.not_set.any()) { /* N's patches away from b: inside or outside b */
+            return true;
+        }))
+        return false;
+    if (f1.not_set.any()) {
         CGAL::Side_of_triangle_mesh<Mesh, K> side(mb);
-        boost::dynamic_bitset<> done(f1.not_set.size());
-        for (Mesh::Face_index fd : sm.faces()) {
-            std::size_t pid = f1.patch[fd.idx()];
-            if (!f1.not_set.test(pid) || done.test(pid))
-                continue;
-            done.set(pid);
-            if (f1.coplanar.test(pid)) {
-                f1.coplanar_union.set(pid);
-                continue;
-            }
-            Mesh::Halfedge_index h = sm.halfedge(fd);
-            const Point &p = sm.point(sm.source(h)), &q = sm.point(sm.target(h)),
-                        &r = sm.point(sm.target(sm.next(h)));
-            CGAL::Bounded_side bs = side(CGAL::centroid(p, q, r));
-            if (bs == CGAL::ON_BOUNDARY) {
-                snprintf(why, why_size, "a part of '%s' touches '%s' away from the intersection",
-                         a_what, b_what);
-                return false;
-            }
-            if (bs == CGAL::ON_BOUNDED_SIDE)
-                f1.inside.set(pid);
-        }
+        if (!classify_free_patches(sm, f1, [&](std::size_t pid, const Point &p) {
+                if (f1.coplanar.test(pid)) {
+                    f1.coplanar_union.set(pid);
+                    return true;
+                }
+                CGAL::Bounded_side bs = side(p);
+                if (bs == CGAL::ON_BOUNDARY) {
+                    snprintf(why, why_size,
+                             "a part of '%s' touches '%s' away from the intersection", a_what,
+                             b_what);
+                    return false;
+                }
+                if (bs == CGAL::ON_BOUNDED_SIDE)
+                    f1.inside.set(pid);
+                return true;
+            }))
+            return false;
     }
     boost::dynamic_bitset<> use1 = ~f1.inside - f1.coplanar;
     if (f1.coplanar.any())

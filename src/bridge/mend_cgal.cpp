@@ -153,35 +153,37 @@ bool cut_and_fill(Mesh &sm, const std::vector<std::pair<Face_index, Face_index>>
     return true;
 }
 
-/* One attempt with `rings`: up to max_passes of find crossings / cut / fill on a fresh
- * halfedge mesh. True with sm mended when no crossing is left; false with why set. */
-bool attempt(const sr_mesh *mesh, const double *box, int rings, Mesh &sm, sr_mend_report *rep,
+typedef std::vector<std::pair<Face_index, Face_index>> Pairs;
+
+Pairs crossings_near(const Mesh &sm, const double *box)
+{
+    std::vector<Face_index> near = near_faces(sm, box);
+    Pairs pairs;
+    PMP::self_intersections(near, sm, std::back_inserter(pairs));
+    return pairs;
+}
+
+/* One attempt with `rings` on sm (mesh as built, its crossings `pairs`): up to
+ * max_passes of cut / fill / look again. True with sm mended when no crossing is left;
+ * false with why set. */
+bool attempt(Mesh &sm, const double *box, int rings, Pairs pairs, sr_mend_report *rep,
              const char **why)
 {
-    sm = Mesh();
-    if (!build(mesh, sm)) {
-        *why = "the mesh is not an oriented manifold";
-        return false;
-    }
     std::vector<uint8_t> was_border(sm.num_halfedges(), 0);
     for (Halfedge_index h : sm.halfedges())
         if (sm.is_border(h))
             was_border[h.idx()] = 1;
     rep->removed_tris = rep->filled_tris = 0;
-    for (int pass = 0; pass <= max_passes; pass++) {
-        std::vector<Face_index> near = near_faces(sm, box);
-        std::vector<std::pair<Face_index, Face_index>> pairs;
-        PMP::self_intersections(near, sm, std::back_inserter(pairs));
-        if (pairs.empty())
-            return true;
+    for (int pass = 0; !pairs.empty(); pass++) {
         if (pass == max_passes) {
             *why = "crossings are left after the holes were filled";
             return false;
         }
         if (!cut_and_fill(sm, pairs, rings, was_border, rep, why))
             return false;
+        pairs = crossings_near(sm, box);
     }
-    return false;
+    return true;
 }
 
 sr_status mend(sr_mesh *mesh, const double *box, sr_mend_report *rep, sr_err *err)
@@ -195,20 +197,21 @@ sr_status mend(sr_mesh *mesh, const double *box, sr_mend_report *rep, sr_err *er
         return sr_err_set(err, SR_E_INVALID,
                           "mesh to mend is not an oriented manifold (a triangle repeats an "
                           "edge or a vertex)");
-    {
-        std::vector<Face_index> near = near_faces(sm, box);
-        std::vector<std::pair<Face_index, Face_index>> pairs;
-        PMP::self_intersections(near, sm, std::back_inserter(pairs));
-        rep->crossing_pairs = pairs.size();
-        if (pairs.empty())
-            return SR_OK;
-    }
+    /* the mesh is rebuilt the same way for every attempt: same face indices, same pairs */
+    const Pairs first = crossings_near(sm, box);
+    rep->crossing_pairs = first.size();
+    if (first.empty())
+        return SR_OK;
     /* the smallest holes first: attempts with 0, 1, ... rings around the crossings */
     const char *why = "";
     bool done = false;
     for (int rings = 0; rings <= max_rings && !done; rings++) {
         rep->rounds = rings + 1;
-        done = attempt(mesh, box, rings, sm, rep, &why);
+        if (rings > 0) {
+            sm = Mesh();
+            build(mesh, sm);
+        }
+        done = attempt(sm, box, rings, first, rep, &why);
     }
     if (!done)
         return sr_err_set(err, SR_E_INVALID, "cannot mend the crossings (%zu pairs): %s",
