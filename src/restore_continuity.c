@@ -248,6 +248,12 @@ static int judge_point(const tri_index *t, const sr_continuity_opts *o, double f
     for (int j = 1; j < n; j++)
         if (found[j] && (nz[j] > 0) == (nz[0] > 0) && fabs(h[j] - h[0]) <= sym_mm)
             return SAY_SURFACE;
+    /* a break takes everything beyond it; material further on along the line (the
+     * other side of a hole, an undercut) makes the face the part's own */
+    double dir = z1 > z0 ? 1.0 : -1.0, nz_far, h_far;
+    if (first_crossing(t, x, y, z0 + dir * (h[0] + 0.5 * sym_mm), z0 + dir * 1e9, &nz_far, &h_far) &&
+        nz_far * dir < 0)
+        return SAY_SURFACE;
     return SAY_BROKEN;
 }
 
@@ -270,13 +276,13 @@ static int near_box(const sr_poly2 *r, const double b[4], double near)
 
 /* The verdict on one candidate piece: the surface between the planes is judged on a
  * grid of samples inside it (step `step`, made coarser to stay under
- * MAX_SAMPLES_PER_PIECE, finer until some sample falls inside a thin piece). The piece
- * is carried when no sample meets a flat end face and some sample meets a fracture
- * or, on a chain (this layer shows damage of its own next to the piece), lies in the
- * reference layer's missing region with no surface in between (carried before).
- * Deciding per piece keeps the carried outline an exact copy of the reference
- * layer's, so consecutive layers share their edges instead of nearly touching.
- * Returns 1 to carry, 0 not, -1 on no memory. */
+ * MAX_SAMPLES_PER_PIECE, finer until some sample falls inside a thin piece). Votes for:
+ * BROKEN samples, and NOTHING samples lying in the reference layer's missing region on
+ * a chain (this layer shows damage of its own next to the piece); against: END
+ * samples. Carried when there are votes for and at least END_VETO times as many as
+ * against. Deciding per piece keeps the carried outline an exact copy of the
+ * reference layer's, so consecutive layers share their edges instead of nearly
+ * touching. Returns 1 to carry, 0 not, -1 on no memory. */
 static int judge_piece(const tri_index *t, const sr_continuity_opts *o, double flat_cos,
                        double step, const sr_poly2 *piece, const sr_poly2 *missing_prev,
                        int chain, double z0, double z1)
@@ -333,16 +339,14 @@ static sr_status carry(const tri_index *t, const sr_continuity_opts *o, double f
     sr_poly2 near = {0}, cand = {0}, acc = {0};
     sr_poly2 *parts = NULL;
     size_t n_parts = 0;
-    /* the candidate: what the reference layer holds within near_mm of either layer's
-     * damage that this layer lacks, opened against slivers (the whole outline differs
-     * by facets from layer to layer) */
+    /* the candidate: what the reference layer holds that this layer lacks, in pieces
+     * that reach within near_mm of either layer's damage (whole pieces: a shallow
+     * fracture moves further than near_mm along the plane from one step to the next) */
     sr_status st = sr_poly2_boolean(SR_POLY_UNION, missing_l, missing_prev, &near, err);
     if (st == SR_OK)
         st = sr_poly2_offset(&near, o->near_mm, 0, &near, err);
     if (st == SR_OK)
-        st = sr_poly2_boolean(SR_POLY_INTERSECTION, restored_prev, &near, &cand, err);
-    if (st == SR_OK && cand.contour_count)
-        st = sr_poly2_boolean(SR_POLY_DIFFERENCE, &cand, restored_l, &cand, err);
+        st = sr_poly2_boolean(SR_POLY_DIFFERENCE, restored_prev, restored_l, &cand, err);
     /* slivers thinner than 2 x open_mm go, but what is kept keeps its exact outline
      * (the opened candidate grown by half the opening again, clipped to the raw one):
      * an opened outline rounds the candidate's convex corners, and what the rounding
@@ -358,9 +362,19 @@ static sr_status carry(const tri_index *t, const sr_continuity_opts *o, double f
     }
     if (st == SR_OK && cand.contour_count)
         st = sr_poly2_components(&cand, &parts, &n_parts, err);
-    for (size_t i = 0; i < n_parts && st == SR_OK; i++) {
+    double nb[4];
+    int have_near = sr_poly2_bounds(&near, nb);
+    for (size_t i = 0; i < n_parts && st == SR_OK && have_near; i++) {
         double box[4];
         sr_poly2_bounds(&parts[i], box);
+        if (box[0] > nb[2] || nb[0] > box[2] || box[1] > nb[3] || nb[1] > box[3])
+            continue;
+        sr_poly2 both = {0};
+        st = sr_poly2_boolean(SR_POLY_INTERSECTION, &parts[i], &near, &both, err);
+        int touches = both.contour_count > 0;
+        sr_poly2_release(&both);
+        if (st != SR_OK || !touches)
+            continue;
         int chain = near_box(missing_l, box, o->near_mm);
         int v = judge_piece(t, o, flat_cos, step, &parts[i], missing_prev, chain, z0, z1);
         if (v < 0)
