@@ -13,6 +13,7 @@
 
 #define MAX_SAMPLES_PER_PIECE 400
 #define END_VETO 4
+#define WINDOW_MM 5.0 /* candidates are looked for this far beyond the damage */
 
 /* ---- the vertical-segment query ---- */
 
@@ -345,8 +346,22 @@ static sr_status carry(const tri_index *t, const sr_continuity_opts *o, double f
     sr_status st = sr_poly2_boolean(SR_POLY_UNION, missing_l, missing_prev, &near, err);
     if (st == SR_OK)
         st = sr_poly2_offset(&near, o->near_mm, 0, &near, err);
-    if (st == SR_OK)
-        st = sr_poly2_boolean(SR_POLY_DIFFERENCE, restored_prev, restored_l, &cand, err);
+    /* looked for within WINDOW_MM of that (the whole layer's difference costs seconds
+     * on a noisy scan, in slivers far from any damage) */
+    double nb[4];
+    int have_near = st == SR_OK && sr_poly2_bounds(&near, nb);
+    if (have_near) {
+        double w[8] = {nb[0] - WINDOW_MM, nb[1] - WINDOW_MM, nb[2] + WINDOW_MM,
+                       nb[1] - WINDOW_MM, nb[2] + WINDOW_MM, nb[3] + WINDOW_MM,
+                       nb[0] - WINDOW_MM, nb[3] + WINDOW_MM};
+        sr_poly2 win = {0};
+        st = sr_poly2_add_contour(&win, w, 4, err);
+        if (st == SR_OK)
+            st = sr_poly2_boolean(SR_POLY_INTERSECTION, restored_prev, &win, &cand, err);
+        sr_poly2_release(&win);
+    }
+    if (st == SR_OK && cand.contour_count)
+        st = sr_poly2_boolean(SR_POLY_DIFFERENCE, &cand, restored_l, &cand, err);
     /* slivers thinner than 2 x open_mm go, but what is kept keeps its exact outline
      * (the opened candidate grown by half the opening again, clipped to the raw one):
      * an opened outline rounds the candidate's convex corners, and what the rounding
@@ -362,8 +377,6 @@ static sr_status carry(const tri_index *t, const sr_continuity_opts *o, double f
     }
     if (st == SR_OK && cand.contour_count)
         st = sr_poly2_components(&cand, &parts, &n_parts, err);
-    double nb[4];
-    int have_near = sr_poly2_bounds(&near, nb);
     for (size_t i = 0; i < n_parts && st == SR_OK && have_near; i++) {
         double box[4];
         sr_poly2_bounds(&parts[i], box);
