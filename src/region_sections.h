@@ -8,7 +8,9 @@
  *  2. restore each layer by the vote of the symmetry and take restored minus damaged,
  *     opened against noise, as the layer's missing region (restore_vote.h); layers
  *     whose plane lies within 2 x open_mm of the model's end faces read no damage (a
- *     noisy end face cut by a plane that close gives a ragged partial section);
+ *     noisy end face cut by a plane that close gives a ragged partial section); for a
+ *     mirror or glide, material lost on both sides of the plane is then carried from
+ *     layer to layer up to the feature's own end face (restore_continuity.h);
  *  3. group the missing regions into sections: pieces of consecutive layers that
  *     overlap are one section (so two separate chips are two sections, and a section is
  *     never split by the sector grid);
