@@ -2,14 +2,19 @@
  * patch.c: missing sections and their closed patch surfaces, paper Algorithm 6 (see
  * patch.h for the construction).
  *
- * Every vertex lies on a layer boundary z_k = z_init + k dz at a sector border angle
- * theta_b = b 2pi/N, at some radius r; it is computed from (b, r, k) the same way
- * everywhere so equal vertices are bitwise equal and weld exactly. Faces are convex
- * polygons (rectangles and chord trapezoids); a radial edge (fixed b and k) gets every
- * radius of the section's cells around that line inserted, and a polygon with inserted
- * points is fanned from its centroid.
+ * Per layer, a section's region is the union of its cells' chord trapezoids, traced
+ * here as closed outlines on the grid: every point is (sector border b, radius r) and
+ * computed as r (cos, sin)(b 2pi/N) the same way everywhere, so the outer and inner
+ * chords and the walls between sectors meet at bitwise-equal points and the layer's
+ * outline needs no polygon union (whose rounding would leave slivers between cells
+ * sharing a border). The regions are stacked by stack_mesh.h, which makes the walls and
+ * caps conform exactly between layers and pulls the outlines in by under a micrometre
+ * where cells of neighbouring layers touch only along an edge, so the patch is a closed
+ * 2-manifold.
  */
 #include "patch.h"
+
+#include "stack_mesh.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -17,163 +22,57 @@
 
 #define TWO_PI 6.28318530717958647692
 
-typedef struct pvert {
-    size_t b, k;
-    double r;
-} pvert;
+/* One directed boundary edge of a layer's region between grid points (border b,
+ * radius r), the region on its left (counter-clockwise outlines). */
+typedef struct gedge {
+    size_t b0, b1;
+    double r0, r1;
+    int used;
+} gedge;
 
-typedef struct builder {
-    const sr_layer_grid *g;
-    const sr_analysis *a;
-    const int *sec;
-    int s;
-    double *cb, *sb;    /* cos/sin of border angles */
-    sr_mesh m;
-    size_t vcap, tcap;
-    sr_status st;
-} builder;
+typedef struct layer_outline {
+    gedge *e;
+    size_t n, cap;
+} layer_outline;
 
-static int in_sec(const builder *B, long l, long j)
+/* The point's key: border mod N, and every radius-0 point is the one axis point. */
+static void canon(size_t N, size_t *b, double *r)
 {
-    size_t n = B->g->sectors;
-    if (l < 0 || l >= (long)B->g->layers)
-        return 0;
-    j %= (long)n;
-    if (j < 0)
-        j += (long)n;
-    return B->sec[(size_t)l * n + (size_t)j] == B->s;
+    *b %= N;
+    if (*r <= 0) {
+        *r = 0;
+        *b = 0;
+    }
 }
 
-static size_t cell(const builder *B, long l, long j)
+static int push_edge(layer_outline *o, size_t N, size_t b0, double r0, size_t b1, double r1)
 {
-    long n = (long)B->g->sectors;
-    j %= n;
-    if (j < 0)
-        j += n;
-    return (size_t)l * (size_t)n + (size_t)j;
-}
-
-static uint32_t add_vertex(builder *B, double x, double y, double z)
-{
-    if (B->m.vertex_count == B->vcap) {
-        size_t cap = B->vcap ? 2 * B->vcap : 256;
-        double *p = realloc(B->m.xyz, cap * 3 * sizeof *p);
-        if (!p) {
-            B->st = SR_E_NOMEM;
+    canon(N, &b0, &r0);
+    canon(N, &b1, &r1);
+    if (b0 == b1 && r0 == r1)
+        return 1; /* zero length: an inner chord at the axis */
+    if (o->n == o->cap) {
+        size_t cap = o->cap ? 2 * o->cap : 64;
+        gedge *p = realloc(o->e, cap * sizeof *p);
+        if (!p)
             return 0;
-        }
-        B->m.xyz = p;
-        B->vcap = cap;
+        o->e = p;
+        o->cap = cap;
     }
-    double *p = B->m.xyz + 3 * B->m.vertex_count;
-    p[0] = x;
-    p[1] = y;
-    p[2] = z;
-    return (uint32_t)B->m.vertex_count++;
+    o->e[o->n++] = (gedge){b0, b1, r0, r1, 0};
+    return 1;
 }
 
-static void add_tri(builder *B, uint32_t a, uint32_t b, uint32_t c)
+/* The radial interval [lo, hi] of cell (l, j) if it is in section s, else empty. */
+static int cell_interval(const sr_layer_grid *g, const sr_analysis *a, const int *sec, int s,
+                         size_t l, size_t j, double *lo, double *hi)
 {
-    if (B->m.tri_count == B->tcap) {
-        size_t cap = B->tcap ? 2 * B->tcap : 256;
-        uint32_t *t = realloc(B->m.tri, cap * 3 * sizeof *t);
-        if (!t) {
-            B->st = SR_E_NOMEM;
-            return;
-        }
-        B->m.tri = t;
-        B->tcap = cap;
-    }
-    uint32_t *t = B->m.tri + 3 * B->m.tri_count++;
-    t[0] = a;
-    t[1] = b;
-    t[2] = c;
-}
-
-static void vert_xyz(const builder *B, pvert v, double out[3])
-{
-    size_t b = v.b % B->g->sectors;
-    out[0] = v.r * B->cb[b];
-    out[1] = v.r * B->sb[b];
-    out[2] = B->g->z_init + (double)v.k * B->g->dz;
-}
-
-/* Radii of the section's cells around the radial line (b, k), sorted ascending. */
-static size_t line_radii(const builder *B, size_t b, size_t k, double out[8])
-{
-    size_t n = 0;
-    for (long l = (long)k - 1; l <= (long)k; l++) {
-        for (long j = (long)b - 1; j <= (long)b; j++) {
-            if (!in_sec(B, l, j))
-                continue;
-            size_t c = cell(B, l, j);
-            out[n++] = B->g->r[c];
-            out[n++] = B->a->restored_r[c];
-        }
-    }
-    for (size_t i = 1; i < n; i++) /* insertion sort, n <= 8 */
-        for (size_t j = i; j > 0 && out[j - 1] > out[j]; j--) {
-            double t = out[j];
-            out[j] = out[j - 1];
-            out[j - 1] = t;
-        }
-    return n;
-}
-
-/* Emits a convex polygon given by its corners, inserting breakpoints on radial edges. */
-static void emit(builder *B, const pvert *corner, size_t count)
-{
-    pvert poly[64];
-    size_t n = 0;
-    for (size_t i = 0; i < count && n < 56; i++) {
-        pvert p = corner[i], q = corner[(i + 1) % count];
-        poly[n++] = p;
-        if (p.b % B->g->sectors == q.b % B->g->sectors && p.k == q.k && p.r != q.r) {
-            double rad[8];
-            size_t m = line_radii(B, p.b % B->g->sectors, p.k, rad);
-            if (p.r < q.r) {
-                for (size_t t = 0; t < m; t++)
-                    if (rad[t] > p.r && rad[t] < q.r && rad[t] != poly[n - 1].r)
-                        poly[n++] = (pvert){p.b, p.k, rad[t]};
-            } else {
-                for (size_t t = m; t-- > 0;)
-                    if (rad[t] < p.r && rad[t] > q.r && rad[t] != poly[n - 1].r)
-                        poly[n++] = (pvert){p.b, p.k, rad[t]};
-            }
-        }
-    }
-    /* drop repeated points (radius 0 at two borders is the same axis point) */
-    double xyz[64][3];
-    size_t m = 0;
-    for (size_t i = 0; i < n; i++) {
-        vert_xyz(B, poly[i], xyz[m]);
-        if (m > 0 && xyz[m][0] == xyz[m - 1][0] && xyz[m][1] == xyz[m - 1][1] &&
-            xyz[m][2] == xyz[m - 1][2])
-            continue;
-        m++;
-    }
-    while (m > 1 && xyz[m - 1][0] == xyz[0][0] && xyz[m - 1][1] == xyz[0][1] &&
-           xyz[m - 1][2] == xyz[0][2])
-        m--;
-    if (m < 3)
-        return;
-    uint32_t idx[64];
-    for (size_t i = 0; i < m; i++)
-        idx[i] = add_vertex(B, xyz[i][0], xyz[i][1], xyz[i][2]);
-    if (m == 3) {
-        add_tri(B, idx[0], idx[1], idx[2]);
-    } else if (m == 4 && count == 4) {
-        add_tri(B, idx[0], idx[1], idx[2]);
-        add_tri(B, idx[0], idx[2], idx[3]);
-    } else {
-        double c[3] = {0, 0, 0};
-        for (size_t i = 0; i < m; i++)
-            for (int d = 0; d < 3; d++)
-                c[d] += xyz[i][d] / (double)m;
-        uint32_t ci = add_vertex(B, c[0], c[1], c[2]);
-        for (size_t i = 0; i < m; i++)
-            add_tri(B, ci, idx[i], idx[(i + 1) % m]);
-    }
+    size_t c = l * g->sectors + j % g->sectors;
+    if (sec[c] != s || !(a->restored_r[c] > g->r[c]) || !(a->restored_r[c] > 0))
+        return 0;
+    *lo = g->r[c] > 0 ? g->r[c] : 0;
+    *hi = a->restored_r[c];
+    return 1;
 }
 
 /* Parts of [a1,b1] not covered by [a2,b2] (either may be empty: a >= b). */
@@ -200,75 +99,136 @@ static size_t interval_minus(double a1, double b1, double a2, double b2, double 
     return n;
 }
 
-static void cell_interval(const builder *B, long l, long j, double *lo, double *hi)
+/* The boundary of layer l's part of section s: per cell its outer chord (increasing
+ * angle) and inner chord (decreasing), per sector border the pieces of each side's
+ * interval the other side lacks (walls). Every vertex has as many edges in as out. */
+static int outline_edges(const sr_layer_grid *g, const sr_analysis *a, const int *sec, int s,
+                         size_t l, layer_outline *o)
 {
-    if (in_sec(B, l, j)) {
-        size_t c = cell(B, l, j);
-        *lo = B->g->r[c];
-        *hi = B->a->restored_r[c];
-    } else {
-        *lo = 0;
-        *hi = -1;
+    size_t N = g->sectors;
+    o->n = 0;
+    for (size_t j = 0; j < N; j++) {
+        double lo, hi;
+        if (!cell_interval(g, a, sec, s, l, j, &lo, &hi))
+            continue;
+        if (!push_edge(o, N, j, hi, j + 1, hi) || !push_edge(o, N, j + 1, lo, j, lo))
+            return 0;
     }
+    for (size_t b = 0; b < N; b++) { /* border b: sector b-1 on its left, b on its right */
+        double la = 0, lb = -1, ra = 0, rb = -1, piece[2][2];
+        cell_interval(g, a, sec, s, l, b + N - 1, &la, &lb);
+        cell_interval(g, a, sec, s, l, b, &ra, &rb);
+        size_t n = interval_minus(la, lb, ra, rb, piece);
+        for (size_t i = 0; i < n; i++) /* the region is at smaller angles: walk inwards */
+            if (!push_edge(o, N, b, piece[i][1], b, piece[i][0]))
+                return 0;
+        n = interval_minus(ra, rb, la, lb, piece);
+        for (size_t i = 0; i < n; i++)
+            if (!push_edge(o, N, b, piece[i][0], b, piece[i][1]))
+                return 0;
+    }
+    return 1;
 }
 
-static void build_section(builder *B)
+static int by_start(const void *pa, const void *pb)
 {
-    size_t L = B->g->layers, N = B->g->sectors;
-    for (size_t l = 0; l < L; l++) {
-        for (size_t j = 0; j < N; j++) {
-            if (!in_sec(B, (long)l, (long)j))
-                continue;
-            size_t c = cell(B, (long)l, (long)j);
-            double ri = B->g->r[c], ro = B->a->restored_r[c];
-            pvert outer[4] = {{j, l, ro}, {j + 1, l, ro}, {j + 1, l + 1, ro}, {j, l + 1, ro}};
-            emit(B, outer, 4);
-            if (ri > 0) {
-                pvert inner[4] = {{j, l, ri}, {j, l + 1, ri}, {j + 1, l + 1, ri}, {j + 1, l, ri}};
-                emit(B, inner, 4);
-            }
-        }
+    const gedge *a = pa, *b = pb;
+    if (a->b0 != b->b0)
+        return a->b0 < b->b0 ? -1 : 1;
+    return a->r0 < b->r0 ? -1 : (a->r0 > b->r0 ? 1 : 0);
+}
+
+/* An unused edge starting at (b, r), or NULL; edges sorted by start. */
+static gedge *next_from(layer_outline *o, size_t b, double r)
+{
+    size_t lo = 0, hi = o->n;
+    gedge key = {b, 0, r, 0, 0};
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (by_start(&o->e[mid], &key) < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
-    /* walls on border b between sector b-1 (left) and b (right), per layer */
-    for (size_t l = 0; l < L; l++) {
-        for (size_t b = 0; b < N; b++) {
-            double la, lb, ra, rb, piece[2][2];
-            cell_interval(B, (long)l, (long)b - 1, &la, &lb);
-            cell_interval(B, (long)l, (long)b, &ra, &rb);
-            size_t n = interval_minus(la, lb, ra, rb, piece);
-            for (size_t i = 0; i < n; i++) { /* left-owned: normal +theta */
-                pvert w[4] = {{b, l, piece[i][0]}, {b, l + 1, piece[i][0]},
-                              {b, l + 1, piece[i][1]}, {b, l, piece[i][1]}};
-                emit(B, w, 4);
-            }
-            n = interval_minus(ra, rb, la, lb, piece);
-            for (size_t i = 0; i < n; i++) { /* right-owned: normal -theta */
-                pvert w[4] = {{b, l, piece[i][0]}, {b, l, piece[i][1]},
-                              {b, l + 1, piece[i][1]}, {b, l + 1, piece[i][0]}};
-                emit(B, w, 4);
-            }
+    for (size_t i = lo; i < o->n && o->e[i].b0 == b && o->e[i].r0 == r; i++)
+        if (!o->e[i].used)
+            return &o->e[i];
+    return NULL;
+}
+
+/* Layer l's region of section s: the edges chained into closed contours (any
+ * choice at a vertex two contours touch closes them), then cleaned by the polygon
+ * library (orientation, touching contours). */
+static sr_status layer_region(const sr_layer_grid *g, const sr_analysis *a, const int *sec,
+                              int s, size_t l, const double *cb, const double *sb,
+                              layer_outline *o, sr_poly2 *out, sr_err *err)
+{
+    if (!outline_edges(g, a, sec, s, l, o))
+        return sr_err_set(err, SR_E_NOMEM, "out of memory building a patch outline");
+    sr_poly2_release(out);
+    if (o->n == 0)
+        return SR_OK;
+    qsort(o->e, o->n, sizeof *o->e, by_start);
+    double *xy = malloc(o->n * 2 * sizeof *xy);
+    size_t *start = malloc((o->n + 1) * sizeof *start);
+    sr_status st = SR_OK;
+    size_t np = 0, nc = 0;
+    if (!xy || !start)
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory building a patch outline");
+    for (size_t i = 0; i < o->n && st == SR_OK; i++) {
+        if (o->e[i].used)
+            continue;
+        start[nc] = np;
+        gedge *e = &o->e[i];
+        while (e) {
+            e->used = 1;
+            xy[2 * np] = e->r0 * cb[e->b0];
+            xy[2 * np + 1] = e->r0 * sb[e->b0];
+            np++;
+            e = next_from(o, e->b1, e->r1);
         }
+        if (np - start[nc] >= 3)
+            nc++;
+        else
+            np = start[nc]; /* cannot happen for a cell union; dropped if it does */
     }
-    /* caps on boundary k between layer k-1 (below) and k (above), per sector */
-    for (size_t k = 0; k <= L; k++) {
-        for (size_t j = 0; j < N; j++) {
-            double ba, bb, aa, ab, piece[2][2];
-            cell_interval(B, (long)k - 1, (long)j, &ba, &bb);
-            cell_interval(B, (long)k, (long)j, &aa, &ab);
-            size_t n = interval_minus(ba, bb, aa, ab, piece);
-            for (size_t i = 0; i < n; i++) { /* below-owned: normal +z */
-                pvert q[4] = {{j, k, piece[i][0]}, {j, k, piece[i][1]},
-                              {j + 1, k, piece[i][1]}, {j + 1, k, piece[i][0]}};
-                emit(B, q, 4);
-            }
-            n = interval_minus(aa, ab, ba, bb, piece);
-            for (size_t i = 0; i < n; i++) { /* above-owned: normal -z */
-                pvert q[4] = {{j, k, piece[i][0]}, {j + 1, k, piece[i][0]},
-                              {j + 1, k, piece[i][1]}, {j, k, piece[i][1]}};
-                emit(B, q, 4);
-            }
-        }
-    }
+    start[nc] = np;
+    sr_poly2 raw = {0};
+    if (st == SR_OK && nc > 0)
+        st = sr_poly2_from_contours(xy, start, nc, &raw, err);
+    if (st == SR_OK && nc > 0)
+        st = sr_poly2_boolean(SR_POLY_UNION, &raw, NULL, out, err);
+    sr_poly2_release(&raw);
+    free(xy);
+    free(start);
+    return st;
+}
+
+/* The patch of section s: its layers' regions stacked over their slabs (stack_mesh.h
+ * conforms the walls and caps at every layer boundary, so no T-junction is left). */
+static sr_status build_section(const sr_layer_grid *g, const sr_analysis *a, const int *sec,
+                               int s, size_t first, size_t last, const double *cb,
+                               const double *sb, sr_mesh *out, sr_err *err)
+{
+    size_t n = last - first + 1;
+    sr_poly2 *reg = calloc(n, sizeof *reg);
+    double *z = malloc((n + 1) * sizeof *z);
+    layer_outline o = {0};
+    sr_status st = SR_OK;
+    if (!reg || !z)
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory building a patch");
+    for (size_t i = 0; i < n && st == SR_OK; i++)
+        st = layer_region(g, a, sec, s, first + i, cb, sb, &o, &reg[i], err);
+    for (size_t i = 0; i <= n && z; i++)
+        z[i] = g->z_init + (double)(first + i) * g->dz;
+    if (st == SR_OK)
+        st = sr_stack_mesh_pulled_in(reg, z, n, out, err);
+    for (size_t i = 0; reg && i < n; i++)
+        sr_poly2_release(&reg[i]);
+    free(reg);
+    free(z);
+    free(o.e);
+    return st;
 }
 
 double sr_section_cell_volume(const sr_layer_grid *grid, const sr_analysis *a,
@@ -404,20 +364,18 @@ sr_status sr_patch_build(const sr_layer_grid *grid, const sr_analysis *a, sr_sec
     if (!secs)
         goto cleanup;
     for (int s = 0; s < n; s++) {
-        builder B = {grid, a, sec, s, cb, sb, {0}, 0, 0, SR_OK};
-        build_section(&B);
-        if (B.st == SR_OK)
-            B.st = sr_mesh_weld_exact(&B.m);
-        if (B.st != SR_OK) {
-            sr_mesh_release(&B.m);
-            sr_sections_release(secs, (size_t)s);
-            secs = NULL;
-            goto cleanup;
-        }
         describe(grid, a, sec, s, &secs[s]);
-        secs[s].patch = B.m;
-        secs[s].volume_mm3 = sr_mesh_volume(&B.m);
-        secs[s].area_mm2 = sr_mesh_area(&B.m);
+        st = build_section(grid, a, sec, s, secs[s].layer_first, secs[s].layer_last, cb, sb,
+                           &secs[s].patch, err);
+        if (st != SR_OK) {
+            sr_sections_release(secs, (size_t)s + 1);
+            free(sec);
+            free(cb);
+            free(sb);
+            return st;
+        }
+        secs[s].volume_mm3 = sr_section_cell_volume(grid, a, sec, s);
+        secs[s].area_mm2 = sr_mesh_area(&secs[s].patch);
     }
     qsort(secs, (size_t)n, sizeof *secs, by_volume_desc);
     *out = secs;

@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "bridge/boolean.h"
+#include "bridge/mend.h"
 #include "mesh_shells.h"
 #include "region_sections.h"
 
@@ -88,7 +89,7 @@ static sr_status concatenate(const sr_mesh *scan, const double xf[12], const sr_
 /* What was repaired in the scan for the unions and what the union left behind, as
  * repair_note. */
 static void note_repairs(sr_recon_result *r, size_t degenerate, size_t mended,
-                         const sr_void_report *voids)
+                         size_t patch_mended, const sr_void_report *voids)
 {
     char *p = r->repair_note;
     size_t room = sizeof r->repair_note;
@@ -101,6 +102,10 @@ static void note_repairs(sr_recon_result *r, size_t degenerate, size_t mended,
     if (mended && n >= 0 && (size_t)n < room)
         n += snprintf(p + n, room - (size_t)n,
                       " %zu triangles replaced where it crossed itself", mended);
+    if (patch_mended && n >= 0 && (size_t)n < room)
+        n += snprintf(p + n, room - (size_t)n,
+                      "%s%zu patch triangles replaced where a patch crossed itself",
+                      n ? "; " : "", patch_mended);
     if (voids && voids->voids_dropped && n >= 0 && (size_t)n < room)
         n += snprintf(p + n, room - (size_t)n,
                       "%s%zu void(s) trapped between the patches and the scan filled "
@@ -115,7 +120,8 @@ static void note_repairs(sr_recon_result *r, size_t degenerate, size_t mended,
  * the next ones grow it in place, so the scan is never copied twice. Where the scan
  * crosses itself near a patch (a noisy scan folded over at the fracture's edges) its
  * neighbourhood is mended first (sr_boolean_union_local_mending). A union refused as
- * invalid is retried once after sr_mesh_repair of both (zero-area triangles removed);
+ * invalid is retried once after sr_mesh_repair of both (zero-area triangles removed)
+ * and the patch's own crossings mended (sr_mesh_mend_crossings);
  * if it still fails (e.g. crossings that cannot be mended), that
  * patch and the ones after it are concatenated to what was united so far and
  * union_note says why. After the unions, voids of the restored part up to
@@ -127,6 +133,7 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
     int owned = 0; /* acc holds the restored mesh so far; until then it is the scan */
     int scan_repaired = 0;
     size_t mended = 0;     /* scan triangles replaced where the scan crossed itself */
+    size_t patch_mended = 0; /* patch triangles replaced where a patch crossed itself */
     size_t degenerate = 0; /* zero-area scan triangles removed */
     sr_status st;
     r->restored_by_union = 1;
@@ -153,16 +160,25 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
                     return sr_err_set(err, st, "out of memory copying the scan");
                 owned = 1;
             }
-            if (sr_mesh_copy(&patch, up) == SR_OK && sr_mesh_repair(&acc, &ra, &rerr) == SR_OK &&
-                sr_mesh_repair(&patch, &rb, &rerr) == SR_OK && (ra.changed || rb.changed)) {
+            sr_mend_report pm = {0};
+            int ready = sr_mesh_copy(&patch, up) == SR_OK &&
+                        sr_mesh_repair(&acc, &ra, &rerr) == SR_OK &&
+                        sr_mesh_repair(&patch, &rb, &rerr) == SR_OK;
+            /* a patch crossing itself (near-coincident points of its exact stack
+             * rounded to double) is mended; a failed mend leaves it as it was */
+            if (ready && sr_mesh_mend_crossings(&patch, NULL, &pm, NULL) != SR_OK)
+                pm.removed_tris = 0;
+            if (ready && (ra.changed || rb.changed || pm.removed_tris)) {
                 if (ra.changed && !scan_repaired) {
                     scan_repaired = 1;
                     degenerate = ra.degenerate_removed;
                 }
                 us = sr_boolean_union_local_mending(&acc, NULL, xf, &patch, NULL, 0, &acc,
                                                     &info, &uerr);
-                if (us == SR_OK)
+                if (us == SR_OK) {
                     mended += info.mended_tris;
+                    patch_mended += pm.removed_tris;
+                }
             }
             sr_mesh_release(&patch);
         }
@@ -170,7 +186,7 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
             continue;
         snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1, uerr.msg);
         r->restored_by_union = 0;
-        note_repairs(r, degenerate, mended, NULL);
+        note_repairs(r, degenerate, mended, patch_mended, NULL);
         st = concatenate(owned ? &acc : scan, xf, r->sections + i, r->section_count - i,
                          &next);
         sr_mesh_release(&acc);
@@ -194,7 +210,7 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
             return st;
         }
     }
-    note_repairs(r, degenerate, mended, &voids);
+    note_repairs(r, degenerate, mended, patch_mended, &voids);
     r->restored = acc;
     return SR_OK;
 }

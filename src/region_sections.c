@@ -173,20 +173,10 @@ static sr_status build_section(piece *pc, const size_t *idx, size_t n, const lay
         }
         for (size_t l = 0; l <= GL && gz; l++)
             gz[l] = grid->z_init + (double)(lo + l) * grid->dz;
+        /* outlines of neighbouring layers touching within a grid unit are pulled
+         * apart (stack_mesh.h) */
         if (st == SR_OK)
-            st = sr_stack_mesh(g, gz, GL, &out->patch, err);
-        /* a stack that does not close (outlines of neighbouring layers touching within
-         * a grid unit where the exact arrangement splits a wall edge four ways) is
-         * retried with every outline pulled in a little more: 0.3 then 0.6 um, a volume
-         * change of the perimeter x height x that (under 1e-4 of a 1 mm-deep patch) */
-        for (int retry = 1; retry <= 2 && st == SR_E_INTERNAL; retry++) {
-            st = SR_OK;
-            for (size_t l = 0; l < GL && st == SR_OK; l++)
-                if (g[l].contour_count > 0)
-                    st = sr_poly2_offset(&g[l], -3e-4, 0, &g[l], err);
-            if (st == SR_OK)
-                st = sr_stack_mesh(g, gz, GL, &out->patch, err);
-        }
+            st = sr_stack_mesh_pulled_in(g, gz, GL, &out->patch, err);
         if (g)
             for (size_t l = 0; l < GL; l++)
                 sr_poly2_release(&g[l]);

@@ -37,13 +37,30 @@ sr_status sr_stack_mesh(const sr_poly2 *regions, const double *z, size_t layers,
         sr_mesh_release(&m);
         return sr_err_set(err, st, "cannot build a patch: out of memory");
     }
-    if (e.boundary_edges || e.nonmanifold_edges || e.misoriented_edges) {
+    if (e.boundary_edges || e.nonmanifold_edges || e.misoriented_edges ||
+        e.nonmanifold_vertices) {
         sr_mesh_release(&m);
         return sr_err_set(err, SR_E_INTERNAL,
-                          "stacked patch is not closed (%zu open, %zu non-manifold, %zu "
-                          "misoriented edges)",
-                          e.boundary_edges, e.nonmanifold_edges, e.misoriented_edges);
+                          "stacked patch is not a closed manifold (%zu open, %zu non-manifold, "
+                          "%zu misoriented edges, %zu non-manifold vertices)",
+                          e.boundary_edges, e.nonmanifold_edges, e.misoriented_edges,
+                          e.nonmanifold_vertices);
     }
     *out = m;
     return SR_OK;
+}
+
+sr_status sr_stack_mesh_pulled_in(sr_poly2 *regions, const double *z, size_t layers,
+                                  sr_mesh *out, sr_err *err)
+{
+    sr_status st = sr_stack_mesh(regions, z, layers, out, err);
+    for (int retry = 1; retry <= 2 && st == SR_E_INTERNAL; retry++) {
+        st = SR_OK;
+        for (size_t l = 0; l < layers && st == SR_OK; l++)
+            if (regions[l].contour_count > 0)
+                st = sr_poly2_offset(&regions[l], -3e-4, 0, &regions[l], err);
+        if (st == SR_OK)
+            st = sr_stack_mesh(regions, z, layers, out, err);
+    }
+    return st;
 }

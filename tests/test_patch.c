@@ -14,9 +14,16 @@
 #include <cmocka.h>
 
 #include "analyse.h"
+#include "bridge/boolean.h"
 #include "patch.h"
 #include "slice.h"
 #include "support/assert_near.h"
+
+/* How far a patch's surface may sit from the cells' exact boundary: the polygon library
+ * rounds outline points to 1e-5 mm (at most 0.71e-5 mm off), and where cells of
+ * neighbouring layers touch only along an edge the outlines are pulled in by up to
+ * 0.6 um (stack_mesh.h). So |mesh volume - cell volume| <= area x this. */
+#define PATCH_ROUNDING_MM 6.1e-4
 
 /* Solid of revolution: ring i at z[i], segment s at angle 2 pi s / seg with radius
  * r[i * seg + s]; fan caps. Closed, outward. */
@@ -141,6 +148,7 @@ static void chipped_cylinder_patch_matches_chip(void **state)
     double D = 2 * M_PI / N, dz = H / LAYERS;
     double cells = 0.5 * (R * R - (R - DEPTH) * (R - DEPTH)) * sin(D) * dz * 6 * 5;
     assert_near(s->volume_mm3, cells, 1e-9 * cells);
+    assert_near(sr_mesh_volume(&s->patch), cells, PATCH_ROUNDING_MM * sr_mesh_area(&s->patch));
     /* Discretisation error against the true chip: the scan's wall is SUB chords per
      * sector, the patch one chord per sector: per cell the difference is
      * (R^2 - (R-d)^2)/2 (SUB sin(D/SUB) - sin D) dz; and the chip's ends sit one
@@ -220,9 +228,10 @@ static void irregular_damage_patch_is_closed_with_cell_volume(void **state)
         assert_int_equal(sr_mesh_edge_stats(&secs[i].patch, &e), SR_OK);
         assert_int_equal(e.boundary_edges, 0);
         assert_int_equal(e.misoriented_edges, 0);
-        /* Known limit (issue 4 open): where two cells of a section meet only along an
-         * edge (diagonal contact of radial intervals) that edge carries four faces.
-         * The surface is still watertight and encloses the cell volume exactly. */
+        assert_int_equal(e.nonmanifold_edges, 0);
+        assert_int_equal(e.nonmanifold_vertices, 0);
+        assert_near(sr_mesh_volume(&secs[i].patch), secs[i].volume_mm3,
+                    PATCH_ROUNDING_MM * sr_mesh_area(&secs[i].patch));
         assert_true(secs[i].volume_mm3 > 0);
         total += secs[i].volume_mm3;
     }
@@ -231,6 +240,56 @@ static void irregular_damage_patch_is_closed_with_cell_volume(void **state)
         if (a.damaged[c])
             expect += 0.5 * (a.restored_r[c] * a.restored_r[c] - g.r[c] * g.r[c]) * sn * 0.5;
     assert_near(total, expect, 1e-9 * expect);
+    sr_sections_release(secs, count);
+    sr_analysis_release(&a);
+    sr_layer_grid_release(&g);
+}
+
+static void cells_touching_along_an_edge_give_a_manifold_patch(void **state)
+{
+    /* One section whose cells (1, 0) and (0, 1) meet only along an edge (border 1 at
+     * z = 1; cells (0, 0) and (1, 1) are not in it) and whose cells (2, 1) and (2, 2)
+     * meet only at a point (radial intervals [10, 12] and [12, 14]): the union of
+     * blocks gives four faces on that edge; the patch must still be a closed 2-manifold
+     * free of crossings, enclosing the cell volume. */
+    enum { L = 3, S = 24 };
+    sr_layer_grid g;
+    assert_int_equal(sr_layer_grid_alloc(&g, L, S, 0.0, 1.0), SR_OK);
+    sr_analysis a = {L, S, calloc(L * S, sizeof(double)), calloc(L * S, 1), 0, 0, 0, 0};
+    static const int in[L][4] = {{0, 1, 1, 1}, {1, 0, 0, 1}, {1, 1, 1, 1}};
+    for (size_t l = 0; l < L; l++)
+        for (size_t j = 0; j < S; j++) {
+            size_t c = l * S + j;
+            g.r[c] = 13;
+            a.restored_r[c] = 13;
+            if (j < 4 && in[l][j]) {
+                a.damaged[c] = 1;
+                g.r[c] = 10;
+            }
+        }
+    a.restored_r[2 * S + 1] = 12;
+    g.r[2 * S + 2] = 12;
+    a.restored_r[2 * S + 2] = 14;
+    sr_section *secs = NULL;
+    size_t count = 0;
+    assert_int_equal(sr_patch_build(&g, &a, &secs, &count, NULL), SR_OK);
+    assert_int_equal(count, 1);
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(&secs[0].patch, &e), SR_OK);
+    assert_int_equal(e.boundary_edges, 0);
+    assert_int_equal(e.nonmanifold_edges, 0);
+    assert_int_equal(e.nonmanifold_vertices, 0);
+    assert_int_equal(e.misoriented_edges, 0);
+    int crosses = -1;
+    assert_int_equal(sr_mesh_self_intersects(&secs[0].patch, &crosses, NULL), SR_OK);
+    assert_int_equal(crosses, 0);
+    double expect = 0, sn = sin(2 * M_PI / S);
+    for (size_t c = 0; c < L * S; c++)
+        if (a.damaged[c])
+            expect += 0.5 * (a.restored_r[c] * a.restored_r[c] - g.r[c] * g.r[c]) * sn;
+    assert_near(secs[0].volume_mm3, expect, 1e-9 * expect);
+    assert_near(sr_mesh_volume(&secs[0].patch), expect,
+                PATCH_ROUNDING_MM * sr_mesh_area(&secs[0].patch));
     sr_sections_release(secs, count);
     sr_analysis_release(&a);
     sr_layer_grid_release(&g);
@@ -281,6 +340,7 @@ int main(void)
         cmocka_unit_test(chipped_cylinder_patch_matches_chip),
         cmocka_unit_test(chip_across_the_seam_is_one_section),
         cmocka_unit_test(irregular_damage_patch_is_closed_with_cell_volume),
+        cmocka_unit_test(cells_touching_along_an_edge_give_a_manifold_patch),
         cmocka_unit_test(analysis_refuses_bad_thresholds),
         cmocka_unit_test(mirror_restores_the_shorter_side),
     };

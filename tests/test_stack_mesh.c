@@ -126,6 +126,35 @@ static void separate_islands_and_empty_layers(void **state)
     sr_mesh_release(&m);
 }
 
+/* Squares in neighbouring layers that touch only along an edge (or only at a corner)
+ * give that edge four faces (that corner two cones): sr_stack_mesh refuses the stack,
+ * sr_stack_mesh_pulled_in pulls the outlines in by 0.3 um and closes it, the volume
+ * changing by at most perimeter x height x 0.6 um. */
+static void layers_touching_along_an_edge_are_pulled_apart(void **state)
+{
+    (void)state;
+    for (int corner = 0; corner <= 1; corner++) {
+        sr_poly2 r[2] = {{0}};
+        square(&r[0], 0, 0, 10, 0);
+        square(&r[1], 10, corner ? 10 : 0, 10, 0);
+        double z[3] = {0, 1, 2};
+        sr_mesh m = {0};
+        sr_err err = {{0}};
+        assert_int_equal(sr_stack_mesh(r, z, 2, &m, &err), SR_E_INTERNAL);
+        assert_msg_has(err, "not a closed manifold");
+        assert_int_equal(sr_stack_mesh_pulled_in(r, z, 2, &m, NULL), SR_OK);
+        check_closed(&m);
+        sr_mesh_edges e;
+        assert_int_equal(sr_mesh_edge_stats(&m, &e), SR_OK);
+        assert_int_equal(e.nonmanifold_vertices, 0);
+        assert_near(sr_mesh_volume(&m), 200.0, 2 * 40.0 * 1.0 * 6e-4);
+        assert_true(sr_mesh_volume(&m) < 200.0); /* pulled in, not pushed out */
+        sr_mesh_release(&m);
+        sr_poly2_release(&r[0]);
+        sr_poly2_release(&r[1]);
+    }
+}
+
 static void heights_must_increase(void **state)
 {
     (void)state;
@@ -227,6 +256,7 @@ int main(void)
         cmocka_unit_test(shifted_and_rotated_layers_stitch_closed),
         cmocka_unit_test(layers_with_holes_stitch_closed),
         cmocka_unit_test(separate_islands_and_empty_layers),
+        cmocka_unit_test(layers_touching_along_an_edge_are_pulled_apart),
         cmocka_unit_test(heights_must_increase),
         cmocka_unit_test(cylinder_contour_has_its_polygon_area),
         cmocka_unit_test(box_with_a_hole_gives_a_clockwise_hole),
