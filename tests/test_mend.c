@@ -172,6 +172,8 @@ static void fold_across_a_sharp_edge_keeps_the_edge(void **state)
     m.xyz[3 * b + 1] = 5.3;
     sr_mend_report rep;
     mend_closed_mesh(&m, &rep);
+    assert_true(rep.removed_tris > 0);
+    assert_int_equal(rep.rim_filled, 0); /* every hole filled from its points */
     /* both ways: the mended surface lies on the box and covers all of it */
     sr_deviation on, covers;
     assert_int_equal(sr_mesh_deviation(&m, &clean, &on, NULL), SR_OK);

@@ -24,6 +24,8 @@ typedef struct sr_mend_report {
     size_t crossing_pairs; /* crossing triangle pairs found in the first round */
     size_t removed_tris;   /* triangles taken out (all rounds) */
     size_t filled_tris;    /* triangles put in by the fills */
+    size_t rim_filled;     /* of removed_tris, those whose holes were filled from their
+                            * rims alone */
     int rounds;            /* attempts made (0: nothing crossed) */
     int reached_border;    /* an attempt failed because the triangles taken out reach the
                             * border (a larger neighbourhood may succeed) */
@@ -33,7 +35,10 @@ typedef struct sr_mend_report {
  * max xyz; NULL: the whole mesh). Attempt r (r = 0..4, the smallest holes first) takes
  * out the crossing triangles and r rings of triangles around them (sharing a vertex),
  * fills the holes (from their points, else from their rims: see above) and looks again,
- * up to three times; the first attempt that leaves no crossing wins. mesh must be an
+ * up to three times. Each r is tried twice (the later passes' fills checked against
+ * the faces around them, then not); of those that leave no crossing, the one that
+ * fills fewer triangles' holes from their rims alone wins, and no larger r is tried.
+ * mesh must be an
  * oriented manifold (it may be open: a scan's neighbourhood); its border is never
  * touched. The vertex array is kept
  * as it is (indices stay valid; vertices of removed triangles may be left unused); the

@@ -12,8 +12,11 @@
  * takes the faces around the crossing too; one that still cannot be seen one to one is
  * filled from its rim alone by PMP triangulate_hole (minimum-weight triangulation of
  * the rim's vertices, which cuts across a sharp edge: the keyed shaft's noisy scan lost
- * up to 2.9 mm of its dent's rim that way). The mesh's own border (a neighbourhood's
- * rim) is recorded first and must stay as it is.
+ * up to 2.9 mm of its dent's rim that way). Each ring count is tried twice: with the
+ * later passes' fills checked against the faces around them (a fill that crosses them
+ * takes them too, rather than the same crossing coming back pass after pass), and
+ * without; the one with fewer holes filled from their rims wins. The mesh's own border
+ * (a neighbourhood's rim) is recorded first and must stay as it is.
  *
  * Kept out of boolean_cgal.cpp: the hole-filling headers are heavy to compile, and the
  * two translation units build in parallel. CGAL_ALWAYS_ROUND_TO_NEAREST for Valgrind as
@@ -214,6 +217,67 @@ void crossing_segments(const std::vector<K::Segment_2> &seg,
     }
 }
 
+/* True when the triangles `out` (a region's fill) cross neither each other nor the
+ * faces of sm that share a vertex with the region (outside it), checked by PMP
+ * self_intersections on a small mesh of the two. False: the vertices of the crossing
+ * faces are added to grow_at. */
+bool fits_in_space(const Mesh &sm, const Region &reg, size_t id,
+                   const std::vector<uint32_t> &region_of, const std::vector<uint32_t> &out,
+                   std::vector<uint32_t> &grow_at)
+{
+    Mesh small;
+    std::unordered_map<uint32_t, Vertex_index> local;
+    std::vector<uint32_t> global;
+    auto vertex = [&](uint32_t w) {
+        auto it = local.find(w);
+        if (it != local.end())
+            return it->second;
+        Vertex_index v = small.add_vertex(sm.point(Vertex_index(w)));
+        local.emplace(w, v);
+        global.push_back(w);
+        return v;
+    };
+    std::vector<uint8_t> is_fill;
+    auto face = [&](uint32_t x, uint32_t y, uint32_t z, bool fill) {
+        Vertex_index a = vertex(x), b = vertex(y), c = vertex(z);
+        Face_index f = small.add_face(a, b, c);
+        if (f == Mesh::null_face())
+            return false;
+        if (is_fill.size() <= f.idx())
+            is_fill.resize(f.idx() + 1, 0);
+        is_fill[f.idx()] = fill;
+        return true;
+    };
+    for (size_t t = 0; t < out.size(); t += 3)
+        if (!face(out[t], out[t + 1], out[t + 2], true))
+            return false;
+    std::vector<uint8_t> seen(region_of.size(), 0);
+    for (Face_index f : reg.faces)
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+            for (Face_index g : sm.faces_around_target(sm.halfedge(v))) {
+                if (g == Mesh::null_face() || region_of[g.idx()] == id || seen[g.idx()])
+                    continue;
+                seen[g.idx()] = 1;
+                uint32_t w[3], k = 0;
+                for (Vertex_index x : sm.vertices_around_face(sm.halfedge(g)))
+                    w[k++] = static_cast<uint32_t>(x.idx());
+                if (!face(w[0], w[1], w[2], false))
+                    return false;
+            }
+    std::vector<std::pair<Face_index, Face_index>> pairs;
+    PMP::self_intersections(small, std::back_inserter(pairs));
+    bool crossing = false;
+    for (const auto &p : pairs) {
+        if (!is_fill[p.first.idx()] && !is_fill[p.second.idx()])
+            continue; /* two faces around: not this fill's doing */
+        crossing = true;
+        for (Face_index f : {p.first, p.second})
+            for (Vertex_index v : small.vertices_around_face(small.halfedge(f)))
+                grow_at.push_back(global[v.idx()]);
+    }
+    return !crossing;
+}
+
 /* The triangles that fill `reg` again with the surface its own points sample: a
  * constrained Delaunay triangulation of its rim and inner vertices seen along its mean
  * normal, with the rim's edges and every edge of its own that crosses no other one
@@ -222,17 +286,19 @@ void crossing_segments(const std::vector<K::Segment_2> &seg,
  * where they are, so a region across a sharp edge keeps the edge (a fill from the rim
  * alone cuts across it). False when the region is not seen one to one along its normal:
  * rim edges cross there, or the triangles would not fit the mesh (a rim edge not run
- * once the way the region's faces did, an edge the mesh has outside the region); the
- * vertices where that happens are added to grow_at (the caller takes the faces there
- * too, or fills the region from its rim). region_of: the region number of each face
- * (reg is number `id`). */
-bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
-                      const std::vector<uint32_t> &region_of, std::vector<uint32_t> &tris,
-                      std::vector<uint32_t> &grow_at)
+ * once the way the region's faces did, an edge the mesh has outside the region).
+ * in_space: the triangles must not cross the faces around either (fits_in_space), else
+ * fill_crossing (nothing appended). Where it fails, the vertices are added to grow_at
+ * (the caller takes the faces there too, or fills the region from its rim). region_of:
+ * the region number of each face (reg is number `id`). */
+enum Fill { fill_none, fill_ok, fill_crossing };
+Fill fill_from_points(const Mesh &sm, const Region &reg, size_t id,
+                      const std::vector<uint32_t> &region_of, bool in_space,
+                      std::vector<uint32_t> &tris, std::vector<uint32_t> &grow_at)
 {
     double len = std::sqrt(reg.normal.squared_length());
     if (!(len > 0) || reg.rim.size() < 3)
-        return false;
+        return fill_none;
     K::Vector_3 n = reg.normal / len;
     /* u, v, n right-handed: counter-clockwise in (u, v) is outward along n */
     K::Vector_3 a = std::fabs(n.x()) < 0.6 ? K::Vector_3(1, 0, 0) : K::Vector_3(0, 1, 0);
@@ -266,7 +332,7 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
         }
     });
     if (grow_at.size() > grow_before)
-        return false;
+        return fill_none;
 
     Cdt cdt;
     std::unordered_map<uint32_t, Cdt::Vertex_handle> handle;
@@ -277,7 +343,7 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
             size_t before = cdt.number_of_vertices();
             Cdt::Vertex_handle h = cdt.insert(flat(w));
             if (cdt.number_of_vertices() == before)
-                return false; /* two rim vertices at one point of the plane */
+                return fill_none; /* two rim vertices at one point of the plane */
             h->info() = w;
             handle[w] = h;
         }
@@ -299,7 +365,7 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
             cdt.insert_constraint(x->second, y->second);
         }
     } catch (const Cdt::Intersection_of_constraints_exception &) {
-        return false; /* cannot happen: crossing edges were left out */
+        return fill_none; /* cannot happen: crossing edges were left out */
     }
     /* inside the rim: odd nesting, level by level across the constraints from the
      * infinite face; the region's own edges (constraints too) do not count */
@@ -311,10 +377,10 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
     auto rim_edge = [&](Cdt::Face_handle f, int i) {
         if (!f->is_constrained(i))
             return false;
-        uint32_t x = f->vertex(Cdt::cw(i))->info(), y = f->vertex(Cdt::ccw(i))->info();
-        if (cdt.is_infinite(f->vertex(Cdt::cw(i))) || cdt.is_infinite(f->vertex(Cdt::ccw(i))))
+        Cdt::Vertex_handle vx = f->vertex(Cdt::cw(i)), vy = f->vertex(Cdt::ccw(i));
+        if (cdt.is_infinite(vx) || cdt.is_infinite(vy))
             return false;
-        return is_rim.count(static_cast<uint64_t>(x) << 32 | y) != 0;
+        return is_rim.count(static_cast<uint64_t>(vx->info()) << 32 | vy->info()) != 0;
     };
     for (Cdt::Face_handle f : cdt.all_face_handles())
         f->info() = -1;
@@ -354,7 +420,7 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
     }
     std::sort(he.begin(), he.end());
     if (he.empty() || std::adjacent_find(he.begin(), he.end()) != he.end())
-        return false;
+        return fill_none;
     std::vector<uint64_t> rim;
     for (const auto &e : reg.rim)
         rim.push_back(static_cast<uint64_t>(e.first) << 32 | e.second);
@@ -368,7 +434,7 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
             continue;
         }
         if (!std::binary_search(he.begin(), he.end(), back))
-            return false;
+            return fill_none;
         Halfedge_index h = sm.halfedge(Vertex_index(x), Vertex_index(y));
         if (h != Mesh::null_halfedge()) {
             Face_index f1 = sm.face(h), f2 = sm.face(sm.opposite(h));
@@ -376,14 +442,17 @@ bool fill_from_points(const Mesh &sm, const Region &reg, size_t id,
                         (f2 != Mesh::null_face() && region_of[f2.idx()] == id);
             if (!ours) {
                 grow_at.insert(grow_at.end(), {x, y});
-                return false;
+                return fill_none;
             }
         }
     }
     if (on_rim != rim.size())
-        return false;
+        return fill_none;
+    /* in space: the new triangles must not cross each other or the faces around */
+    if (in_space && !fits_in_space(sm, reg, id, region_of, out, grow_at))
+        return fill_crossing;
     tris.insert(tris.end(), out.begin(), out.end());
-    return true;
+    return fill_ok;
 }
 
 /* Takes the faces `cut` out of sm and fills each hole they leave from its rim (CGAL
@@ -426,12 +495,13 @@ bool cut_and_fill_from_rims(Mesh &sm, const std::vector<Face_index> &cut,
 
 /* One pass on sm (built from xyz): the faces of `pairs` and `rings` rings of faces
  * around them (sharing a vertex) out, each region of them filled again from its own
- * points (fill_from_points) or, where that does not fit, from its rim. False (why set)
- * when the faces taken out reach the border or a hole stays open. */
+ * points (fill_from_points; in_space: checked against the faces around) or, where that
+ * does not fit, from its rim. False (why set) when the faces taken out reach the
+ * border or a hole stays open. */
 bool cut_and_fill(Mesh &sm, const double *xyz, size_t nv,
                   const std::vector<std::pair<Face_index, Face_index>> &pairs, int rings,
-                  const std::vector<uint8_t> &own_border, sr_mend_report *rep,
-                  const char **why)
+                  bool in_space, const std::vector<uint8_t> &own_border,
+                  sr_mend_report *rep, const char **why)
 {
     std::vector<uint8_t> mark(sm.num_faces(), 0); /* num_*: capacity, removed included */
     std::vector<Face_index> cut;
@@ -465,13 +535,20 @@ bool cut_and_fill(Mesh &sm, const double *xyz, size_t nv,
 
     /* regions filled from their points (their faces replaced in the arrays below),
      * the others from their rims on the halfedge mesh. A region whose rim crosses
-     * itself seen along its normal takes the faces around the crossing too, up to
-     * max_grow times. */
+     * itself seen along its normal, or (in_space) whose fill crosses the faces around
+     * it, takes the faces at the crossing too, up to max_grow times or until they
+     * would reach the border; then a fill that crosses only the faces around is kept
+     * (the next pass sees to those crossings). */
     std::vector<Region> regions;
     std::vector<uint32_t> fills;
     std::vector<Face_index> from_rims;
     std::vector<uint8_t> by_points;
+    bool last = false;
+    std::vector<Face_index> prev_cut;
+    std::vector<uint8_t> prev_mark;
+    size_t prev_hard = SIZE_MAX;
     for (int grow = 0;; grow++) {
+        last = last || grow == max_grow;
         regions = regions_of(sm, cut, mark);
         fills.clear();
         from_rims.clear();
@@ -481,19 +558,33 @@ bool cut_and_fill(Mesh &sm, const double *xyz, size_t nv,
         for (size_t i = 0; i < regions.size(); i++)
             for (Face_index f : regions[i].faces)
                 region_of[f.idx()] = static_cast<uint32_t>(i);
+        size_t hard = 0; /* faces of regions that cannot be filled from their points */
         for (size_t i = 0; i < regions.size(); i++) {
             const Region &reg = regions[i];
-            size_t before = fills.size();
-            if (fill_from_points(sm, reg, i, region_of, fills, grow_at)) {
+            Fill got = fill_from_points(sm, reg, i, region_of, in_space && !last, fills,
+                                        grow_at);
+            if (got == fill_ok) {
                 for (Face_index f : reg.faces)
                     by_points[f.idx()] = 1;
             } else {
-                fills.resize(before);
                 from_rims.insert(from_rims.end(), reg.faces.begin(), reg.faces.end());
+                if (got == fill_none)
+                    hard += reg.faces.size();
             }
         }
-        if (grow_at.empty() || grow == max_grow)
+        if (in_space && !last && hard > prev_hard) {
+            /* the faces taken for fills crossing the faces around made regions
+             * unfillable: back, and keep the fills that only cross the faces around */
+            cut.swap(prev_cut);
+            mark.swap(prev_mark);
+            last = true;
+            continue;
+        }
+        if (grow_at.empty() || last)
             break;
+        prev_cut = cut;
+        prev_mark = mark;
+        prev_hard = hard;
         /* the faces at the crossing rim edges' ends, unless they reach the border */
         std::vector<Face_index> more;
         bool border = false;
@@ -504,13 +595,16 @@ bool cut_and_fill(Mesh &sm, const double *xyz, size_t nv,
                     for (Vertex_index x : sm.vertices_around_face(sm.halfedge(g)))
                         border = border || sm.is_border(x, false);
                 }
-        if (border)
-            break;
+        if (border) {
+            last = true; /* once more, fills crossing the faces around kept */
+            continue;
+        }
         for (Face_index g : more)
             take(g);
     }
     rep->removed_tris += cut.size();
     mark.swap(by_points); /* now: 1 = replaced by a point fill */
+    rep->rim_filled += from_rims.size();
     if (!from_rims.empty() && !cut_and_fill_from_rims(sm, from_rims, own_border, rep, why))
         return false;
     if (fills.empty())
@@ -552,23 +646,25 @@ Pairs crossings_near(const Mesh &sm, const double *box)
 }
 
 /* One attempt with `rings` on sm (mesh as built, its crossings `pairs`): up to
- * max_passes of cut / fill / look again. True with sm mended when no crossing is left;
- * false with why set. */
-bool attempt(Mesh &sm, const sr_mesh *mesh, const double *box, int rings, Pairs pairs,
-             sr_mend_report *rep, const char **why)
+ * max_passes of cut / fill / look again (checked: the fills of the passes after the
+ * first must not cross the faces around them, see cut_and_fill). True with sm mended
+ * when no crossing is left; false with why set. */
+bool attempt(Mesh &sm, const sr_mesh *mesh, const double *box, int rings, bool checked,
+             Pairs pairs, sr_mend_report *rep, const char **why)
 {
     std::vector<uint8_t> own_border(sm.num_vertices(), 0);
     for (Vertex_index v : sm.vertices())
         if (sm.is_border(v, false))
             own_border[v.idx()] = 1;
-    rep->removed_tris = rep->filled_tris = 0;
+    rep->removed_tris = rep->filled_tris = rep->rim_filled = 0;
     for (int pass = 0; !pairs.empty(); pass++) {
         if (pass == max_passes) {
             *why = "crossings are left after the holes were filled";
             return false;
         }
-        if (!cut_and_fill(sm, mesh->xyz, mesh->vertex_count, pairs, rings, own_border, rep,
-                          why))
+        bool in_space = checked && pass > 0;
+        if (!cut_and_fill(sm, mesh->xyz, mesh->vertex_count, pairs, rings, in_space,
+                          own_border, rep, why))
             return false;
         pairs = crossings_near(sm, box);
     }
@@ -591,20 +687,37 @@ sr_status mend(sr_mesh *mesh, const double *box, sr_mend_report *rep, sr_err *er
     rep->crossing_pairs = first.size();
     if (first.empty())
         return SR_OK;
-    /* the smallest holes first: attempts with 0, 1, ... rings around the crossings */
+    /* the smallest holes first: attempts with 0, 1, ... rings around the crossings,
+     * each with the later passes' fills checked against the faces around them
+     * (crossings a fill leaves are then taken with it instead of coming back pass after
+     * pass) and without; of the two, the one that fills fewer holes from their rims */
     const char *why = "";
+    Mesh best;
+    sr_mend_report got = *rep;
     bool done = false;
-    for (int rings = 0; rings <= max_rings && !done; rings++) {
-        rep->rounds = rings + 1;
-        if (rings > 0) {
-            sm = Mesh();
-            build(mesh, sm);
+    for (int rings = 0; rings <= max_rings && !done; rings++)
+        for (int checked = 1; checked >= 0; checked--) {
+            if (rep->rounds > 0) {
+                sm = Mesh();
+                build(mesh, sm);
+            }
+            rep->rounds++;
+            if (!attempt(sm, mesh, box, rings, checked != 0, first, &got, &why)) {
+                rep->reached_border |= got.reached_border;
+                continue;
+            }
+            if (!done || got.rim_filled < rep->rim_filled) {
+                rep->removed_tris = got.removed_tris;
+                rep->filled_tris = got.filled_tris;
+                rep->rim_filled = got.rim_filled;
+                best = std::move(sm);
+                done = true;
+            }
         }
-        done = attempt(sm, mesh, box, rings, first, rep, &why);
-    }
     if (!done)
         return sr_err_set(err, SR_E_INVALID, "cannot mend the crossings (%zu pairs): %s",
                           rep->crossing_pairs, why);
+    sm = std::move(best);
     size_t nt = sm.number_of_faces();
     uint32_t *tri = static_cast<uint32_t *>(malloc((nt ? nt : 1) * 3 * sizeof(uint32_t)));
     if (!tri)
