@@ -76,6 +76,20 @@ static int crosses(const sr_mesh *m)
     return x;
 }
 
+/* Mends m (whole mesh), which must cross itself before: afterwards nothing crosses, it
+ * is closed and keeps its vertices (indices stay valid). */
+static void mend_closed_mesh(sr_mesh *m, sr_mend_report *rep)
+{
+    assert_true(crosses(m));
+    size_t nv = m->vertex_count;
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_mend_crossings(m, NULL, rep, &err), SR_OK);
+    assert_true(rep->crossing_pairs > 0);
+    assert_false(crosses(m));
+    assert_true(sr_mesh_is_closed(m));
+    assert_int_equal(m->vertex_count, nv);
+}
+
 /* ---- sr_mesh_mend_crossings --------------------------------------------------------- */
 
 static void folded_cylinder_is_mended_closed_and_keeps_its_volume(void **state)
@@ -85,22 +99,15 @@ static void folded_cylinder_is_mended_closed_and_keeps_its_volume(void **state)
     make_ringed_cylinder(&m);
     assert_int_equal(sr_mesh_copy(&clean, &m), SR_OK);
     fold_at(&m, -40, 20);
-    assert_true(crosses(&m));
-    size_t nv = m.vertex_count;
     sr_mend_report rep;
-    sr_err err = {{0}};
-    assert_int_equal(sr_mesh_mend_crossings(&m, NULL, &rep, &err), SR_OK);
-    assert_true(rep.crossing_pairs > 0);
+    mend_closed_mesh(&m, &rep);
     assert_true(rep.removed_tris >= 2);
     assert_true(rep.filled_tris > 0);
     assert_true(rep.rounds >= 1);
-    assert_false(crosses(&m));
-    assert_true(sr_mesh_is_closed(&m));
     sr_mesh_edges e;
     assert_int_equal(sr_mesh_edge_stats(&m, &e), SR_OK);
     assert_int_equal(e.misoriented_edges, 0);
     assert_int_equal(e.nonmanifold_vertices, 0);
-    assert_int_equal(m.vertex_count, nv); /* vertex indices stay valid */
     /* the fill spans the fold's rim: the volume moves by at most the volume of a
      * cylinder sliver over the removed triangles (a few 1 x 1.3 mm cells, each at most
      * 0.011 mm from the chord: well under 0.1 mm^3) */
@@ -109,6 +116,74 @@ static void folded_cylinder_is_mended_closed_and_keeps_its_volume(void **state)
     sr_deviation d;
     assert_int_equal(sr_mesh_deviation(&m, &clean, &d, NULL), SR_OK);
     assert_true(d.max_mm < 1.0);
+    sr_mesh_release(&m);
+    sr_mesh_release(&clean);
+}
+
+/* A box [0, 10]^3 with every face a grid of 1 mm squares (two triangles each), closed
+ * (the faces share their border vertices exactly). */
+static void make_grid_box(sr_mesh *m)
+{
+    enum { N = 10 };
+    assert_int_equal(sr_mesh_alloc(m, 6 * (N + 1) * (N + 1), 6 * 2 * N * N), SR_OK);
+    size_t nv = 0, nt = 0;
+    for (int axis = 0; axis < 3; axis++)
+        for (int side = 0; side < 2; side++) {
+            int u = (axis + 1) % 3, v = (axis + 2) % 3; /* (u, v, axis) right-handed */
+            size_t base = nv;
+            for (int j = 0; j <= N; j++)
+                for (int i = 0; i <= N; i++) {
+                    double *p = m->xyz + 3 * nv++;
+                    p[axis] = side ? N : 0;
+                    p[u] = i;
+                    p[v] = j;
+                }
+            for (int j = 0; j < N; j++)
+                for (int i = 0; i < N; i++) {
+                    uint32_t a = (uint32_t)(base + j * (N + 1) + i), b = a + 1,
+                             c = a + N + 1, d = c + 1;
+                    uint32_t q[6] = {a, b, d, a, d, c}; /* counter-clockwise seen from +axis */
+                    if (!side) {                         /* outward is -axis: reversed */
+                        q[1] = d, q[2] = b, q[4] = c, q[5] = d;
+                    }
+                    memcpy(m->tri + 3 * nt, q, sizeof q);
+                    nt += 2;
+                }
+        }
+    assert_int_equal(sr_mesh_weld_exact(m), SR_OK);
+    assert_true(sr_mesh_is_closed(m));
+    assert_near(sr_mesh_volume(m), 1000.0, 1e-9);
+}
+
+/* Noise folds a scan along a sharp edge: two neighbouring vertices on the box's edge
+ * x = z = 10 pushed past each other along it (y 5 -> 6.3, y 6 -> 5.3), so their fans on
+ * the top and the side overlap across the edge. Every point stays on the box, so the
+ * mended surface must be the box exactly: the new triangles run through the pushed
+ * points, the edge kept as an edge. Filled from the hole's rim alone, the corner was
+ * cut (here: 999.17 mm^3, deviation max 0.33 / 0.58 mm). */
+static void fold_across_a_sharp_edge_keeps_the_edge(void **state)
+{
+    (void)state;
+    sr_mesh m, clean;
+    make_grid_box(&m);
+    assert_int_equal(sr_mesh_copy(&clean, &m), SR_OK);
+    size_t a = nearest_vertex(&m, 10, 5, 10), b = nearest_vertex(&m, 10, 6, 10);
+    m.xyz[3 * a + 1] = 6.3;
+    m.xyz[3 * b + 1] = 5.3;
+    sr_mend_report rep;
+    mend_closed_mesh(&m, &rep);
+    assert_true(rep.removed_tris > 0);
+    assert_int_equal(rep.rim_filled, 0); /* every hole filled from its points */
+    /* both ways: the mended surface lies on the box and covers all of it */
+    sr_deviation on, covers;
+    assert_int_equal(sr_mesh_deviation(&m, &clean, &on, NULL), SR_OK);
+    assert_int_equal(sr_mesh_deviation(&clean, &m, &covers, NULL), SR_OK);
+    print_message("sharp edge: %zu triangles replaced, volume %.6f mm^3, deviation max %.3g / "
+                  "%.3g mm\n",
+                  rep.removed_tris, sr_mesh_volume(&m), on.max_mm, covers.max_mm);
+    assert_near(sr_mesh_volume(&m), 1000.0, 1e-9);
+    assert_true(on.max_mm < 1e-9);
+    assert_true(covers.max_mm < 1e-9);
     sr_mesh_release(&m);
     sr_mesh_release(&clean);
 }
@@ -290,6 +365,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(folded_cylinder_is_mended_closed_and_keeps_its_volume),
+        cmocka_unit_test(fold_across_a_sharp_edge_keeps_the_edge),
         cmocka_unit_test(mesh_without_crossings_is_left_as_it_is),
         cmocka_unit_test(fold_outside_the_box_is_not_looked_at),
         cmocka_unit_test(open_sheet_is_mended_and_keeps_its_border),

@@ -1,13 +1,16 @@
 /*
  * mend.h: mends a surface where it crosses itself locally (the noise folds a scan gets at
  * sharp edges), the pure-C face of src/bridge/mend_cgal.cpp (CGAL 5.5 PMP
- * self_intersections and triangulate_hole, GPL-3.0-or-later like boolean.h).
+ * self_intersections, CDT_2 and triangulate_hole, GPL-3.0-or-later like boolean.h).
  *
  * A boolean needs operands free of crossings where the other operand cuts them; a noisy
  * scan folds over itself along the fracture's sharp edges, exactly where a patch
- * meets it. Mending removes the crossing triangles (with rings of neighbours if need be) and fills
- * each hole they leave with a triangulation of its rim (no new vertices), so the
- * surface moves by no more than the removed triangles' size.
+ * meets it. Mending removes the crossing triangles (with rings of neighbours if need be)
+ * and fills each hole they leave again from the points it had (no new vertices): a
+ * triangulation of its rim and inner vertices seen along its mean normal, so the
+ * surface keeps the scanner's points and its sharp edges; where a hole cannot be seen
+ * one to one that way, from its rim alone (the surface then moves by up to the hole's
+ * size).
  */
 #ifndef SR_MEND_H
 #define SR_MEND_H
@@ -21,6 +24,8 @@ typedef struct sr_mend_report {
     size_t crossing_pairs; /* crossing triangle pairs found in the first round */
     size_t removed_tris;   /* triangles taken out (all rounds) */
     size_t filled_tris;    /* triangles put in by the fills */
+    size_t rim_filled;     /* of removed_tris, those whose holes were filled from their
+                            * rims alone */
     int rounds;            /* attempts made (0: nothing crossed) */
     int reached_border;    /* an attempt failed because the triangles taken out reach the
                             * border (a larger neighbourhood may succeed) */
@@ -29,9 +34,13 @@ typedef struct sr_mend_report {
 /* Mends the crossings among mesh's triangles whose bounding boxes meet box (min xyz,
  * max xyz; NULL: the whole mesh). Attempt r (r = 0..4, the smallest holes first) takes
  * out the crossing triangles and r rings of triangles around them (sharing a vertex),
- * fills the holes (CGAL triangulate_hole) and looks again, up to three times; the first
- * attempt that leaves no crossing wins. mesh must be an oriented manifold (it may be
- * open: a scan's neighbourhood); its border is never touched. The vertex array is kept
+ * fills the holes (from their points, else from their rims: see above) and looks again,
+ * up to three times. Each r is tried twice (the later passes' fills checked against
+ * the faces around them, then not); of those that leave no crossing, the one that
+ * fills fewer triangles' holes from their rims alone wins, and no larger r is tried.
+ * mesh must be an
+ * oriented manifold (it may be open: a scan's neighbourhood); its border is never
+ * touched. The vertex array is kept
  * as it is (indices stay valid; vertices of removed triangles may be left unused); the
  * triangle array is replaced, and only when something was mended. Errors, mesh then
  * unchanged: SR_E_INVALID when mesh is not an oriented manifold or no attempt works
