@@ -6,6 +6,8 @@
 # ratios measured in one run), clean.
 
 config ?= debug
+# the build steps of demo, test, valgrind and bench compile on every CPU
+NPROC  := $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 BUILD  := build/$(config)
 
 # Debian packages, installed by `make deps` when missing (as root, fresh Debian 12).
@@ -128,25 +130,25 @@ fixtures: $(BIN)
 	$(Q)$(BIN) fixtures --out fixtures
 
 demo: deps
-	$(Q)$(MAKE) --no-print-directory config=release all
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
 	$(Q)rm -rf build/demo.db build/demo.db-wal build/demo.db-shm build/demo
 	$(Q)build/release/symrec --db build/demo.db demo --out build/demo
 
 test: deps
-	$(Q)$(MAKE) --no-print-directory config=sanitize all tests-built
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=sanitize all tests-built
 	$(Q)SYMREC_BIN=build/sanitize/symrec sh tests/run_tests.sh build/sanitize
 
 tests-built: $(TESTS)
 
 valgrind: deps
-	$(Q)$(MAKE) --no-print-directory config=debug all tests-built
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
 	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_WRAP="valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite" \
 	  sh tests/run_tests.sh build/debug cli
 
 check: test valgrind
 
 bench: deps
-	$(Q)$(MAKE) --no-print-directory config=release all bench-built
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
 	$(Q)build/release/bench/symrec_bench
 
 bench-built: $(BENCH)

@@ -168,7 +168,7 @@ bool cli_date_valid(const char *text)
 }
 
 bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
-                        sr_symmetry *out)
+                        int allow_auto, sr_symmetry *out)
 {
     sr_symmetry sym = {SR_SYM_NONE, 0, 0.0};
     if (!kind) {
@@ -191,7 +191,9 @@ bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
             return false;
         }
         const char *what = "an integer 2..360 (or 0 for continuous)";
-        if (!cli_parse_int("--order", order, 0, 360, what, &sym.order))
+        if (allow_auto && strcmp(order, "auto") == 0)
+            sym.order = SR_ORDER_AUTO;
+        else if (!cli_parse_int("--order", order, 0, 360, what, &sym.order))
             return false;
         if (sym.order == 1) {
             cli_usage_error("bad --order '%s': expected %s", order, what);

@@ -113,10 +113,11 @@ bool cli_parse_double(const char *opt, const char *text, double min, double max,
 bool cli_date_valid(const char *text);
 
 /* Builds a symmetry from --symmetry/--order/--shift (any may be NULL). With no
- * --symmetry, *out is kind NONE and --order/--shift are usage errors. Prints the
- * usage error and returns false on failure. */
+ * --symmetry, *out is kind NONE and --order/--shift are usage errors. allow_auto: 1
+ * takes "--order auto" (SR_ORDER_AUTO: found by reconstruct; a catalogue keeps only
+ * orders). Prints the usage error and returns false on failure. */
 bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
-                        sr_symmetry *out);
+                        int allow_auto, sr_symmetry *out);
 
 /* Prints a subcommand group's usage error for a missing/unknown subcommand. */
 int cli_bad_subcommand(const char *cmd, const char *sub);

@@ -142,7 +142,7 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
     if (received && !cli_date_valid(received))
         return cli_usage_error("bad --received '%s': expected a date YYYY-MM-DD", received);
     sr_symmetry sym;
-    if (!cli_parse_symmetry(sym_kind, order, shift, &sym))
+    if (!cli_parse_symmetry(sym_kind, order, shift, 0, &sym))
         return CLI_USAGE;
 
     sr_catalog *cat;

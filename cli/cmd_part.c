@@ -78,7 +78,7 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
     if (missing)
         return cli_usage_error("'part add' needs %s (see 'symrec part add --help')", missing);
     sr_symmetry sym;
-    if (!cli_parse_symmetry(sym_kind, order, shift, &sym))
+    if (!cli_parse_symmetry(sym_kind, order, shift, 0, &sym))
         return CLI_USAGE;
 
     sr_catalog *cat;

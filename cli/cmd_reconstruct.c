@@ -27,7 +27,7 @@
 
 static const char usage[] =
     "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"
-    "              --symmetry axial|mirror|glide [--order N] [--shift MM]\n"
+    "              --symmetry axial|mirror|glide [--order N|auto] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
     "              [--method robust|paper] [--no-union] [--no-record] [--json]\n"
@@ -47,7 +47,9 @@ static const char usage[] =
     "                  default for --symmetry)\n"
     "  --mesh FILE     reconstruct a mesh file instead (STL, OBJ, PLY, OFF, glTF, GLB)\n"
     "  --symmetry K    axial, mirror or glide\n"
-    "  --order N       axial: n-fold order (2..360); default continuous\n"
+    "  --order N       axial: n-fold order (2..360); default continuous. 'auto'\n"
+    "                  finds it from the aligned layers (a gear's tooth count; 0 for\n"
+    "                  a round part) and records the order found\n"
     "  --shift MM      glide: the shift along the plane in mm; default: searched\n"
     "  --params NAME   the named parameter set to run with (see 'symrec params list');\n"
     "                  default 'default' (320 layers, 240 sectors, gamma 0.95, min\n"
@@ -108,6 +110,15 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
         printf("  poor fit: score %.3f < %.1f: only %.0f%% of the surface fits this symmetry; "
                "the part may not have it\n",
                a->fit_score, POOR_FIT_SCORE, 100.0 * a->fit_score);
+    if (r->order_auto && r->order_found.order > 0)
+        printf("  order:      %d-fold, found (mismatch turned by %.2f deg: %.3f mm; by turns no "
+               "order repeats: %.3f mm)\n",
+               r->order, 360.0 / r->order, r->order_found.mismatch_mm, r->order_found.base_mm);
+    else if (r->order_auto)
+        printf("  order:      continuous, found (%s: mismatch %.3f mm at turns no order "
+               "repeats)\n",
+               r->order_found.round ? "round" : "no order 2..360 matches",
+               r->order_found.base_mm);
     printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
            r->grid.dz);
     if (r->section_count == 0) {
@@ -142,8 +153,28 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     json_object_begin(&j);
     json_key(&j, "source");
     json_string(&j, source);
-    json_key(&j, "symmetry");
-    json_symmetry(&j, sym);
+    json_key(&j, "symmetry"); /* as used: an order found by --order auto */
+    sr_symmetry used = *sym;
+    if (used.kind == SR_SYM_AXIAL)
+        used.order = r->order;
+    json_symmetry(&j, &used);
+    json_key(&j, "order_detection");
+    if (r->order_auto) {
+        json_object_begin(&j);
+        json_key(&j, "order");
+        json_int(&j, r->order_found.order);
+        json_key(&j, "round");
+        json_bool(&j, r->order_found.round);
+        json_key(&j, "mismatch_mm");
+        json_number(&j, r->order_found.mismatch_mm);
+        json_key(&j, "base_mismatch_mm");
+        json_number(&j, r->order_found.base_mm);
+        json_key(&j, "layers_used");
+        json_int(&j, (int64_t)r->order_found.layers_used);
+        json_object_end(&j);
+    } else {
+        json_null(&j);
+    }
     json_key(&j, "params");
     json_params(&j, p);
     json_key(&j, "method");
@@ -379,7 +410,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         if (sr_recon_method_parse(method, "--method", &ro.method, &merr) != SR_OK)
             return cli_usage_error("%s", merr.msg);
     }
-    if (kind && !cli_parse_symmetry(kind, order, shift, &ro.symmetry))
+    if (kind && !cli_parse_symmetry(kind, order, shift, 1, &ro.symmetry))
         return CLI_USAGE;
     if (!kind && (order || shift))
         return cli_usage_error("--order and --shift need --symmetry");

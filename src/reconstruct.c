@@ -113,6 +113,37 @@ static void note_repairs(sr_recon_result *r, size_t degenerate, size_t mended,
                       n ? "; " : "", voids->voids_dropped, voids->void_volume_mm3);
 }
 
+/* Every reported patch free of crossings: a stacked patch is exact until it is rounded
+ * to double, and near-coincident points of its walls can then cross (measured: the
+ * posed bushing's 110,002-triangle patch, two zero-area triangles once mapped to
+ * another frame, and refused by every boolean). Such a patch gets its zero-area
+ * triangles removed (sr_mesh_repair) and its crossings mended (sr_mesh_mend_crossings);
+ * it is replaced only when the result is closed and crosses nowhere. Returns the patch
+ * triangles replaced; a patch that cannot be mended is left for unite()'s retry. */
+static size_t mend_patches(sr_section *sections, size_t count)
+{
+    size_t replaced = 0;
+    for (size_t i = 0; i < count; i++) {
+        int crosses = 0;
+        if (sr_mesh_self_intersects(&sections[i].patch, &crosses, NULL) != SR_OK || !crosses)
+            continue;
+        sr_mesh p = {0};
+        sr_repair_report rr = {0};
+        sr_mend_report pm = {0};
+        if (sr_mesh_copy(&p, &sections[i].patch) == SR_OK &&
+            sr_mesh_repair(&p, &rr, NULL) == SR_OK &&
+            sr_mesh_mend_crossings(&p, NULL, &pm, NULL) == SR_OK && sr_mesh_is_closed(&p) &&
+            sr_mesh_self_intersects(&p, &crosses, NULL) == SR_OK && !crosses) {
+            sr_mesh_release(&sections[i].patch);
+            sections[i].patch = p;
+            replaced += rr.degenerate_removed + pm.removed_tris;
+            continue;
+        }
+        sr_mesh_release(&p);
+    }
+    return replaced;
+}
+
 /* restored = scan ∪ every patch, in the scan's frame. The patches are in the aligned
  * frame (xf: scan -> aligned); each union is local (sr_boolean_union_local: only the
  * scan's triangles near the patch go through CGAL, mapped into the aligned frame, and
@@ -127,13 +158,15 @@ static void note_repairs(sr_recon_result *r, size_t degenerate, size_t mended,
  * union_note says why. After the unions, voids of the restored part up to
  * max_void_mm3 are removed (sr_mesh_drop_voids). */
 static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
-                       const sr_mesh *upatches, double max_void_mm3, sr_err *err)
+                       const sr_mesh *upatches, double max_void_mm3, size_t patch_mended,
+                       sr_err *err)
 {
     sr_mesh acc = {0};
     int owned = 0; /* acc holds the restored mesh so far; until then it is the scan */
     int scan_repaired = 0;
     size_t mended = 0;     /* scan triangles replaced where the scan crossed itself */
-    size_t patch_mended = 0; /* patch triangles replaced where a patch crossed itself */
+    /* patch_mended: patch triangles replaced where a patch crossed itself (before:
+     * mend_patches; here: the retry below) */
     size_t degenerate = 0; /* zero-area scan triangles removed */
     sr_status st;
     r->restored_by_union = 1;
@@ -325,47 +358,88 @@ static void aligned_release(sr_mesh *m)
     memset(m, 0, sizeof *m);
 }
 
+/* Aligns the scan for `sym` (or takes opts->alignment), makes the aligned copy and
+ * slices it: r->alignment, *aligned, r->grid, r->timings.align_s and slice_s. On
+ * failure the caller releases what was made (aligned_release, the result's grid). */
+static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
+                                 const sr_recon_opts *opts, sr_recon_result *r,
+                                 sr_mesh *aligned, sr_err *err)
+{
+    double t = now_s();
+    sr_status st;
+    if (opts->have_alignment) {
+        r->alignment = opts->alignment;
+    } else {
+        sr_align_opts ao = {0};
+        ao.delta_d = opts->delta_d;
+        st = sr_align(scan, sym, &ao, &r->alignment, err);
+        if (st != SR_OK)
+            return st;
+    }
+    heap_trim(); /* the alignment's structures */
+    st = aligned_make(scan, r->alignment.xform, aligned);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory copying the scan");
+    r->timings.align_s = now_s() - t;
+    t = now_s();
+    sr_slice_opts so = {opts->layers ? opts->layers : 320, opts->sectors ? opts->sectors : 240,
+                        0, 0};
+    st = sr_slice_accurate(aligned, &so, &r->grid, err);
+    if (st != SR_OK)
+        return st;
+    r->timings.slice_s = now_s() - t;
+    return SR_OK;
+}
+
 sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
                          sr_err *err)
 {
     sr_status st = sr_mesh_validate(scan, "scan", NULL, err);
     if (st != SR_OK)
         return st;
-    st = sr_symmetry_check(&opts->symmetry, err);
+    /* the symmetry as given, with an order to find read as continuous until found */
+    sr_symmetry given = opts->symmetry;
+    int find_order = given.order == SR_ORDER_AUTO;
+    if (find_order && given.kind != SR_SYM_AXIAL)
+        return sr_err_set(err, SR_E_RANGE, "order auto applies to axial symmetry only");
+    if (find_order)
+        given.order = 0;
+    st = sr_symmetry_check(&given, err);
     if (st != SR_OK)
         return st;
     sr_recon_result r;
     memset(&r, 0, sizeof r);
     sr_mesh aligned = {0};
-    double t0 = now_s(), t = t0;
+    double t0 = now_s();
 
-    if (opts->have_alignment) {
-        r.alignment = opts->alignment;
-    } else {
-        sr_align_opts ao = {0};
-        ao.delta_d = opts->delta_d;
-        st = sr_align(scan, &opts->symmetry, &ao, &r.alignment, err);
-        if (st != SR_OK)
-            goto fail;
-    }
-    heap_trim(); /* the alignment's structures */
-    st = aligned_make(scan, r.alignment.xform, &aligned);
-    if (st != SR_OK) {
-        sr_err_set(err, st, "out of memory copying the scan");
-        goto fail;
-    }
-    r.timings.align_s = now_s() - t;
-    t = now_s();
-
-    sr_slice_opts so = {opts->layers ? opts->layers : 320, opts->sectors ? opts->sectors : 240,
-                        0, 0};
-    st = sr_slice_accurate(&aligned, &so, &r.grid, err);
+    st = align_and_slice(scan, &given, opts, &r, &aligned, err);
     if (st != SR_OK)
         goto fail;
-    r.timings.slice_s = now_s() - t;
-    t = now_s();
-
-    sr_symmetry sym = opts->symmetry;
+    sr_symmetry sym = given;
+    if (find_order) {
+        /* scan noise from the fit as below (a round part matches itself turned within
+         * it), or the facets of a tessellated one */
+        double tol = fmax(0.05, 4.0 * r.alignment.fit_rms_mm / sqrt(2.0));
+        st = sr_order_detect(&r.grid, tol, &r.order_found, err);
+        if (st != SR_OK)
+            goto fail;
+        sym.order = r.order_found.order;
+        r.order_auto = 1;
+        /* the n-fold fit refines the axis the continuous one found (the posed gear:
+         * fit rms 0.065 -> 0.016 mm, patch -3.8 % -> -1.3 %): align and slice again */
+        if (sym.order >= 2 && !opts->have_alignment) {
+            aligned_release(&aligned);
+            sr_layer_grid_release(&r.grid);
+            sr_recon_timings first = r.timings;
+            st = align_and_slice(scan, &sym, opts, &r, &aligned, err);
+            if (st != SR_OK)
+                goto fail;
+            r.timings.align_s += first.align_s;
+            r.timings.slice_s += first.slice_s;
+        }
+    }
+    double t = now_s();
+    r.order = sym.kind == SR_SYM_AXIAL ? sym.order : 0;
     if (sym.kind == SR_SYM_GLIDE && sym.shift_mm == 0)
         sym.shift_mm = r.alignment.glide_shift_mm;
     r.method = opts->method;
@@ -399,7 +473,9 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     /* the aligned copy is done with: free it before the restored mesh is made */
     aligned_release(&aligned);
     heap_trim();
+    size_t patch_mended = mend_patches(r.sections, r.section_count);
     if (opts->skip_union) {
+        note_repairs(&r, 0, 0, patch_mended, NULL);
         st = concatenate(scan, r.alignment.xform, r.sections, r.section_count, &r.restored);
         if (st != SR_OK) {
             sr_err_set(err, st, "out of memory joining patches");
@@ -413,7 +489,7 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
                                 &upatches) != SR_OK)
             upatches = NULL; /* the reported patches are united instead */
         st = unite(scan, r.alignment.xform, &r, upatches,
-                   opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, err);
+                   opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, patch_mended, err);
         for (size_t i = 0; upatches && i < r.section_count; i++)
             sr_mesh_release(&upatches[i]);
         free(upatches);
@@ -427,6 +503,14 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
         sr_mesh_transform(&r.sections[i].patch, inv);
         r.patch_volume_mm3 += r.sections[i].volume_mm3;
     }
+    /* rounded once more by the move: the reported patches are checked again */
+    size_t late = mend_patches(r.sections, r.section_count);
+    size_t used = strlen(r.repair_note);
+    if (late && used + 1 < sizeof r.repair_note)
+        snprintf(r.repair_note + used, sizeof r.repair_note - used,
+                 "%s%zu patch triangles replaced where a patch crossed itself in the scan's "
+                 "frame",
+                 used ? "; " : "", late);
     r.timings.union_s = now_s() - t;
     r.scan_volume_mm3 = sr_mesh_volume(scan);
     r.restored_volume_mm3 = sr_mesh_volume(&r.restored);

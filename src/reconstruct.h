@@ -12,6 +12,7 @@
 #include "align.h"
 #include "analyse.h"
 #include "mesh.h"
+#include "order_detect.h"
 #include "patch.h"
 #include "slice.h"
 #include "symmetry.h"
@@ -29,7 +30,7 @@ sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_me
                                 sr_err *err);
 
 typedef struct sr_recon_opts {
-    sr_symmetry symmetry;
+    sr_symmetry symmetry;       /* axial: order SR_ORDER_AUTO finds it (order_detect.h) */
     sr_recon_method method;     /* default (0) robust */
     double open_mm;             /* robust: noise filter radius; 0 = from the scan's noise */
     double min_volume_mm3;      /* robust: smallest section kept; 0 = 1 mm^3 */
@@ -62,6 +63,9 @@ typedef struct sr_recon_result {
     sr_recon_method method;     /* the method that ran */
     double open_mm;             /* robust: the noise filter radius used */
     double noise_mm;            /* robust: the scan noise estimated from the fit, mm */
+    int order;                  /* axial: the order used (0 = continuous) */
+    int order_auto;             /* 1: it was found (order_found holds the figures) */
+    sr_order_detection order_found;
     sr_recon_timings timings;
 } sr_recon_result;
 

@@ -12,6 +12,7 @@
 
 #include "bridge/polygon.h"
 #include "contour_slice.h"
+#include "layer_flats.h"
 #include "restore_continuity.h"
 #include "restore_vote.h"
 #include "stack_mesh.h"
@@ -79,6 +80,8 @@ static int cmp_section_volume(const void *a, const void *b)
  * steeper than about atan(dz / 2 / grow)), and the union removes the overlap. */
 typedef struct layer_data {
     const sr_poly2 *d, *r;      /* per layer: damaged and restored sections */
+    const double *flat;         /* per layer: flat-face area at its planes, mm^2
+                                 * (layer_flats.h) */
 } layer_data;
 
 static sr_status grown(const sr_poly2 *missing, const sr_poly2 *restored, double grow,
@@ -326,6 +329,11 @@ static sr_status group_sections(sr_poly2 *missing, const layer_data *sd,
             vol += sr_poly2_area(&pc[idx[i]].region) * grid->dz;
         if (vol < o->min_volume_mm3 || vol <= 0)
             continue;
+        /* one layer, no larger than the flat faces its planes cut: a noisy face's ragged
+         * cut, not a loss (layer_flats.h) */
+        size_t l0 = pc[idx[0]].layer;
+        if (pc[idx[n - 1]].layer == l0 && vol <= sd->flat[l0] * grid->dz)
+            continue;
         st = build_section(pc, idx, n, sd, grid, &sec[ns], err);
         if (st != SR_OK)
             break;
@@ -425,6 +433,7 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
     sr_poly2 *d = calloc(L, sizeof *d), *up = glide ? calloc(L, sizeof *up) : NULL,
              *down = glide ? calloc(L, sizeof *down) : NULL, *res = calloc(L, sizeof *res),
              *mis = calloc(L, sizeof *mis);
+    double *flat = NULL;        /* per layer: flat-face area at its planes */
     size_t open_chains = 0;
     sr_status st = SR_OK;
     if (!z || !d || !res || !mis || (glide && (!up || !down))) {
@@ -458,8 +467,18 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
         sr_continuity_opts co = {opts->symmetry, opts->open_mm, 3.0 * grid->dz + 0.6, 0, 0, 0};
         st = sr_continuity_extend(aligned, z, L, res, mis, &co, NULL, err);
     }
+    if (st == SR_OK)
+        flat = malloc(L * sizeof *flat);
+    if (st == SR_OK && !flat)
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory for %zu contour layers", L);
     if (st == SR_OK) {
-        layer_data sd = {d, res};
+        double shifts[2] = {opts->symmetry.shift_mm, -opts->symmetry.shift_mm};
+        sr_layer_flats_opts fo = {grid->z_init, grid->dz, L, 2.0 * fmax(opts->open_mm, 0.025),
+                                  glide ? shifts : NULL, glide ? 2 : 0};
+        st = sr_layer_flats_area(aligned, &fo, flat, err);
+    }
+    if (st == SR_OK) {
+        layer_data sd = {d, res, flat};
         st = group_sections(mis, &sd, grid, opts, sections, count, err);
     }
     if (st == SR_OK) {
@@ -483,6 +502,7 @@ done:
         if (mis)
             sr_poly2_release(&mis[l]);
     }
+    free(flat);
     free(z);
     free(d);
     free(up);

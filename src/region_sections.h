@@ -13,7 +13,9 @@
  *     layer to layer up to the feature's own end face (restore_continuity.h);
  *  3. group the missing regions into sections: pieces of consecutive layers that
  *     overlap are one section (so two separate chips are two sections, and a section is
- *     never split by the sector grid);
+ *     never split by the sector grid); a section of one layer no larger than the flat
+ *     faces across z within 2 x open_mm of its planes is a noisy face's ragged cut and
+ *     is dropped (layer_flats.h);
  *  4. give each section its figures (z and angular range or side, depth as the largest
  *     distance of its restored outline from the damaged contour, volume = sum of
  *     area x layer thickness) and one closed patch mesh (stack_mesh.h) that encloses

@@ -156,6 +156,8 @@ sr_status sr_run_from_result(const sr_recon_result *result, int64_t instance_id,
     memset(&run, 0, sizeof run);
     run.instance_id = instance_id;
     run.symmetry = *sym;
+    if (sym->kind == SR_SYM_AXIAL)
+        run.symmetry.order = result->order; /* the order found, for --order auto */
     if (sym->kind == SR_SYM_GLIDE && result->analysis.shift_mm > 0)
         run.symmetry.shift_mm = result->analysis.shift_mm;
     run.params = *params;

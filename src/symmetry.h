@@ -16,6 +16,9 @@ typedef enum sr_sym_kind {
     SR_SYM_GLIDE,
 } sr_sym_kind;
 
+/* sr_symmetry.order for sr_reconstruct only: find the axial order (order_detect.h) */
+#define SR_ORDER_AUTO (-1)
+
 typedef struct sr_symmetry {
     sr_sym_kind kind;
     int order;          /* axial: n-fold order (>= 2), 0 = continuous; unused otherwise */

@@ -4,11 +4,13 @@
 #   sh tests/run_tests.sh BUILD_DIR [cli]
 #
 # Runs every BUILD_DIR/tests/test_* binary (with `cli`, only test_cli) from the
-# repository root, one after another, each with its output in a log. Prints one line
-# per binary (passed/failed counts, or how it crashed, followed by its log when
-# anything failed) and ends with exactly one line "N passed, N failed". Exits non-zero
-# if any test failed or any binary exited non-zero (a crash, a sanitizer report, a
-# leak) - even if cmocka's own counts look clean.
+# repository root, each with its output in a log of its own, up to SYMREC_TEST_JOBS
+# binaries at a time (default: the online CPUs; test_accuracy, the longest by far,
+# starts first). Prints one line per binary in name order (passed/failed counts, or
+# how it crashed, followed by its log when anything failed) and ends with exactly one
+# line "N passed, N failed". Exits non-zero if any test failed or any binary exited
+# non-zero (a crash, a sanitizer report, a leak) - even if cmocka's own counts look
+# clean. The binaries share nothing: each test makes its own mkdtemp directory.
 #
 # Without `cli`, it then runs the optional browser check of the HTML report (skipped
 # with a message when node or a headless Chromium is missing).
@@ -43,10 +45,25 @@ else
     bins=$(ls "$build"/tests/test_* 2>/dev/null | grep -v '\.[od]$')
 fi
 
-out=$(mktemp /tmp/symrec-run-tests-XXXXXX) || exit 2
-err=$(mktemp /tmp/symrec-run-tests-XXXXXX) || exit 2
-trap 'rm -f "$out" "$err"' EXIT
+logs=$(mktemp -d /tmp/symrec-run-tests-XXXXXX) || exit 2
+trap 'rm -rf "$logs"' EXIT
 trap 'exit 130' INT TERM
+
+# Run them: the longest first, then the others, SYMREC_TEST_JOBS at a time. Each leaves
+# NAME.out, NAME.err, NAME.rc (exit status) and NAME.secs in $logs.
+jobs=${SYMREC_TEST_JOBS:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)}
+case $jobs in ''|*[!0-9]*|0) jobs=1 ;; esac
+{
+    for bin in $bins; do case $bin in */test_accuracy) echo "$bin" ;; esac; done
+    for bin in $bins; do case $bin in */test_accuracy) ;; *) echo "$bin" ;; esac; done
+} | xargs -P "$jobs" -I{} sh -c '
+    bin=$1; logs=$2; name=$(basename "$bin")
+    [ -f "$bin" ] && [ -x "$bin" ] || exit 0
+    start=$(date +%s)
+    "$bin" >"$logs/$name.out" 2>"$logs/$name.err"
+    echo $? >"$logs/$name.rc"
+    echo $(( $(date +%s) - start )) >"$logs/$name.secs"
+' sh {} "$logs"
 
 total_pass=0
 total_fail=0
@@ -56,10 +73,10 @@ for bin in $bins; do
     [ -f "$bin" ] && [ -x "$bin" ] || continue
     found=$((found + 1))
     name=$(basename "$bin")
-    start=$(date +%s)
-    "$bin" >"$out" 2>"$err"
-    rc=$?
-    secs=$(( $(date +%s) - start ))
+    out=$logs/$name.out
+    err=$logs/$name.err
+    rc=$(cat "$logs/$name.rc" 2>/dev/null || echo 127)
+    secs=$(cat "$logs/$name.secs" 2>/dev/null || echo 0)
     # cmocka writes one result line per test to stdout ("[       OK ] name",
     # "[  FAILED  ] name", "[  SKIPPED ] name") and its summary to stderr, so counting
     # the stdout lines counts each test once. Names are C identifiers.
@@ -98,6 +115,7 @@ done
 # Needs node and a Chromium (Debian chromium-headless-shell); skipped, with a line
 # saying so, when either is missing, so CI without them still passes.
 if [ -z "$only" ]; then
+    out=$logs/browser.out
     browser=${SYMREC_BROWSER:-}
     [ -z "$browser" ] && [ -x /usr/bin/chromium-headless-shell ] && browser=/usr/bin/chromium-headless-shell
     [ -z "$browser" ] && [ -x /usr/bin/chromium ] && browser=/usr/bin/chromium

@@ -2290,6 +2290,65 @@ static void reconstruct_prints_run_recorded_and_no_record_records_none(void **st
     assert_string_equal(after, before);
 }
 
+/* --order auto (issue 6 item 4): a hexagonal prism is found 6-fold and restored with
+ * that order; a round demo shaft is found continuous and its run records order 0 (not
+ * "auto"); a catalogue part keeps only orders, so 'part add --order auto' is refused. */
+static void reconstruct_order_auto_finds_and_records_the_order(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    double hex[12];
+    for (int k = 0; k < 6; k++) {
+        hex[2 * k] = 12 * cos(M_PI / 3 * k + 0.2);
+        hex[2 * k + 1] = 12 * sin(M_PI / 3 * k + 0.2);
+    }
+    sr_mesh m = {0};
+    assert_int_equal(sr_shape_prism(hex, 6, 0, 10, &m, NULL), SR_OK);
+    char path[160];
+    path_in(e, "hex.stl", path, sizeof path);
+    write_mesh_file(path, &m);
+    sr_mesh_release(&m);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "--mesh", path, "--symmetry", "axial", "--order",
+        "auto", "--layers", "20", "--sectors", "120", "--no-union", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal((int)jnum(jget(&v, "symmetry"), "order"), 6);
+    const jv *od = jget(&v, "order_detection");
+    assert_int_equal((int)jnum(od, "order"), 6);
+    assert_int_equal(jget(od, "round")->type, J_BOOL);
+    assert_false(jget(od, "round")->b);
+    assert_true(jnum(od, "mismatch_mm") < 0.05 && jnum(od, "base_mismatch_mm") > 0.5);
+    assert_int_equal((int)jget(&v, "sections")->count, 0);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "reconstruct", "--mesh", path, "--symmetry", "axial", "--order",
+        "auto", "--layers", "20", "--sectors", "120", "--no-union");
+    expect_ok(&r);
+    expect_contains(r.out, "  order:      6-fold, found (mismatch turned by 60.00 deg: ");
+    result_free(&r);
+
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--symmetry", "axial", "--order", "auto",
+        "--params", "coarse", "--no-union", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal((int)jnum(jget(&v, "symmetry"), "order"), 0);
+    assert_true(jget(jget(&v, "order_detection"), "round")->b);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", (long)jnum(&v, "run_id"));
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_string_equal(jstr(jget(&v, "symmetry"), "kind"), "axial");
+    assert_int_equal((int)jnum(jget(&v, "symmetry"), "order"), 0);
+    jv_release(&v);
+    result_free(&r);
+    expect_bad_symmetry(e, "axial", "--order", "auto",
+                        "bad --order 'auto': expected an integer 2..360 (or 0 for continuous)");
+}
+
 static void reconstruct_params_and_overrides_are_recorded(void **state)
 {
     const env *e = *state;
@@ -3075,6 +3134,7 @@ int main(void)
         T(reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return),
         T(reconstruct_prints_run_recorded_and_no_record_records_none),
         T(reconstruct_params_and_overrides_are_recorded),
+        T(reconstruct_order_auto_finds_and_records_the_order),
         T(a_failed_reconstruct_records_nothing),
         T(reconstruct_refuses_bad_input),
         T(reconstruct_of_an_intact_scan_says_nothing_to_repair),

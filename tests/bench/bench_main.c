@@ -276,35 +276,6 @@ typedef struct setting {
     sr_recon_method method;
 } setting;
 
-/* Where the patches lie, canonical frame: *outside = volume of the patches outside the
- * intact part (filled where there was no material), *hit = volume of the patches inside
- * the true missing volume. 0 if a boolean fails (then the columns show '-'). */
-static int patch_overlap(const sr_recon_result *r, const double m[12], const sr_mesh *intact,
-                         const sr_mesh *missing, double *outside, double *hit)
-{
-    double out = 0, in = 0;
-    for (size_t i = 0; i < r->section_count; i++) {
-        sr_mesh p = {0}, d = {0}, x = {0};
-        if (sr_mesh_copy(&p, &r->sections[i].patch) != SR_OK)
-            return 0;
-        sr_mesh_transform(&p, m);
-        int ok = sr_boolean_difference(&p, intact, &d, NULL) == SR_OK &&
-                 sr_boolean_intersection(&p, missing, &x, NULL) == SR_OK;
-        if (ok) {
-            out += sr_mesh_volume(&d);
-            in += sr_mesh_volume(&x);
-        }
-        sr_mesh_release(&p);
-        sr_mesh_release(&d);
-        sr_mesh_release(&x);
-        if (!ok)
-            return 0;
-    }
-    *outside = out;
-    *hit = in;
-    return 1;
-}
-
 /* One row: reconstruct `scan` and measure it against `truth`, `intact` and `missing`
  * (may be NULL). */
 static void part_row(const char *name, const char *input, const sr_mesh *scan,
@@ -343,7 +314,8 @@ static void part_row(const char *name, const char *input, const sr_mesh *scan,
     sr_truth_to_canonical(truth, m);
     char fill[32] = "     -      -";
     double outside, hit;
-    if (missing && patch_overlap(&r, m, intact, missing, &outside, &hit))
+    if (missing && sr_truth_patch_overlap(r.sections, r.section_count, m, intact, missing,
+                                          &outside, &hit, NULL) == SR_OK)
         snprintf(fill, sizeof fill, "%6.1f %6.1f", 100 * outside / truth->missing_volume,
                  100 * (truth->missing_volume - hit) / truth->missing_volume);
     char dev[96] = "";

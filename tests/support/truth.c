@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bridge/boolean.h"
+
 /* Whole file as a NUL-terminated string, or NULL. */
 static char *slurp(const char *path)
 {
@@ -197,4 +199,41 @@ void sr_truth_align_error_of(const sr_truth *truth, const sr_alignment *found,
         double e[3] = {q[0] - f_origin[0], q[1] - f_origin[1], q[2] - f_origin[2]};
         out->offset_mm = fabs(dot3(e, f_x)) / sqrt(dot3(f_x, f_x));
     }
+}
+
+sr_status sr_truth_patch_overlap(const sr_section *sections, size_t count, const double m[12],
+                                 const sr_mesh *intact, const sr_mesh *missing,
+                                 double *outside, double *covered, sr_err *err)
+{
+    double inv[12], out = 0, in = 0;
+    sr_xform_rigid_inverse(inv, m);
+    sr_mesh i_scan = {0}, m_scan = {0};
+    sr_status st = sr_mesh_copy(&i_scan, intact);
+    if (st == SR_OK)
+        st = sr_mesh_copy(&m_scan, missing);
+    if (st != SR_OK) {
+        sr_mesh_release(&i_scan);
+        return sr_err_set(err, st, "out of memory copying the truth meshes");
+    }
+    sr_mesh_transform(&i_scan, inv);
+    sr_mesh_transform(&m_scan, inv);
+    for (size_t k = 0; k < count && st == SR_OK; k++) {
+        sr_mesh d = {0}, x = {0};
+        st = sr_boolean_difference(&sections[k].patch, &i_scan, &d, err);
+        if (st == SR_OK)
+            st = sr_boolean_intersection(&sections[k].patch, &m_scan, &x, err);
+        if (st == SR_OK) {
+            out += sr_mesh_volume(&d);
+            in += sr_mesh_volume(&x);
+        }
+        sr_mesh_release(&d);
+        sr_mesh_release(&x);
+    }
+    sr_mesh_release(&i_scan);
+    sr_mesh_release(&m_scan);
+    if (st != SR_OK)
+        return st;
+    *outside = out;
+    *covered = in;
+    return SR_OK;
 }

@@ -6,13 +6,15 @@
  * (p_posed = R p_canonical + t). A plain string search for each key, no JSON library:
  * the files are machine-written with unique top-level keys, and only these are read.
  * Plus the geometry the two consumers share: the posed frame's transform back to the
- * canonical frame, and the alignment error of a found axis or plane against the pose.
+ * canonical frame, the alignment error of a found axis or plane against the pose, and
+ * the patches' overlap with the intact part and the true missing volume.
  */
 #ifndef SR_TEST_TRUTH_H
 #define SR_TEST_TRUTH_H
 
 #include "align.h"
 #include "mesh.h"
+#include "patch.h"
 #include "status.h"
 #include "symmetry.h"
 
@@ -45,5 +47,15 @@ typedef struct sr_truth_align_error {
 } sr_truth_align_error;
 void sr_truth_align_error_of(const sr_truth *truth, const sr_alignment *found,
                              const double centre[3], sr_truth_align_error *out);
+
+/* How well the patches of `sections` (count of them, in the scan's frame, where they are
+ * reported) fill the truth: *outside = patch volume outside `intact`, *covered = the
+ * part of `missing` the patches cover, mm^3, by CGAL booleans. intact and missing are
+ * canonical; they are moved to the scan's frame by the inverse of m (scan -> canonical,
+ * e.g. sr_truth_to_canonical), so the patches are taken as they are. Outputs only on
+ * success; a boolean's refusal is returned with its message. */
+sr_status sr_truth_patch_overlap(const sr_section *sections, size_t count, const double m[12],
+                                 const sr_mesh *intact, const sr_mesh *missing,
+                                 double *outside, double *covered, sr_err *err);
 
 #endif
