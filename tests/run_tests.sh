@@ -13,7 +13,8 @@
 # clean. The binaries share nothing: each test makes its own mkdtemp directory.
 #
 # Without `cli`, it then runs the optional browser check of the HTML report (skipped
-# with a message when node or a headless Chromium is missing).
+# with a message when node or a headless Chromium is missing) and the Khronos glTF
+# validator on the GLB that reconstruct writes (skipped without node and npm).
 #
 # Environment: SYMREC_BIN (the CLI under test; default BUILD_DIR/symrec) and
 # SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli.
@@ -144,6 +145,66 @@ if [ -z "$only" ]; then
             total_fail=$((total_fail + 1))
         fi
         rm -rf "$bdir"
+    fi
+fi
+
+# The GLB that reconstruct writes, through the Khronos glTF validator (npm package
+# gltf-validator, installed once into build/npm from the npm registry): the demo
+# instance's result.glb must have no error, and a truncated copy must be caught (so the
+# check can fail). Skipped, with a line saying so, without node and npm.
+if [ -z "$only" ]; then
+    npm_dir=${SYMREC_NPM_DIR:-$build/npm}
+    start=$(date +%s)
+    if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+        echo "gltf_validator skipped: no node or npm (apt-get install nodejs npm)"
+    else
+        rc=0
+        if [ ! -f "$npm_dir/node_modules/gltf-validator/package.json" ]; then
+            mkdir -p "$npm_dir" &&
+            npm install --prefix "$npm_dir" --no-audit --no-fund --silent \
+                gltf-validator@2.0.0-dev.3.10 >"$logs/npm.out" 2>&1 || rc=$?
+        fi
+        gdir=$(mktemp -d /tmp/symrec-gltf-test-XXXXXX)
+        gpass=0
+        gfail=0
+        if [ "$rc" -ne 0 ]; then
+            gfail=1
+            echo "    | npm install gltf-validator failed (exit $rc):" >"$logs/gltf.out"
+            sed 's/^/    | /' "$logs/npm.out" >>"$logs/gltf.out"
+        else
+            : >"$logs/gltf.out"
+            if "$SYMREC_BIN" --db "$gdir/c.db" demo --catalog-only >/dev/null 2>&1 &&
+               "$SYMREC_BIN" --db "$gdir/c.db" reconstruct 1 --params coarse --no-record \
+                   --out "$gdir/run" >/dev/null 2>"$gdir/err" &&
+               node tests/gltf/validate_glb.js "$gdir/run/result.glb" "$npm_dir/node_modules" \
+                   >"$gdir/report" 2>&1; then
+                gpass=$((gpass + 1))
+            else
+                gfail=$((gfail + 1))
+                { echo "    | result.glb:"; sed 's/^/    | /' "$gdir/err" "$gdir/report" 2>/dev/null; } >>"$logs/gltf.out"
+            fi
+            # a GLB cut short must be reported (exit 1: errors found)
+            vrc=0
+            [ -f "$gdir/run/result.glb" ] && head -c 3000 "$gdir/run/result.glb" >"$gdir/cut.glb"
+            node tests/gltf/validate_glb.js "$gdir/cut.glb" "$npm_dir/node_modules" \
+                >"$gdir/cut.report" 2>&1 || vrc=$?
+            if [ "$vrc" -eq 1 ] && grep -q '"errors":[1-9]' "$gdir/cut.report"; then
+                gpass=$((gpass + 1))
+            else
+                gfail=$((gfail + 1))
+                { echo "    | a truncated GLB was not reported (exit $vrc):"; sed 's/^/    | /' "$gdir/cut.report"; } >>"$logs/gltf.out"
+            fi
+        fi
+        rm -rf "$gdir"
+        secs=$(( $(date +%s) - start ))
+        if [ "$gfail" -eq 0 ]; then
+            printf '%-14s %3d passed, %d failed  ok  (%ss)\n' gltf_validator "$gpass" 0 "$secs"
+        else
+            printf '%-14s %3d passed, %d failed  FAILED  (%ss)\n' gltf_validator "$gpass" "$gfail" "$secs"
+            cat "$logs/gltf.out"
+        fi
+        total_pass=$((total_pass + gpass))
+        total_fail=$((total_fail + gfail))
     fi
 fi
 
