@@ -50,21 +50,31 @@ logs=$(mktemp -d /tmp/symrec-run-tests-XXXXXX) || exit 2
 trap 'rm -rf "$logs"' EXIT
 trap 'exit 130' INT TERM
 
-# Run them: the longest first, then the others, SYMREC_TEST_JOBS at a time. Each leaves
-# NAME.out, NAME.err, NAME.rc (exit status) and NAME.secs in $logs.
+# Run them: the longest first, then the others, SYMREC_TEST_JOBS at a time. A job is
+# "binary tag": test_accuracy runs as two jobs, its noisy scans' cases (tag scan:
+# SYMREC_TEST_FILTER='*_scan_*') and the rest (tag rest: SYMREC_TEST_SKIP), so they take
+# a CPU each; every other binary is one job (tag all). Each job leaves NAME.TAG.out,
+# .err, .rc (exit status) and .secs in $logs.
 jobs=${SYMREC_TEST_JOBS:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)}
 case $jobs in ''|*[!0-9]*|0) jobs=1 ;; esac
-{
-    for bin in $bins; do case $bin in */test_accuracy) echo "$bin" ;; esac; done
-    for bin in $bins; do case $bin in */test_accuracy) ;; *) echo "$bin" ;; esac; done
-} | xargs -P "$jobs" -I{} sh -c '
-    bin=$1; logs=$2; name=$(basename "$bin")
+job_list() {
+    for bin in $bins; do case $bin in */test_accuracy) echo "$bin scan"; echo "$bin rest" ;; esac; done
+    for bin in $bins; do case $bin in */test_accuracy) ;; *) echo "$bin all" ;; esac; done
+}
+# the tags of a binary's jobs
+tags_of() { case $1 in */test_accuracy) echo "scan rest" ;; *) echo all ;; esac; }
+job_list | xargs -P "$jobs" -L 1 sh -c '
+    logs=$1; bin=$2; tag=$3; name=$(basename "$bin")
     [ -f "$bin" ] && [ -x "$bin" ] || exit 0
+    case $tag in
+        scan) SYMREC_TEST_FILTER="*_scan_*"; export SYMREC_TEST_FILTER ;;
+        rest) SYMREC_TEST_SKIP="*_scan_*"; export SYMREC_TEST_SKIP ;;
+    esac
     start=$(date +%s)
-    "$bin" >"$logs/$name.out" 2>"$logs/$name.err"
-    echo $? >"$logs/$name.rc"
-    echo $(( $(date +%s) - start )) >"$logs/$name.secs"
-' sh {} "$logs"
+    "$bin" >"$logs/$name.$tag.out" 2>"$logs/$name.$tag.err"
+    echo $? >"$logs/$name.$tag.rc"
+    echo $(( $(date +%s) - start )) >"$logs/$name.$tag.secs"
+' sh "$logs"
 
 total_pass=0
 total_fail=0
@@ -74,42 +84,46 @@ for bin in $bins; do
     [ -f "$bin" ] && [ -x "$bin" ] || continue
     found=$((found + 1))
     name=$(basename "$bin")
-    out=$logs/$name.out
-    err=$logs/$name.err
-    rc=$(cat "$logs/$name.rc" 2>/dev/null || echo 127)
-    secs=$(cat "$logs/$name.secs" 2>/dev/null || echo 0)
-    # cmocka writes one result line per test to stdout ("[       OK ] name",
-    # "[  FAILED  ] name", "[  SKIPPED ] name") and its summary to stderr, so counting
-    # the stdout lines counts each test once. Names are C identifiers.
-    pass=$(grep -c '^\[       OK \] [A-Za-z_]' "$out")
-    fail=$(grep -c '^\[  FAILED  \] [A-Za-z_]' "$out")
-    skipped=$(grep -c '^\[  SKIPPED \] [A-Za-z_]' "$out")
-    ran=$(grep -c '^\[ RUN      \] ' "$out")
-    # A binary that died mid-test never printed "[==========] N test(s) run.": the
-    # tests it started without a result failed, and at least one did.
-    if ! grep -q '^\[==========\] [0-9]* test(s) run\.' "$out"; then
-        unfinished=$((ran - pass - fail - skipped))
-        [ "$unfinished" -lt 1 ] && unfinished=1
-        fail=$((fail + unfinished))
-    fi
-    status="ok"
-    if [ "$rc" -ne 0 ] || [ "$fail" -ne 0 ]; then
-        bad_binaries=$((bad_binaries + 1))
-        if [ "$rc" -gt 128 ]; then
-            status="crashed (signal $((rc - 128)))"
-        else
-            status="FAILED (exit $rc)"
+    for tag in $(tags_of "$bin"); do
+        out=$logs/$name.$tag.out
+        err=$logs/$name.$tag.err
+        rc=$(cat "$logs/$name.$tag.rc" 2>/dev/null || echo 127)
+        secs=$(cat "$logs/$name.$tag.secs" 2>/dev/null || echo 0)
+        [ "$tag" = all ] || name=$(basename "$bin")[$tag]
+        # cmocka writes one result line per test to stdout ("[       OK ] name",
+        # "[  FAILED  ] name", "[  SKIPPED ] name") and its summary to stderr, so counting
+        # the stdout lines counts each test once. Names are C identifiers.
+        pass=$(grep -c '^\[       OK \] [A-Za-z_]' "$out")
+        fail=$(grep -c '^\[  FAILED  \] [A-Za-z_]' "$out")
+        skipped=$(grep -c '^\[  SKIPPED \] [A-Za-z_]' "$out")
+        ran=$(grep -c '^\[ RUN      \] ' "$out")
+        # A binary that died mid-test never printed "[==========] N test(s) run.": the
+        # tests it started without a result failed, and at least one did.
+        if ! grep -q '^\[==========\] [0-9]* test(s) run\.' "$out"; then
+            unfinished=$((ran - pass - fail - skipped))
+            [ "$unfinished" -lt 1 ] && unfinished=1
+            fail=$((fail + unfinished))
         fi
-        # Exit non-zero with every test passing: a sanitizer or leak report at exit.
-        [ "$fail" -eq 0 ] && fail=1
-    fi
-    printf '%-14s %3d passed, %d failed  %s  (%ss)\n' "$name" "$pass" "$fail" "$status" "$secs"
-    if [ "$status" != ok ]; then
-        # Its log, without the lines of the tests that passed.
-        grep -v '^\[ RUN      \] \|^\[       OK \] ' "$out" "$err" | sed 's/^[^:]*:/    | /'
-    fi
-    total_pass=$((total_pass + pass))
-    total_fail=$((total_fail + fail))
+        status="ok"
+        if [ "$rc" -ne 0 ] || [ "$fail" -ne 0 ]; then
+            bad_binaries=$((bad_binaries + 1))
+            if [ "$rc" -gt 128 ]; then
+                status="crashed (signal $((rc - 128)))"
+            else
+                status="FAILED (exit $rc)"
+            fi
+            # Exit non-zero with every test passing: a sanitizer or leak report at exit.
+            [ "$fail" -eq 0 ] && fail=1
+        fi
+        printf '%-14s %3d passed, %d failed  %s  (%ss)\n' "$name" "$pass" "$fail" "$status" "$secs"
+        if [ "$status" != ok ]; then
+            # Its log, without the lines of the tests that passed.
+            grep -v '^\[ RUN      \] \|^\[       OK \] ' "$out" "$err" | sed 's/^[^:]*:/    | /'
+        fi
+        total_pass=$((total_pass + pass))
+        total_fail=$((total_fail + fail))
+        name=$(basename "$bin")
+    done
 done
 
 # Optional: the HTML report in a real headless browser (tests/browser/check_report.js).

@@ -599,9 +599,14 @@ int main(void)
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(truth_reader_reads_the_needed_fields);
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(truth_reader_reports_a_missing_key);
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(truth_reader_reports_a_missing_file);
-    /* SYMREC_TEST_FILTER=pattern runs only the matching cases (cmocka glob) */
+    /* SYMREC_TEST_FILTER=pattern runs only the matching cases, SYMREC_TEST_SKIP=pattern
+     * all but those (cmocka globs): tests/run_tests.sh runs the noisy scans' cases
+     * ("*_scan_*") beside the others, on a second CPU */
     const char *filter = getenv("SYMREC_TEST_FILTER");
     if (filter && *filter)
         cmocka_set_test_filter(filter);
+    const char *skip_filter = getenv("SYMREC_TEST_SKIP");
+    if (skip_filter && *skip_filter)
+        cmocka_set_skip_filter(skip_filter);
     return _cmocka_run_group_tests("accuracy", tests, n, NULL, NULL);
 }
