@@ -136,25 +136,32 @@ static void read_truth(const char *part, sr_truth *t)
     assert_int_equal(st, SR_OK);
 }
 
+/* Reconstructs `file` of `part` with the options *o; asserts it succeeded. */
+static void reconstruct_part(const char *part, const char *file, const sr_recon_opts *o,
+                             sr_recon_result *r)
+{
+    sr_mesh scan = {0};
+    read_mesh(part, file, &scan);
+    sr_err err = {{0}};
+    sr_status st = sr_reconstruct(&scan, o, r, &err);
+    if (st != SR_OK)
+        print_error("%s %s: %s\n", part, file, err.msg);
+    assert_int_equal(st, SR_OK);
+    sr_mesh_release(&scan);
+}
+
 /* Reconstructs `file` of `part` by the robust method (the default) given only the
  * symmetry kind (and order) from its truth.json; asserts it succeeded. */
 static void robust_reconstruct(const char *part, const char *file, int skip_union,
                                sr_truth *truth, sr_recon_result *r)
 {
     read_truth(part, truth);
-    sr_mesh scan = {0};
-    read_mesh(part, file, &scan);
     sr_recon_opts o;
     memset(&o, 0, sizeof o);
     o.symmetry.kind = truth->symmetry.kind;
     o.symmetry.order = truth->symmetry.order;
     o.skip_union = skip_union;
-    sr_err err = {{0}};
-    sr_status st = sr_reconstruct(&scan, &o, r, &err);
-    if (st != SR_OK)
-        print_error("%s %s: %s\n", part, file, err.msg);
-    assert_int_equal(st, SR_OK);
-    sr_mesh_release(&scan);
+    reconstruct_part(part, file, &o, r);
 }
 
 static void part_reconstructs_within_measured_bounds(void **state)
@@ -414,21 +421,15 @@ static void gear_order_is_found_and_restores_the_tooth(void **state)
     (void)state;
     if (!parts_present())
         skip();
-    sr_truth truth;
-    read_truth("spur_gear_broken_tooth", &truth);
-    sr_mesh scan = {0};
-    read_mesh("spur_gear_broken_tooth", "damaged_posed.stl", &scan);
     sr_recon_opts o;
     memset(&o, 0, sizeof o);
     o.symmetry.kind = SR_SYM_AXIAL;
     o.symmetry.order = SR_ORDER_AUTO;
     o.skip_union = 1;
+    sr_truth truth;
+    read_truth("spur_gear_broken_tooth", &truth);
     sr_recon_result r;
-    sr_err err = {{0}};
-    sr_status st = sr_reconstruct(&scan, &o, &r, &err);
-    if (st != SR_OK)
-        print_error("%s\n", err.msg);
-    assert_int_equal(st, SR_OK);
+    reconstruct_part("spur_gear_broken_tooth", "damaged_posed.stl", &o, &r);
     double rel = (r.patch_volume_mm3 - truth.missing_volume) / truth.missing_volume;
     print_message("gear, order auto: found %d (mismatch %.5f mm, base %.3f mm), %zu section(s), "
                   "patch %+.2f %%\n",
@@ -439,7 +440,6 @@ static void gear_order_is_found_and_restores_the_tooth(void **state)
     assert_int_equal(r.section_count, 1);
     assert_true(fabs(rel) <= 0.05);
     sr_recon_result_release(&r);
-    sr_mesh_release(&scan);
 }
 
 /* Issue 6: no section at all on any intact part (canonical frame, default settings). */
