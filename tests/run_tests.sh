@@ -1,32 +1,54 @@
 #!/bin/sh
 # run_tests.sh: runs symrec's cmocka test binaries and sums their results.
 #
-#   sh tests/run_tests.sh BUILD_DIR [cli]
+#   sh tests/run_tests.sh BUILD_DIR [NAMES]
 #
-# Runs every BUILD_DIR/tests/test_* binary (with `cli`, only test_cli) from the
-# repository root, each with its output in a log of its own, up to SYMREC_TEST_JOBS
-# binaries at a time (default: the online CPUs; test_accuracy, the longest by far,
-# starts first). Prints one line per binary in name order (passed/failed counts, or
-# how it crashed, followed by its log when anything failed) and ends with exactly one
-# line "N passed, N failed". Exits non-zero if any test failed or any binary exited
-# non-zero (a crash, a sanitizer report, a leak) - even if cmocka's own counts look
-# clean. The binaries share nothing: each test makes its own mkdtemp directory.
+# Runs every BUILD_DIR/tests/test_* binary from the repository root (or only those
+# NAMES lists, comma-separated, e.g. "test_cli,test_mend"; "cli" alone means test_cli),
+# each with its output in a log of its own, up to SYMREC_TEST_JOBS jobs at a time
+# (default: the online CPUs; the longest start first). Prints one line per job in name
+# order (passed/failed counts, or how it crashed, followed by its log when anything
+# failed) and ends with exactly one line "N passed, N failed". Exits non-zero if any
+# test failed or any binary exited non-zero (a crash, a sanitizer report, a leak) - even
+# if cmocka's own counts look clean. The binaries share nothing: each test makes its own
+# mkdtemp directory.
 #
-# Without `cli`, it then runs the optional browser check of the HTML report (skipped
+# test_accuracy, by far the longest, runs as four shards side by side (tags scan1,
+# scan2: the noisy scans' cases; posed: the posed parts' robust cases; rest: all others).
+# With SYMREC_ACCURACY_BUILD=DIR (make test: the release build) the shards run DIR's
+# optimised test_accuracy, and BUILD_DIR's own (sanitized) one runs the smoke shard:
+# the paper method on all nine parts and the robust method on the posed shaft, bracket
+# and rail (one per kind of symmetry).
+#
+# Without NAMES, it then runs the optional browser check of the HTML report (skipped
 # with a message when node or a headless Chromium is missing) and the Khronos glTF
 # validator on the GLB that reconstruct writes (skipped without node and npm).
 #
 # Environment: SYMREC_BIN (the CLI under test; default BUILD_DIR/symrec) and
-# SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli.
+# SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli,
+# which runs the CLI under SYMREC_WRAP; SYMREC_TEST_WRAP runs every other binary under
+# it.
 set -u
 
-if [ $# -lt 1 ] || [ $# -gt 2 ] || { [ $# -eq 2 ] && [ "$2" != cli ]; }; then
-    echo "usage: sh tests/run_tests.sh BUILD_DIR [cli]" >&2
+if [ $# -lt 1 ] || [ $# -gt 2 ]; then
+    echo "usage: sh tests/run_tests.sh BUILD_DIR [NAMES]" >&2
     exit 2
 fi
 only=${2:-}
+[ "$only" = cli ] && only=test_cli
+case $only in *[!A-Za-z0-9_,]*)
+    echo "run_tests.sh: NAMES must be test binary names separated by commas, not '$only'" >&2
+    exit 2 ;;
+esac
 # Paths given relative to the caller's directory stay valid after the cd below.
 build=$(cd "$1" 2>/dev/null && pwd) || { echo "run_tests.sh: no build directory '$1'" >&2; exit 2; }
+acc_build=$build
+if [ -n "${SYMREC_ACCURACY_BUILD:-}" ]; then
+    acc_build=$(cd "$SYMREC_ACCURACY_BUILD" 2>/dev/null && pwd) ||
+        { echo "run_tests.sh: no build directory '$SYMREC_ACCURACY_BUILD' (SYMREC_ACCURACY_BUILD)" >&2; exit 2; }
+    [ -x "$acc_build/tests/test_accuracy" ] ||
+        { echo "run_tests.sh: no $acc_build/tests/test_accuracy (SYMREC_ACCURACY_BUILD; build it first)" >&2; exit 2; }
+fi
 SYMREC_BIN=${SYMREC_BIN:-$build/symrec}
 case $SYMREC_BIN in
     /*) ;;
@@ -39,9 +61,15 @@ cd "$(dirname "$0")/.." || exit 2
 # cmocka prints its per-test lines to stdout in this mode.
 CMOCKA_MESSAGE_OUTPUT=stdout
 export CMOCKA_MESSAGE_OUTPUT
+# ASan keeps 2 frames of each allocation's stack, not 30: CGAL's exact arithmetic
+# allocates millions of small numbers, and recording their stacks took over half of a
+# sanitized reconstruction (a posed bracket: 10 s instead of more than 4 min). Set
+# ASAN_OPTIONS=malloc_context_size=30 to rerun a failure with the full stacks.
+ASAN_OPTIONS=${ASAN_OPTIONS:-malloc_context_size=2}
+export ASAN_OPTIONS
 
 if [ -n "$only" ]; then
-    bins=$build/tests/test_cli
+    bins=$(echo "$only" | tr ',' '\n' | sed "s|^|$build/tests/|")
 else
     bins=$(ls "$build"/tests/test_* 2>/dev/null | grep -v '\.[od]$')
 fi
@@ -51,27 +79,49 @@ trap 'rm -rf "$logs"' EXIT
 trap 'exit 130' INT TERM
 
 # Run them: the longest first, then the others, SYMREC_TEST_JOBS at a time. A job is
-# "binary tag": test_accuracy runs as two jobs, its noisy scans' cases (tag scan:
-# SYMREC_TEST_FILTER='*_scan_*') and the rest (tag rest: SYMREC_TEST_SKIP), so they take
-# a CPU each; every other binary is one job (tag all). Each job leaves NAME.TAG.out,
-# .err, .rc (exit status) and .secs in $logs.
+# "binary tag": test_accuracy runs as its shards (see the top), every other binary is
+# one job (tag all). Each job leaves NAME.TAG.out, .err, .rc (exit status) and .secs in
+# $logs.
 jobs=${SYMREC_TEST_JOBS:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)}
 case $jobs in ''|*[!0-9]*|0) jobs=1 ;; esac
-job_list() {
-    for bin in $bins; do case $bin in */test_accuracy) echo "$bin scan"; echo "$bin rest" ;; esac; done
-    for bin in $bins; do case $bin in */test_accuracy) ;; *) echo "$bin all" ;; esac; done
-}
 # the tags of a binary's jobs
-tags_of() { case $1 in */test_accuracy) echo "scan rest" ;; *) echo all ;; esac; }
+tags_of() {
+    case $1 in
+        */test_accuracy) if [ "$acc_build" = "$build" ]; then echo "scan1 scan2 posed rest"
+                         else echo "scan1 scan2 posed rest smoke"; fi ;;
+        *) echo all ;;
+    esac
+}
+job_list() {
+    for bin in $bins; do case $bin in */test_accuracy)
+        for tag in $(tags_of "$bin"); do
+            if [ "$tag" = smoke ]; then echo "$bin $tag"; else echo "$acc_build/tests/test_accuracy $tag"; fi
+        done ;;
+    esac; done
+    for bin in $bins; do case $bin in */test_cli) echo "$bin all" ;; esac; done
+    for bin in $bins; do case $bin in */test_accuracy|*/test_cli) ;; *) echo "$bin all" ;; esac; done
+}
 job_list | xargs -P "$jobs" -L 1 sh -c '
     logs=$1; bin=$2; tag=$3; name=$(basename "$bin")
     [ -f "$bin" ] && [ -x "$bin" ] || exit 0
+    # the slowest noisy scans, apart from the others
+    slow="bushing_gouged_scan_*,spur_gear_broken_tooth_scan_*,u_clamp_broken_arm_scan_*"
+    # under ASan: the paper method on every part, the robust one on one part of each
+    # kind of symmetry (about 4 min)
+    smoke="*_reconstructs_within_measured_bounds,shaft_chipped_shoulder_posed_robust_*"
+    smoke="$smoke,bracket_broken_ear_posed_robust_*,rail_glide_chipped_posed_robust_*"
     case $tag in
-        scan) SYMREC_TEST_FILTER="*_scan_*"; export SYMREC_TEST_FILTER ;;
-        rest) SYMREC_TEST_SKIP="*_scan_*"; export SYMREC_TEST_SKIP ;;
+        scan1) SYMREC_TEST_FILTER=$slow ;;
+        scan2) SYMREC_TEST_FILTER="*_scan_*"; SYMREC_TEST_SKIP=$slow ;;
+        posed) SYMREC_TEST_FILTER="*_posed_robust_*" ;;
+        rest)  SYMREC_TEST_SKIP="*_robust_restored_within_bounds" ;;
+        smoke) SYMREC_TEST_FILTER="$smoke" ;;
     esac
+    export SYMREC_TEST_FILTER SYMREC_TEST_SKIP
+    wrap=
+    [ "$name" = test_cli ] || wrap=${SYMREC_TEST_WRAP:-}
     start=$(date +%s)
-    "$bin" >"$logs/$name.$tag.out" 2>"$logs/$name.$tag.err"
+    $wrap "$bin" >"$logs/$name.$tag.out" 2>"$logs/$name.$tag.err"
     echo $? >"$logs/$name.$tag.rc"
     echo $(( $(date +%s) - start )) >"$logs/$name.$tag.secs"
 ' sh "$logs"
@@ -81,7 +131,15 @@ total_fail=0
 bad_binaries=0
 found=0
 for bin in $bins; do
-    [ -f "$bin" ] && [ -x "$bin" ] || continue
+    if ! [ -f "$bin" ] || ! [ -x "$bin" ]; then
+        # a binary asked for by name and missing fails the run
+        if [ -n "$only" ]; then
+            echo "run_tests.sh: no test binary '$bin' (build it first)"
+            total_fail=$((total_fail + 1))
+            bad_binaries=$((bad_binaries + 1))
+        fi
+        continue
+    fi
     found=$((found + 1))
     name=$(basename "$bin")
     for tag in $(tags_of "$bin"); do
