@@ -13,8 +13,10 @@
 # if cmocka's own counts look clean. The binaries share nothing: each test makes its own
 # mkdtemp directory.
 #
-# test_accuracy, by far the longest, runs as four shards side by side (tags scan1,
-# scan2: the noisy scans' cases; posed: the posed parts' robust cases; rest: all others).
+# test_cli runs as four shards (tags shard1..shard4: SYMREC_TEST_SHARD=K/4, see
+# tests/support/test_select.h), which matters under Valgrind. test_accuracy, by far the
+# longest, runs as four shards side by side (tags scan1, scan2: the noisy scans' cases;
+# posed: the posed parts' robust cases; rest: all others).
 # With SYMREC_ACCURACY_BUILD=DIR (make test: the release build) the shards run DIR's
 # optimised test_accuracy, and BUILD_DIR's own (sanitized) one runs the smoke shard:
 # the paper method on all nine parts and the robust method on the posed shaft, bracket
@@ -89,6 +91,7 @@ tags_of() {
     case $1 in
         */test_accuracy) if [ "$acc_build" = "$build" ]; then echo "scan1 scan2 posed rest"
                          else echo "scan1 scan2 posed rest smoke"; fi ;;
+        */test_cli) echo "shard1 shard2 shard3 shard4" ;;
         *) echo all ;;
     esac
 }
@@ -98,7 +101,9 @@ job_list() {
             if [ "$tag" = smoke ]; then echo "$bin $tag"; else echo "$acc_build/tests/test_accuracy $tag"; fi
         done ;;
     esac; done
-    for bin in $bins; do case $bin in */test_cli) echo "$bin all" ;; esac; done
+    for bin in $bins; do case $bin in */test_cli)
+        for tag in $(tags_of "$bin"); do echo "$bin $tag"; done ;;
+    esac; done
     for bin in $bins; do case $bin in */test_accuracy|*/test_cli) ;; *) echo "$bin all" ;; esac; done
 }
 job_list | xargs -P "$jobs" -L 1 sh -c '
@@ -116,6 +121,7 @@ job_list | xargs -P "$jobs" -L 1 sh -c '
         posed) SYMREC_TEST_FILTER="*_posed_robust_*" ;;
         rest)  SYMREC_TEST_SKIP="*_robust_restored_within_bounds" ;;
         smoke) SYMREC_TEST_FILTER="$smoke" ;;
+        shard[1-4]) SYMREC_TEST_SHARD="${tag#shard}/4"; export SYMREC_TEST_SHARD ;;
     esac
     export SYMREC_TEST_FILTER SYMREC_TEST_SKIP
     wrap=

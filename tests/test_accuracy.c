@@ -22,7 +22,6 @@
  * truth.json reader's own cases (tests/support/truth.c), which need no shared parts.
  */
 #include <errno.h>
-#include <fnmatch.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -42,6 +41,7 @@
 #include "reconstruct.h"
 #include "compare.h"
 #include "support/assert_near.h"
+#include "support/test_select.h"
 #include "support/truth.h"
 
 #define PARTS_DIR "../shared/parts"
@@ -570,38 +570,6 @@ static void truth_reader_reports_a_missing_file(void **state)
     assert_non_null(strstr(err.msg, "'/nonexistent/symrec/truth.json'"));
 }
 
-/* Whether name matches one of the comma-separated globs of list. */
-static bool matches_one_of(const char *name, const char *list)
-{
-    char glob[256];
-    for (const char *p = list; *p;) {
-        size_t len = strcspn(p, ",");
-        if (len > 0 && len < sizeof glob) {
-            memcpy(glob, p, len);
-            glob[len] = '\0';
-            if (fnmatch(glob, name, 0) == 0)
-                return true;
-        }
-        p += len;
-        if (*p == ',')
-            p++;
-    }
-    return false;
-}
-
-/* Keeps the tests whose names match one of list's globs (keep) or match none of them
- * (!keep), in order; returns how many are left. No list or an empty one keeps all. */
-static size_t select_tests(struct CMUnitTest *tests, size_t n, const char *list, bool keep)
-{
-    if (!list || !*list)
-        return n;
-    size_t kept = 0;
-    for (size_t i = 0; i < n; i++)
-        if (matches_one_of(tests[i].name, list) == keep)
-            tests[kept++] = tests[i];
-    return kept;
-}
-
 int main(void)
 {
     enum { NP = sizeof cases / sizeof cases[0], NR = sizeof robust_cases / sizeof robust_cases[0] };
@@ -634,9 +602,8 @@ int main(void)
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(truth_reader_reports_a_missing_key);
     tests[n++] = (struct CMUnitTest)cmocka_unit_test(truth_reader_reports_a_missing_file);
     /* SYMREC_TEST_FILTER=glob,glob,... runs only the cases matching one of the globs,
-     * SYMREC_TEST_SKIP=glob,... all but those: tests/run_tests.sh splits this binary into
-     * shards that run side by side, one per CPU */
-    n = select_tests(tests, n, getenv("SYMREC_TEST_FILTER"), true);
-    n = select_tests(tests, n, getenv("SYMREC_TEST_SKIP"), false);
+     * SYMREC_TEST_SKIP=glob,... all but those (support/test_select.h): tests/run_tests.sh
+     * splits this binary into shards that run side by side, one per CPU */
+    n = sr_test_select(tests, n);
     return _cmocka_run_group_tests("accuracy", tests, n, NULL, NULL);
 }
