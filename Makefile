@@ -48,7 +48,7 @@ ifneq ($(V),1)
   Q := @
 endif
 
-LIB_C_SRC   := $(wildcard src/*.c)
+LIB_C_SRC   := $(wildcard src/*.c src/images/*.c)
 CGAL_SRC    := $(wildcard src/bridge/*_cgal.cpp)
 LIB_CXX_SRC := $(filter-out $(CGAL_SRC),$(wildcard src/bridge/*.cpp))
 CLI_SRC     := $(wildcard cli/*.c)

@@ -30,7 +30,7 @@ static const char usage[] =
     "              --symmetry axial|mirror|glide [--order N|auto] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
-    "              [--method robust|paper] [--no-union] [--no-record] [--json]\n"
+    "              [--method image|robust|paper] [--no-union] [--no-record] [--json]\n"
     "\n"
     "Aligns the damaged scan with its symmetry axis or plane, slices it into layers,\n"
     "finds what is missing layer by layer, builds a closed patch mesh for every missing\n"
@@ -63,7 +63,7 @@ static const char usage[] =
     "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
     "                  all in the frame of the input scan\n"
     "  --format F      format of restored/patches (default stl)\n"
-    "  --method M      robust (default) or paper\n"
+    "  --method M      image (default), robust or paper\n"
     "  --no-union      restored = scan + patches as separate shells (no boolean)\n"
     "  --no-record     do not record the run in the catalogue\n"
     "  --json          print one JSON object: alignment, sections, timings, run_id\n"
@@ -97,6 +97,10 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
     if (r->method == SR_METHOD_ROBUST)
         printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
                r->noise_mm, 2 * r->open_mm);
+    if (r->method == SR_METHOD_IMAGE)
+        printf(" (voxel pitch %.3f mm, %.1f M voxels; vote %.3f s, patches %.3f s)",
+               r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s,
+               r->image.patch_s);
     printf("\n");
     if (r->repair_note[0])
         printf("  note:       %s\n", r->repair_note);
@@ -121,6 +125,14 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
                r->order_found.base_mm);
     printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
            r->grid.dz);
+    if (r->method == SR_METHOD_IMAGE && r->image.continued)
+        printf("  continued:  %zu section(s) broken through the plane, carried on along z "
+               "from the layers below/above (no image holds them)\n",
+               r->image.continued);
+    if (r->method == SR_METHOD_IMAGE && r->image.features_kept)
+        printf("  kept:       %zu recess(es) whose walls all run along the axis's frame "
+               "(holes, slots, keyways of the design), not filled\n",
+               r->image.features_kept);
     if (r->section_count == 0) {
         printf("  nothing to repair: no missing section found\n");
     } else {
@@ -181,6 +193,25 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     json_string(&j, sr_recon_method_name(r->method));
     json_key(&j, "noise_mm");
     json_number(&j, r->noise_mm);
+    json_key(&j, "image");
+    if (r->method == SR_METHOD_IMAGE) {
+        json_object_begin(&j);
+        json_key(&j, "voxel_pitch_mm");
+        json_number(&j, r->image.pitch_mm);
+        json_key(&j, "voxels");
+        json_int(&j, (int64_t)r->image.voxels);
+        json_key(&j, "features_kept");
+        json_int(&j, (int64_t)r->image.features_kept);
+        json_key(&j, "continued_across_plane");
+        json_int(&j, (int64_t)r->image.continued);
+        json_key(&j, "vote_s");
+        json_number(&j, r->image.vote_s);
+        json_key(&j, "patch_s");
+        json_number(&j, r->image.patch_s);
+        json_object_end(&j);
+    } else {
+        json_null(&j);
+    }
     json_key(&j, "run_id");
     if (run_id > 0)
         json_int(&j, run_id);

@@ -30,16 +30,11 @@ static void join(uint32_t *parent, uint32_t a, uint32_t b)
         parent[a] = b;
 }
 
-sr_status sr_mesh_drop_voids(sr_mesh *mesh, double max_void_mm3, sr_void_report *report,
-                             sr_err *err)
+/* Drops every shell that is a void no larger than max_void_mm3 or a solid smaller
+ * than min_solid_mm3; report counts what was dropped. */
+static sr_status drop_shells(sr_mesh *mesh, double max_void_mm3, double min_solid_mm3,
+                             sr_void_report *report, sr_err *err)
 {
-    sr_void_report local;
-    if (!report)
-        report = &local;
-    memset(report, 0, sizeof *report);
-    if (!(max_void_mm3 >= 0) || !isfinite(max_void_mm3))
-        return sr_err_set(err, SR_E_RANGE, "bad largest void %g mm^3: expected 0 or more",
-                          max_void_mm3);
     size_t nv = mesh->vertex_count, nt = mesh->tri_count;
     if (nt == 0)
         return SR_OK;
@@ -93,10 +88,11 @@ sr_status sr_mesh_drop_voids(sr_mesh *mesh, double max_void_mm3, sr_void_report 
         if (!used[v])
             continue; /* not a root of a shell */
         report->shells++;
-        if (volume[v] < 0 && -volume[v] <= max_void_mm3) {
+        if ((volume[v] < 0 && -volume[v] <= max_void_mm3) ||
+            (volume[v] >= 0 && volume[v] < min_solid_mm3)) {
             drop[v] = 1;
             report->voids_dropped++;
-            report->void_volume_mm3 += -volume[v];
+            report->void_volume_mm3 += fabs(volume[v]);
         }
     }
     if (report->voids_dropped) {
@@ -130,4 +126,30 @@ sr_status sr_mesh_drop_voids(sr_mesh *mesh, double max_void_mm3, sr_void_report 
     free(drop);
     free(used);
     return SR_OK;
+}
+
+sr_status sr_mesh_drop_voids(sr_mesh *mesh, double max_void_mm3, sr_void_report *report,
+                             sr_err *err)
+{
+    sr_void_report local;
+    if (!report)
+        report = &local;
+    memset(report, 0, sizeof *report);
+    if (!(max_void_mm3 >= 0) || !isfinite(max_void_mm3))
+        return sr_err_set(err, SR_E_RANGE, "bad largest void %g mm^3: expected 0 or more",
+                          max_void_mm3);
+    return drop_shells(mesh, max_void_mm3, 0, report, err);
+}
+
+sr_status sr_mesh_drop_small_shells(sr_mesh *mesh, double min_volume_mm3,
+                                    sr_void_report *report, sr_err *err)
+{
+    sr_void_report local;
+    if (!report)
+        report = &local;
+    memset(report, 0, sizeof *report);
+    if (!(min_volume_mm3 >= 0) || !isfinite(min_volume_mm3))
+        return sr_err_set(err, SR_E_RANGE, "bad smallest shell %g mm^3: expected 0 or more",
+                          min_volume_mm3);
+    return drop_shells(mesh, min_volume_mm3, min_volume_mm3, report, err);
 }

@@ -28,4 +28,10 @@ typedef struct sr_void_report {
 sr_status sr_mesh_drop_voids(sr_mesh *mesh, double max_void_mm3, sr_void_report *report,
                              sr_err *err);
 
+/* Removes every shell whose enclosed volume is smaller than min_volume_mm3 in
+ * magnitude, solid or void: the slivers a boolean leaves where two nearly coincident
+ * surfaces cross (report->voids_dropped counts them all). Errors as above. */
+sr_status sr_mesh_drop_small_shells(sr_mesh *mesh, double min_volume_mm3,
+                                    sr_void_report *report, sr_err *err);
+
 #endif

@@ -26,7 +26,7 @@ static double now_s(void)
 
 const char *sr_recon_method_name(sr_recon_method m)
 {
-    return m == SR_METHOD_PAPER ? "paper" : "robust";
+    return m == SR_METHOD_PAPER ? "paper" : m == SR_METHOD_IMAGE ? "image" : "robust";
 }
 
 sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_method *out,
@@ -36,8 +36,10 @@ sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_me
         *out = SR_METHOD_ROBUST;
     else if (text && strcmp(text, "paper") == 0)
         *out = SR_METHOD_PAPER;
+    else if (text && strcmp(text, "image") == 0)
+        *out = SR_METHOD_IMAGE;
     else
-        return sr_err_set(err, SR_E_RANGE, "bad %s '%s': expected robust or paper", field,
+        return sr_err_set(err, SR_E_RANGE, "bad %s '%s': expected image, robust or paper", field,
                           text ? text : "");
     return SR_OK;
 }
@@ -248,6 +250,169 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
     return SR_OK;
 }
 
+/* Image method, mirror: a break through the plane takes material from both
+ * sides, which no image of the scan carries (the lever's broken boss corner: the
+ * mirror restores 40 % of it). Where a section reaches the plane (its clipped image
+ * within two voxels of x = 0), the layer method's continuity along z is asked
+ * (region_sections.h: each layer's lost piece carried up or down to the feature's own
+ * end face); a layer section over the same place that holds a quarter more than the
+ * image's becomes that section's piece to unite (the union makes it exact against the
+ * scan, as any image). Parts whose damage stops at the plane agree with it and are
+ * left as they are. */
+static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *r,
+                                       const sr_symmetry *sym, const sr_recon_opts *opts,
+                                       sr_err *err)
+{
+    if (sym->kind != SR_SYM_MIRROR)
+        return SR_OK; /* tried on glide parts too: the layer sections of noisy rails
+                       * filled 80 % outside the part */
+    double reach = 2.0 * r->image.pitch_mm;
+    int any = 0;
+    for (size_t i = 0; i < r->section_count && !any; i++) {
+        const sr_mesh *q = &r->sections[i].patch;
+        double lo[3], hi[3];
+        sr_mesh_bbox(q, lo, hi);
+        any = lo[0] < reach && hi[0] > -reach;
+    }
+    if (!any)
+        return SR_OK;
+    sr_region_opts ro = {*sym, r->open_mm, opts->min_depth_mm,
+                         opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, 0};
+    sr_analysis an = {0};
+    sr_section *ls = NULL;
+    size_t ln = 0;
+    sr_err lerr = {{0}};
+    if (sr_region_reconstruct(aligned, &r->grid, &ro, &an, &ls, &ln, &lerr) != SR_OK)
+        return SR_OK; /* the images' answer stands */
+    sr_analysis_release(&an);
+    for (size_t i = 0; i < r->section_count; i++) {
+        sr_section *sec = &r->sections[i];
+        double lo[3], hi[3];
+        sr_mesh_bbox(&sec->patch, lo, hi);
+        if (!(lo[0] < reach && hi[0] > -reach))
+            continue;
+        for (size_t k = 0; k < ln; k++) {
+            double a[3], b[3];
+            sr_mesh_bbox(&ls[k].patch, a, b);
+            int meet = 1;
+            for (int c = 0; c < 3 && meet; c++)
+                meet = a[c] <= hi[c] && lo[c] <= b[c];
+            if (!meet || !ls[k].patch.tri || ls[k].volume_mm3 < 1.25 * sec->volume_mm3)
+                continue;
+            /* the layer patch alone (it is grown into the scan, so it covers what the
+             * image did): a union with the image piece would leave slivers where the
+             * two run together */
+            sr_mesh_release(&sec->patch);
+            sec->patch = ls[k].patch;
+            memset(&ls[k].patch, 0, sizeof ls[k].patch);
+            sec->volume_mm3 = sr_mesh_volume(&sec->patch);
+            r->image.continued++;
+            break;
+        }
+    }
+    sr_sections_release(ls, ln);
+    return SR_OK;
+}
+
+static int cmp_section_volume(const void *pa, const void *pb)
+{
+    const sr_section *a = pa, *b = pb;
+    return a->volume_mm3 < b->volume_mm3 ? 1 : a->volume_mm3 > b->volume_mm3 ? -1 : 0;
+}
+
+/* Image method: restored = scan ∪ every section's clipped image Q (aligned frame, the
+ * section's patch on entry), and each section's patch becomes exactly what that union
+ * added, Q \ (scan ∪ the images before it), from the same corefinement
+ * (sr_boolean_union_local_split), so patches.stl holds the missing volume and nothing
+ * of the scan. Shells under a quarter of min_vol (where an image lies a noise above
+ * the scan) are dropped from the patch; a section left under min_vol is dropped. A
+ * union that is refused leaves the rest as separate shells (union_note says why). */
+static sr_status unite_images(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
+                              double min_vol, sr_err *err)
+{
+    sr_mesh acc = {0};
+    int owned = 0;
+    size_t mended = 0, kept = 0;
+    sr_status st;
+    r->restored_by_union = 1;
+    for (size_t i = 0; i < r->section_count; i++) {
+        sr_section *sec = &r->sections[i];
+        sr_mesh next = {0}, patch = {0};
+        sr_local_union_info info;
+        sr_err uerr = {{0}};
+        sr_status us = sr_boolean_union_local_split(owned ? &acc : scan, "scan", xf,
+                                                    &sec->patch, "section's image", 0,
+                                                    owned ? &acc : &next, &patch, &info,
+                                                    &uerr);
+        if (us == SR_E_INVALID && owned) {
+            /* zero-area triangles a previous union left: removed, tried again */
+            sr_repair_report ra = {0};
+            if (sr_mesh_repair(&acc, &ra, NULL) == SR_OK && ra.changed)
+                us = sr_boolean_union_local_split(&acc, "scan", xf, &sec->patch,
+                                                  "section's image", 0, &acc, &patch, &info,
+                                                  &uerr);
+        }
+        if (us != SR_OK) {
+            snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1,
+                     uerr.msg);
+            r->restored_by_union = 0;
+            /* what was united so far, then the remaining images as shells */
+            size_t rest = r->section_count - i;
+            memmove(r->sections + kept, r->sections + i, rest * sizeof *r->sections);
+            r->section_count = kept + rest;
+            note_repairs(r, 0, mended, 0, NULL);
+            st = concatenate(owned ? &acc : scan, xf, r->sections + kept, rest, &next);
+            sr_mesh_release(&acc);
+            if (st != SR_OK)
+                return sr_err_set(err, st, "out of memory joining patches");
+            r->restored = next;
+            return SR_OK;
+        }
+        mended += info.mended_tris;
+        if (!owned) {
+            acc = next;
+            owned = 1;
+        }
+        sr_mesh_transform(&patch, xf); /* into the aligned frame, as the sections are */
+        sr_mesh_drop_small_shells(&patch, 0.25 * min_vol, NULL, NULL);
+        sr_mesh_release(&sec->patch);
+        sec->patch = patch;
+        sec->volume_mm3 = sr_mesh_volume(&patch);
+        if (patch.tri_count == 0 || sec->volume_mm3 < min_vol) {
+            sr_mesh_release(&sec->patch);
+            continue;
+        }
+        sr_image_section_figures(&r->grid, sec);
+        r->sections[kept++] = *sec;
+    }
+    r->section_count = kept;
+    qsort(r->sections, r->section_count, sizeof *r->sections, cmp_section_volume);
+    if (!owned) {
+        st = sr_mesh_copy(&acc, scan);
+        if (st != SR_OK)
+            return sr_err_set(err, st, "out of memory copying the scan");
+    }
+    sr_void_report voids = {0};
+    size_t degenerate = 0;
+    if (r->section_count) {
+        st = sr_mesh_drop_voids(&acc, min_vol, &voids, err);
+        if (st != SR_OK) {
+            sr_mesh_release(&acc);
+            return st;
+        }
+        /* images meeting the scan along a line (the axis, where a chip's wedge ends)
+         * leave zero-area triangles there */
+        sr_repair_report rr = {0};
+        if (sr_mesh_repair(&acc, &rr, NULL) == SR_OK)
+            degenerate = rr.degenerate_removed;
+        for (size_t i = 0; i < r->section_count; i++)
+            sr_mesh_repair(&r->sections[i].patch, &rr, NULL);
+    }
+    note_repairs(r, degenerate, mended, 0, &voids);
+    r->restored = acc;
+    return SR_OK;
+}
+
 /* Paper method: the patches the union uses. Alg. 6's blocks have their inner face at the
  * damaged radius sampled at the layer's centre, a staircase that weaves through the
  * fracture surface between the samples: uniting it with the scan cuts tens of thousands
@@ -391,6 +556,52 @@ static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
     return SR_OK;
 }
 
+/* Image method: the paper's polyline pair from the exact result. The restored part is
+ * sliced on the scan's grid (aligned frame); a cell is damaged where the restored
+ * outline lies beyond the damaged one by more than the noise. */
+static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
+{
+    sr_mesh rest = {0};
+    sr_status st = sr_mesh_copy(&rest, &r->restored);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory copying the restored part");
+    sr_mesh_transform(&rest, r->alignment.xform);
+    sr_layer_grid rg;
+    sr_slice_opts so = {r->grid.layers, r->grid.sectors, r->grid.z_init,
+                        r->grid.z_init + (double)r->grid.layers * r->grid.dz};
+    st = sr_slice_accurate(&rest, &so, &rg, err);
+    sr_mesh_release(&rest);
+    if (st != SR_OK)
+        return st;
+    size_t cells = r->grid.layers * r->grid.sectors;
+    sr_analysis an = {0};
+    an.layers = r->grid.layers;
+    an.sectors = r->grid.sectors;
+    an.restored_r = malloc((cells ? cells : 1) * sizeof *an.restored_r);
+    an.damaged = calloc(cells ? cells : 1, 1);
+    if (!an.restored_r || !an.damaged) {
+        sr_layer_grid_release(&rg);
+        sr_analysis_release(&an);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory for the restored outline");
+    }
+    double tol = fmax(0.05, 3.0 * r->noise_mm);
+    for (size_t l = 0; l < an.layers; l++) {
+        for (size_t j = 0; j < an.sectors; j++) {
+            size_t c = l * an.sectors + j;
+            an.restored_r[c] = fmax(rg.r[c], r->grid.r[c]);
+            if (an.restored_r[c] > r->grid.r[c] + tol) {
+                an.damaged[c] = 1;
+                an.damaged_cells++;
+            }
+        }
+    }
+    an.plane_angle = M_PI / 2;
+    an.shift_mm = r->alignment.glide_shift_mm;
+    sr_layer_grid_release(&rg);
+    r->analysis = an;
+    return SR_OK;
+}
+
 sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
                          sr_err *err)
 {
@@ -453,6 +664,22 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
         st = sr_patch_build(&r.grid, &r.analysis, &r.sections, &r.section_count, err);
         if (st != SR_OK)
             goto fail;
+    } else if (opts->method == SR_METHOD_IMAGE) {
+        r.noise_mm = r.alignment.fit_rms_mm / sqrt(2.0);
+        sr_image_opts io = {.symmetry = sym,
+                            .pitch_mm = opts->pitch_mm,
+                            .min_volume_mm3 = opts->min_volume_mm3,
+                            .min_depth_mm = opts->min_depth_mm};
+        st = sr_image_reconstruct(&aligned, &r.grid, &io, &r.sections, &r.section_count,
+                                  &r.image, err);
+        if (st != SR_OK)
+            goto fail;
+        r.open_mm = opts->open_mm > 0 ? opts->open_mm : fmax(0.05, 3.0 * r.noise_mm);
+        st = continue_across_plane(&aligned, &r, &sym, opts, err);
+        if (st != SR_OK)
+            goto fail;
+        r.timings.analyse_s = now_s() - t;
+        t = now_s();
     } else {
         /* noise: the symmetry fit's RMS is about sqrt(2) sigma for independent noise on
          * a surface and its image; slivers up to 3 sigma each side are filtered */
@@ -473,8 +700,24 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     /* the aligned copy is done with: free it before the restored mesh is made */
     aligned_release(&aligned);
     heap_trim();
-    size_t patch_mended = mend_patches(r.sections, r.section_count);
-    if (opts->skip_union) {
+    size_t patch_mended = opts->method == SR_METHOD_IMAGE
+                              ? 0 : mend_patches(r.sections, r.section_count);
+    if (opts->skip_union && opts->method == SR_METHOD_IMAGE) {
+        /* the exact patches come from the split union; the restored part is then the
+         * scan and the patches as separate shells, as asked */
+        st = unite_images(scan, r.alignment.xform, &r,
+                          opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, err);
+        if (st != SR_OK)
+            goto fail;
+        sr_mesh_release(&r.restored);
+        r.restored_by_union = 0;
+        st = concatenate(scan, r.alignment.xform, r.sections, r.section_count, &r.restored);
+        if (st != SR_OK) {
+            sr_err_set(err, st, "out of memory joining patches");
+            goto fail;
+        }
+        snprintf(r.union_note, sizeof r.union_note, "union skipped on request");
+    } else if (opts->skip_union) {
         note_repairs(&r, 0, 0, patch_mended, NULL);
         st = concatenate(scan, r.alignment.xform, r.sections, r.section_count, &r.restored);
         if (st != SR_OK) {
@@ -488,8 +731,11 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
             paper_union_patches(&r.grid, &r.analysis, r.sections, r.section_count,
                                 &upatches) != SR_OK)
             upatches = NULL; /* the reported patches are united instead */
-        st = unite(scan, r.alignment.xform, &r, upatches,
-                   opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, patch_mended, err);
+        double min_vol = opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0;
+        if (opts->method == SR_METHOD_IMAGE)
+            st = unite_images(scan, r.alignment.xform, &r, min_vol, err);
+        else
+            st = unite(scan, r.alignment.xform, &r, upatches, min_vol, patch_mended, err);
         for (size_t i = 0; upatches && i < r.section_count; i++)
             sr_mesh_release(&upatches[i]);
         free(upatches);
@@ -499,12 +745,20 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     /* the patches back to the scan's frame */
     double inv[12];
     sr_xform_rigid_inverse(inv, r.alignment.xform);
-    for (size_t i = 0; i < r.section_count; i++) {
+    for (size_t i = 0; i < r.section_count; i++)
         sr_mesh_transform(&r.sections[i].patch, inv);
-        r.patch_volume_mm3 += r.sections[i].volume_mm3;
-    }
     /* rounded once more by the move: the reported patches are checked again */
     size_t late = mend_patches(r.sections, r.section_count);
+    for (size_t i = 0; i < r.section_count; i++) {
+        /* the image method's figure is its patch's volume: kept equal to the file's,
+         * with no zero-area triangle the move rounded to */
+        if (opts->method == SR_METHOD_IMAGE) {
+            sr_repair_report rr = {0};
+            sr_mesh_repair(&r.sections[i].patch, &rr, NULL);
+            r.sections[i].volume_mm3 = sr_mesh_volume(&r.sections[i].patch);
+        }
+        r.patch_volume_mm3 += r.sections[i].volume_mm3;
+    }
     size_t used = strlen(r.repair_note);
     if (late && used + 1 < sizeof r.repair_note)
         snprintf(r.repair_note + used, sizeof r.repair_note - used,
@@ -512,6 +766,11 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
                  "frame",
                  used ? "; " : "", late);
     r.timings.union_s = now_s() - t;
+    if (opts->method == SR_METHOD_IMAGE) {
+        st = analysis_from_restored(&r, err);
+        if (st != SR_OK)
+            goto fail;
+    }
     r.scan_volume_mm3 = sr_mesh_volume(scan);
     r.restored_volume_mm3 = sr_mesh_volume(&r.restored);
     r.timings.total_s = now_s() - t0;

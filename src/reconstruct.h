@@ -10,6 +10,7 @@
 #define SR_RECONSTRUCT_H
 
 #include "align.h"
+#include "images/image_restore.h"
 #include "analyse.h"
 #include "mesh.h"
 #include "order_detect.h"
@@ -19,19 +20,23 @@
 
 /* Which reconstruction runs between alignment and the union. */
 typedef enum sr_recon_method {
-    SR_METHOD_ROBUST = 0,       /* real cross-sections restored by the symmetry's vote
-                                 * (region_sections.h): keys, bores, holes, teeth, slots */
+    SR_METHOD_IMAGE = 0,        /* default: the scan's own images under the symmetry,
+                                 * voted on voxels and clipped exactly
+                                 * (images/image_restore.h) */
     SR_METHOD_PAPER = 1,        /* the paper's Algorithms 4-6 on the sector grid */
+    SR_METHOD_ROBUST = 2,       /* real cross-sections restored layer by layer by the
+                                 * symmetry's vote (region_sections.h): the method
+                                 * before the image one */
 } sr_recon_method;
 
-/* "robust" / "paper"; parse returns SR_E_RANGE naming `field` for anything else. */
+/* "robust" / "paper" / "image"; parse returns SR_E_RANGE naming `field` for anything else. */
 const char *sr_recon_method_name(sr_recon_method m);
 sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_method *out,
                                 sr_err *err);
 
 typedef struct sr_recon_opts {
     sr_symmetry symmetry;       /* axial: order SR_ORDER_AUTO finds it (order_detect.h) */
-    sr_recon_method method;     /* default (0) robust */
+    sr_recon_method method;     /* default (0) image */
     double open_mm;             /* robust: noise filter radius; 0 = from the scan's noise */
     double min_volume_mm3;      /* robust: smallest section kept; 0 = 1 mm^3 */
     size_t layers;              /* 0 = 320 */
@@ -39,6 +44,7 @@ typedef struct sr_recon_opts {
     double gamma_axis;          /* 0 = 0.95 */
     double gamma_plane;         /* 0 = 0.95 */
     double delta_d;             /* 0 = 0.05 */
+    double pitch_mm;            /* image: voxel pitch; 0 = from the part's size */
     double min_depth_mm;        /* depth below which a cell is not damage; 0 = none */
     int have_alignment;         /* 1: use `alignment` instead of searching (override) */
     sr_alignment alignment;
@@ -66,6 +72,7 @@ typedef struct sr_recon_result {
     int order;                  /* axial: the order used (0 = continuous) */
     int order_auto;             /* 1: it was found (order_found holds the figures) */
     sr_order_detection order_found;
+    sr_image_info image;        /* image method: pitch, voxels, phase times */
     sr_recon_timings timings;
 } sr_recon_result;
 

@@ -2178,7 +2178,7 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     result_free(&r);
     assert_int_equal((long)jnum(&show, "id"), id);
     assert_string_equal(jstr(&show, "status"), "ok");
-    assert_string_equal(jstr(&show, "method"), "robust");  /* the default method */
+    assert_string_equal(jstr(&show, "method"), "image");  /* the default method */
     assert_string_equal(jstr(&show, "software_version"), SR_VERSION);
     assert_string_equal(jstr(jget(&show, "symmetry"), "kind"), "axial");
     assert_int_equal((int)jnum(jget(&show, "params"), "sectors"), 60);

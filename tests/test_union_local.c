@@ -239,6 +239,7 @@ static void scan_crossing_itself_beside_the_chip_is_mended_and_united(void **sta
     sr_mesh_release(&block);
     sr_recon_opts o;
     memset(&o, 0, sizeof o);
+    o.method = SR_METHOD_ROBUST; /* its stacked patch, united with the crossing scan */
     o.symmetry.kind = SR_SYM_AXIAL;
     o.have_alignment = 1;
     sr_xform_identity(o.alignment.xform);
@@ -291,6 +292,7 @@ static void refused_union_falls_back_to_scan_and_patch_shells(void **state)
         cyl.xyz[3 * v] -= 5.0;
     sr_recon_opts o;
     memset(&o, 0, sizeof o);
+    o.method = SR_METHOD_ROBUST; /* its stacked patch, refused by every union */
     o.symmetry.kind = SR_SYM_AXIAL;
     o.have_alignment = 1;
     sr_xform_identity(o.alignment.xform);

@@ -72,6 +72,18 @@ sr_status sr_boolean_union_local_mending(const sr_mesh *a, const char *a_what,
                                          const char *b_what, double margin_mm, sr_mesh *out,
                                          sr_local_union_info *info, sr_err *err);
 
+/* As sr_boolean_union_local_mending, and *b_minus_a = b \ a (in a's frame) from the
+ * same corefinement: the part of b that a lacks, bounded by b's surface outside a and
+ * by a's (mended) surface inside b, turned over. So out = a ∪ b_minus_a with no
+ * overlap and with the very triangles of out (a patch that is exactly what a scan
+ * lacks). The whole-mesh fallback computes both with whole-mesh booleans. *b_minus_a
+ * only on success, and may be empty. */
+sr_status sr_boolean_union_local_split(const sr_mesh *a, const char *a_what,
+                                       const double *a_to_b, const sr_mesh *b,
+                                       const char *b_what, double margin_mm, sr_mesh *out,
+                                       sr_mesh *b_minus_a, sr_local_union_info *info,
+                                       sr_err *err);
+
 /* out = a ∩ b and out = a \ b, same contract. */
 sr_status sr_boolean_intersection(const sr_mesh *a, const sr_mesh *b, sr_mesh *out,
                                   sr_err *err);

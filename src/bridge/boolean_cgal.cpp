@@ -667,7 +667,8 @@ bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
                     const double *xf, const double *back, Mesh &sm,
                     Mesh::Property_map<Vertex_index, uint32_t> orig, Mesh &mb,
                     Patch_flags flags[2], const std::vector<uint32_t> node_vertex[2],
-                    Local_result &res, char *why, size_t why_size)
+                    Local_result &res, std::vector<uint32_t> *diff, char *why,
+                    size_t why_size)
 {
     Patch_flags &f1 = flags[0], &f2 = flags[1];
     if (f2.not_set.any() &&
@@ -745,9 +746,59 @@ bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
                 push_point(res, mb.point(v), back);
             }
             res.tri.push_back(id);
+            if (diff)
+                diff->push_back(id);
         }
     }
+    if (!diff)
+        return true;
+    /* b \ a: b's patches outside a (above) and, turned over, N's patches inside b and
+     * those on b's surface facing it (coplanar, not kept by the union: the two touch
+     * there from opposite sides, so b's face bounds the difference) */
+    boost::dynamic_bitset<> turn = f1.inside - f1.coplanar;
+    if (f1.coplanar.any())
+        turn |= f1.coplanar - f1.coplanar_union;
+    for (Mesh::Face_index fd : sm.faces()) {
+        if (!turn.test(f1.patch[fd.idx()]))
+            continue;
+        uint32_t ids[3];
+        int k = 0;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(fd)))
+            if (k < 3)
+                ids[k++] = id_of_n(v);
+        diff->push_back(ids[0]);
+        diff->push_back(ids[2]);
+        diff->push_back(ids[1]);
+    }
     return true;
+}
+
+/* The difference's triangles (ids as in Local_result) as a compact mesh in a's frame. */
+sr_status diff_to_mesh(const sr_mesh *a, const Local_result &res,
+                       const std::vector<uint32_t> &diff, sr_mesh *out)
+{
+    const uint32_t base = static_cast<uint32_t>(a->vertex_count);
+    std::vector<uint32_t> remap;
+    std::vector<uint32_t> ids = diff;
+    std::vector<std::pair<uint32_t, uint32_t>> order;
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    sr_mesh m;
+    sr_mesh_init(&m);
+    if (sr_mesh_alloc(&m, ids.size() ? ids.size() : 1, diff.size() / 3 ? diff.size() / 3 : 1) != SR_OK)
+        return SR_E_NOMEM;
+    m.vertex_count = ids.size();
+    m.tri_count = diff.size() / 3;
+    for (size_t i = 0; i < ids.size(); i++) {
+        const double *p = ids[i] < base ? a->xyz + 3 * static_cast<size_t>(ids[i])
+                                        : res.fresh.data() + 3 * static_cast<size_t>(ids[i] - base);
+        memcpy(m.xyz + 3 * i, p, 3 * sizeof(double));
+    }
+    for (size_t t = 0; t < diff.size(); t++)
+        m.tri[t] = static_cast<uint32_t>(std::lower_bound(ids.begin(), ids.end(), diff[t]) -
+                                         ids.begin());
+    *out = m;
+    return SR_OK;
 }
 
 /* True when the local result closes up with the rest of a: its open edges are exactly
@@ -819,8 +870,9 @@ bool build_neighbourhood(const sr_mesh &loc, const std::vector<uint32_t> &loc_or
  * (why in `why`): the caller runs the whole-mesh union. */
 sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
                       const sr_mesh *b, const char *b_what, double margin, bool mend,
-                      sr_mesh *out, bool *done, char *why, size_t why_size, size_t *n_tris,
-                      size_t *mended_tris, double *grow_used, bool *mend_rim, sr_err *err)
+                      sr_mesh *out, sr_mesh *b_minus_a, bool *done, char *why,
+                      size_t why_size, size_t *n_tris, size_t *mended_tris,
+                      double *grow_used, bool *mend_rim, sr_err *err)
 {
     *done = false;
     /* a: every check of check_operand that needs no halfedge mesh, on all of a */
@@ -963,8 +1015,9 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
     double back[12];
     if (xf)
         sr_xform_rigid_inverse(back, xf);
+    std::vector<uint32_t> diff;
     if (!assemble_local(a, a_what, b_what, xf, xf ? back : nullptr, sm, orig, mb, flags,
-                        node_vertex, res, why, why_size))
+                        node_vertex, res, b_minus_a ? &diff : nullptr, why, why_size))
         return SR_OK;
     if (!local_result_fits(res, border_before, a->vertex_count)) {
         snprintf(why, why_size, "the united neighbourhood does not close up with the rest");
@@ -1006,10 +1059,20 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
         dst.vertex_count = a->vertex_count;
         dst.tri_count = a->tri_count;
     }
+    sr_mesh dm;
+    sr_mesh_init(&dm);
+    if (b_minus_a && diff_to_mesh(a, res, diff, &dm) != SR_OK) {
+        if (out != a)
+            sr_mesh_release(&dst);
+        return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory", a_what,
+                          b_what);
+    }
     splice_local(&dst, in, res);
     if (out == b)
         sr_mesh_release(out);
     *out = dst;
+    if (b_minus_a)
+        *b_minus_a = dm;
     *done = true;
     return SR_OK;
 }
@@ -1089,7 +1152,8 @@ namespace {
 
 sr_status union_local_entry(const sr_mesh *a, const char *a_what, const double *a_to_b,
                             const sr_mesh *b, const char *b_what, double margin_mm, bool mend,
-                            sr_mesh *out, sr_local_union_info *info, sr_err *err)
+                            sr_mesh *out, sr_mesh *b_minus_a, sr_local_union_info *info,
+                            sr_err *err)
 {
     sr_local_union_info local_info;
     if (!info)
@@ -1108,15 +1172,15 @@ sr_status union_local_entry(const sr_mesh *a, const char *a_what, const double *
         size_t mended = 0;
         double grow = 0;
         bool rim = false;
-        sr_status st = union_local(a, a_what, a_to_b, b, b_what, margin_mm, mend, out, &done,
-                                   info->fallback, sizeof info->fallback, &n, &mended, &grow,
+        sr_status st = union_local(a, a_what, a_to_b, b, b_what, margin_mm, mend, out,
+                                   b_minus_a, &done, info->fallback, sizeof info->fallback, &n, &mended, &grow,
                                    &rim, err);
         /* crossings reaching the neighbourhood's rim (a fold along an edge that runs out
          * of it, long triangles): a wider neighbourhood (x4), then all of a */
         for (int wider = 0; wider < 2 && st == SR_E_INVALID && rim; wider++) {
             rim = false;
             st = union_local(a, a_what, a_to_b, b, b_what, wider == 0 ? 4.0 * grow : 1e30,
-                             mend, out, &done, info->fallback, sizeof info->fallback, &n,
+                             mend, out, b_minus_a, &done, info->fallback, sizeof info->fallback, &n,
                              &mended, &grow, &rim, err);
         }
         info->neighbourhood_tris = n;
@@ -1132,31 +1196,39 @@ sr_status union_local_entry(const sr_mesh *a, const char *a_what, const double *
     }
     /* the whole-mesh union (in b's frame, the result brought back to a's); a refusal
      * says why the local one was not used */
-    sr_mesh moved, res;
+    sr_mesh moved, res, dif;
+    sr_mesh_init(&dif);
     sr_status st;
-    if (!a_to_b) {
-        st = boolean_entry(SR_BOOLEAN_UNION, a, a_what, b, b_what, out, err);
-    } else if (sr_mesh_copy(&moved, a) != SR_OK) {
+    if (sr_mesh_copy(&moved, a) != SR_OK)
         return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory", a_what,
                           b_what);
-    } else {
+    if (a_to_b)
         sr_mesh_transform(&moved, a_to_b);
-        st = boolean_entry(SR_BOOLEAN_UNION, &moved, a_what, b, b_what, &res, err);
-        sr_mesh_release(&moved);
+    st = boolean_entry(SR_BOOLEAN_UNION, &moved, a_what, b, b_what, &res, err);
+    if (st == SR_OK && b_minus_a) {
+        st = boolean_entry(SR_BOOLEAN_DIFFERENCE, b, b_what, &moved, a_what, &dif, err);
+        if (st != SR_OK)
+            sr_mesh_release(&res);
     }
+    sr_mesh_release(&moved);
     if (st != SR_OK && st != SR_E_NOMEM && err && info->fallback[0]) {
         char msg[sizeof err->msg];
         snprintf(msg, sizeof msg, "%s", err->msg);
         sr_err_set(err, st, "%s (the whole-mesh union ran: %s)", msg, info->fallback);
     }
-    if (st != SR_OK || !a_to_b)
+    if (st != SR_OK)
         return st;
-    double back[12];
-    sr_xform_rigid_inverse(back, a_to_b);
-    sr_mesh_transform(&res, back);
+    if (a_to_b) {
+        double back[12];
+        sr_xform_rigid_inverse(back, a_to_b);
+        sr_mesh_transform(&res, back);
+        sr_mesh_transform(&dif, back);
+    }
     if (out == a || out == b)
         sr_mesh_release(out);
     *out = res;
+    if (b_minus_a)
+        *b_minus_a = dif;
     return SR_OK;
 }
 
@@ -1168,7 +1240,8 @@ sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const dou
                                  const sr_mesh *b, const char *b_what, double margin_mm,
                                  sr_mesh *out, sr_local_union_info *info, sr_err *err)
 {
-    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, false, out, info, err);
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, false, out, nullptr,
+                             info, err);
 }
 
 sr_status sr_boolean_union_local_mending(const sr_mesh *a, const char *a_what,
@@ -1176,7 +1249,18 @@ sr_status sr_boolean_union_local_mending(const sr_mesh *a, const char *a_what,
                                          const char *b_what, double margin_mm, sr_mesh *out,
                                          sr_local_union_info *info, sr_err *err)
 {
-    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, true, out, info, err);
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, true, out, nullptr,
+                             info, err);
+}
+
+sr_status sr_boolean_union_local_split(const sr_mesh *a, const char *a_what,
+                                       const double *a_to_b, const sr_mesh *b,
+                                       const char *b_what, double margin_mm, sr_mesh *out,
+                                       sr_mesh *b_minus_a, sr_local_union_info *info,
+                                       sr_err *err)
+{
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, true, out, b_minus_a,
+                             info, err);
 }
 
 sr_status sr_boolean_union(const sr_mesh *a, const sr_mesh *b, sr_mesh *out, sr_err *err)

@@ -1,0 +1,283 @@
+/*
+ * image_vote.c: the symmetry's vote on the scan's voxels, the opening and the grouping
+ * into sections (see image_vote.h).
+ */
+#include "images/image_vote.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define AXIAL_TURNS 24          /* continuous axial: turns by 15 degrees */
+#define AXIAL_SHARE 0.6         /* ... of which this share must carry material */
+#define CYCLIC_SLACK 10         /* n-fold: one image in this many may disagree */
+#define GROW_BACK 4             /* steps the opened cores grow back into the missing set */
+
+static void rot_z(double xf[12], double a)
+{
+    double c = cos(a), s = sin(a);
+    double m[12] = {c, -s, 0, 0, s, c, 0, 0, 0, 0, 1, 0};
+    memcpy(xf, m, sizeof m);
+}
+
+sr_status sr_images_of(const sr_symmetry *sym, sr_image **out, size_t *count, sr_err *err)
+{
+    size_t n = 0;
+    sr_image *im = NULL;
+    if (sym->kind == SR_SYM_MIRROR) {
+        n = 1;
+        im = calloc(n, sizeof *im);
+        if (im) {
+            double m[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+            memcpy(im[0].xf, m, sizeof m);
+            memcpy(im[0].inv, m, sizeof m);
+        }
+    } else if (sym->kind == SR_SYM_GLIDE) {
+        if (!(sym->shift_mm > 0) || !isfinite(sym->shift_mm))
+            return sr_err_set(err, SR_E_RANGE, "glide images need a shift > 0 mm");
+        n = 2;
+        im = calloc(n, sizeof *im);
+        for (size_t k = 0; im && k < 2; k++) {
+            double s = k == 0 ? sym->shift_mm : -sym->shift_mm;
+            double m[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, s};
+            double v[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -s};
+            memcpy(im[k].xf, m, sizeof m);
+            memcpy(im[k].inv, v, sizeof v);
+        }
+    } else if (sym->kind == SR_SYM_AXIAL) {
+        size_t turns = sym->order >= 2 ? (size_t)sym->order : AXIAL_TURNS;
+        n = turns - 1;
+        im = calloc(n, sizeof *im);
+        for (size_t k = 1; im && k < turns; k++) {
+            double a = 2.0 * M_PI * (double)k / (double)turns;
+            rot_z(im[k - 1].xf, a);
+            rot_z(im[k - 1].inv, -a);
+        }
+    } else {
+        return sr_err_set(err, SR_E_RANGE, "no symmetry to restore by");
+    }
+    if (!im)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory for the symmetry's images");
+    *out = im;
+    *count = n;
+    return SR_OK;
+}
+
+int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[3],
+                      double z_lo, double z_hi, int glide)
+{
+    double p[3];
+    const double *m = im->inv;
+    p[0] = m[0] * c[0] + m[1] * c[1] + m[2] * c[2] + m[3];
+    p[1] = m[4] * c[0] + m[5] * c[1] + m[6] * c[2] + m[7];
+    p[2] = m[8] * c[0] + m[9] * c[1] + m[10] * c[2] + m[11];
+    if (glide && (p[2] < z_lo || p[2] > z_hi))
+        return -1;
+    long v = sr_voxels_locate(scan, p);
+    return v >= 0 ? (scan->v[v] & 1) : 0;
+}
+
+/* The vote at one voxel the scan lacks: 1 when the images say material. */
+static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_symmetry *sym,
+                const double c[3], double z_lo, double z_hi)
+{
+    int glide = sym->kind == SR_SYM_GLIDE;
+    if (sym->kind == SR_SYM_MIRROR)
+        return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1;
+    if (glide) {
+        /* both images, inside the part's length: within a shift of its ends the
+         * pattern of a rail or rack ends on one side only, which one image alone
+         * would read as a broken feature (tried: one image where the other falls
+         * beyond the ends, or says air, filled the pattern's ends on every rail and
+         * rack of a generated set) */
+        for (size_t k = 0; k < n; k++)
+            if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 1) != 1)
+                return 0;
+        return 1;
+    }
+    size_t allowed = sym->order >= 2 ? n / CYCLIC_SLACK
+                                     : (size_t)floor((1.0 - AXIAL_SHARE) * (double)n);
+    size_t fails = 0;
+    for (size_t k = 0; k < n; k++)
+        if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 0) != 1 && ++fails > allowed)
+            return 0;
+    return 1;
+}
+
+void sr_vote_result_release(sr_vote_result *r)
+{
+    if (!r)
+        return;
+    free(r->label);
+    free(r->voxels);
+    memset(r, 0, sizeof *r);
+}
+
+typedef struct comp {
+    size_t label, count;
+} comp;
+
+static int cmp_comp(const void *a, const void *b)
+{
+    const comp *x = a, *y = b;
+    return x->count < y->count ? 1 : x->count > y->count ? -1 : (x->label > y->label) - (x->label < y->label);
+}
+
+sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo,
+                          double z_hi, size_t min_voxels, sr_vote_result *out, sr_err *err)
+{
+    sr_image *im = NULL;
+    size_t n = 0;
+    sr_status st = sr_images_of(sym, &im, &n, err);
+    if (st != SR_OK)
+        return st;
+    size_t nx = scan->nx, ny = scan->ny, nz = scan->nz, total = nx * ny * nz;
+    uint8_t *m = calloc(total, 1);      /* bit 0 missing, bit 1 eroded core */
+    int *label = calloc(total, sizeof *label);
+    size_t *stack = NULL;
+    if (!m || !label) {
+        free(im);
+        free(m);
+        free(label);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory for %zu voxels", total);
+    }
+    for (size_t k = 0; k < nz; k++)
+        for (size_t j = 0; j < ny; j++)
+            for (size_t i = 0; i < nx; i++) {
+                size_t v = sr_voxel_index(scan, i, j, k);
+                if (scan->v[v] & 1)
+                    continue;
+                double c[3] = {scan->origin[0] + (double)i * scan->h,
+                               scan->origin[1] + (double)j * scan->h,
+                               scan->origin[2] + (double)k * scan->h};
+                if (vote(scan, im, n, sym, c, z_lo, z_hi))
+                    m[v] = 1;
+            }
+    /* erosion: a missing voxel whose six neighbours are all missing */
+    size_t sx = 1, sy = nx, sz = nx * ny;
+    for (size_t k = 1; k + 1 < nz; k++)
+        for (size_t j = 1; j + 1 < ny; j++)
+            for (size_t i = 1; i + 1 < nx; i++) {
+                size_t v = sr_voxel_index(scan, i, j, k);
+                if ((m[v] & 1) && (m[v - sx] & 1) && (m[v + sx] & 1) && (m[v - sy] & 1) &&
+                    (m[v + sy] & 1) && (m[v - sz] & 1) && (m[v + sz] & 1))
+                    m[v] |= 2;
+            }
+    /* the eroded cores, 26-connected */
+    size_t cap = 1024, ncomp = 0;
+    stack = malloc(cap * sizeof *stack);
+    if (!stack) {
+        free(im);
+        free(m);
+        free(label);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    }
+    for (size_t v0 = 0; v0 < total; v0++) {
+        if (!(m[v0] & 2) || label[v0])
+            continue;
+        ncomp++;
+        size_t top = 0;
+        stack[top++] = v0;
+        label[v0] = (int)ncomp;
+        while (top) {
+            size_t v = stack[--top];
+            size_t i = v % nx, j = (v / nx) % ny, k = v / sz;
+            for (int dk = -1; dk <= 1; dk++)
+                for (int dj = -1; dj <= 1; dj++)
+                    for (int di = -1; di <= 1; di++) {
+                        long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
+                        if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
+                            kk >= (long)nz)
+                            continue;
+                        size_t w = sr_voxel_index(scan, (size_t)ii, (size_t)jj, (size_t)kk);
+                        if (!(m[w] & 2) || label[w])
+                            continue;
+                        label[w] = (int)ncomp;
+                        if (top == cap) {
+                            size_t *s2 = realloc(stack, 2 * cap * sizeof *stack);
+                            if (!s2) {
+                                free(im);
+                                free(stack);
+                                free(m);
+                                free(label);
+                                return sr_err_set(err, SR_E_NOMEM,
+                                                  "out of memory grouping missing voxels");
+                            }
+                            stack = s2;
+                            cap *= 2;
+                        }
+                        stack[top++] = w;
+                    }
+        }
+    }
+    free(stack);
+    /* grown back inside the missing set, GROW_BACK steps (26-connected): one undoes
+     * the erosion, the rest take back the thin edges of a chip the erosion cut off */
+    for (int step = 0; step < GROW_BACK; step++) {
+        for (size_t k = 0; k < nz; k++)
+            for (size_t j = 0; j < ny; j++)
+                for (size_t i = 0; i < nx; i++) {
+                    size_t v = sr_voxel_index(scan, i, j, k);
+                    if (!(m[v] & 1) || label[v])
+                        continue;
+                    int l = 0;
+                    for (int dk = -1; dk <= 1 && !l; dk++)
+                        for (int dj = -1; dj <= 1 && !l; dj++)
+                            for (int di = -1; di <= 1 && !l; di++) {
+                                long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
+                                if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx ||
+                                    jj >= (long)ny || kk >= (long)nz)
+                                    continue;
+                                int w = label[sr_voxel_index(scan, (size_t)ii, (size_t)jj,
+                                                             (size_t)kk)];
+                                if (w > 0)
+                                    l = w;
+                            }
+                    label[v] = -l; /* made positive after the step: grows one per step */
+                }
+        for (size_t v = 0; v < total; v++)
+            if (label[v] < 0)
+                label[v] = -label[v];
+    }
+    free(im);
+    comp *cs = calloc(ncomp + 1, sizeof *cs);
+    int *remap = calloc(ncomp + 1, sizeof *remap);
+    if (!cs || !remap) {
+        free(cs);
+        free(remap);
+        free(m);
+        free(label);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    }
+    for (size_t c = 0; c <= ncomp; c++)
+        cs[c].label = c;
+    for (size_t v = 0; v < total; v++)
+        if (label[v] > 0)
+            cs[label[v]].count++;
+    qsort(cs + 1, ncomp, sizeof *cs, cmp_comp);
+    size_t kept = 0;
+    for (size_t c = 1; c <= ncomp; c++)
+        if (cs[c].count >= min_voxels && cs[c].count > 0)
+            remap[cs[c].label] = (int)++kept;
+    size_t *counts = calloc(kept ? kept : 1, sizeof *counts);
+    if (!counts) {
+        free(cs);
+        free(remap);
+        free(m);
+        free(label);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    }
+    for (size_t v = 0; v < total; v++) {
+        if (label[v] > 0)
+            label[v] = remap[label[v]];
+        if (label[v] > 0)
+            counts[label[v] - 1]++;
+    }
+    free(cs);
+    free(remap);
+    free(m);
+    out->label = label;
+    out->sections = kept;
+    out->voxels = counts;
+    return SR_OK;
+}

@@ -1,0 +1,46 @@
+/*
+ * voxels.h: the occupancy of a closed mesh on a regular grid of voxel centres, the
+ * image method's view of a scan (image_restore.h). A voxel is occupied when its centre
+ * lies inside the mesh by the nonzero winding rule along +z (so two overlapping shells
+ * are their union, and a flipped patch does not punch a hole through a solid).
+ *
+ * Layout: v is nx by ny by nz bytes, x fastest: v[(k * ny + j) * nx + i] is the voxel
+ * whose centre is origin + (i, j, k) * h. Values are 0 (outside) or 1 (inside); callers
+ * may use the other bits for their own marks.
+ */
+#ifndef SR_VOXELS_H
+#define SR_VOXELS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "mesh.h"
+#include "status.h"
+
+typedef struct sr_voxels {
+    size_t nx, ny, nz;
+    double h;                /* pitch, mm */
+    double origin[3];        /* centre of voxel (0, 0, 0), mm */
+    uint8_t *v;              /* nx by ny by nz */
+} sr_voxels;
+
+/* Allocates a zeroed grid of n[0] x n[1] x n[2] voxels. */
+sr_status sr_voxels_alloc(sr_voxels *g, const size_t n[3], double h, const double origin[3]);
+
+/* Sets bit 0 of every voxel whose centre is inside `mesh` (closed, outward oriented).
+ * Triangles whose projection along z has no area are skipped (vertical faces cross no
+ * ray). Linear in the triangles plus the columns they cover. */
+sr_status sr_voxels_fill(sr_voxels *g, const sr_mesh *mesh, sr_err *err);
+
+static inline size_t sr_voxel_index(const sr_voxels *g, size_t i, size_t j, size_t k)
+{
+    return (k * g->ny + j) * g->nx + i;
+}
+
+/* The voxel nearest to point p; -1 when p lies outside the grid by more than half a
+ * pitch. */
+long sr_voxels_locate(const sr_voxels *g, const double p[3]);
+
+void sr_voxels_release(sr_voxels *g);
+
+#endif
