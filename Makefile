@@ -14,6 +14,9 @@ BUILD  := build/$(config)
 DEB_PACKAGES := pkg-config libsqlite3-dev sqlite3 libopenmesh-dev libtinygltf-dev \
                 nlohmann-json3-dev libcmocka-dev libpolyclipping-dev libcgal-dev \
                 libgmp-dev libmpfr-dev valgrind
+# for the accuracy checks on generated parts (../shared/partgen draws them with OpenSCAD;
+# ../shared/eval/meshcompare scores them with numpy and scipy)
+DEB_CHECK_PACKAGES := openscad python3-numpy python3-scipy
 
 CC  ?= cc
 CXX ?= g++
@@ -66,13 +69,14 @@ BIN     := $(BUILD)/symrec
 TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 BENCH   := $(BUILD)/bench/symrec_bench
 
-.PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built
+.PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built \
+        partgen-check quick
 # keep test objects: they are intermediates of the test binaries, not throwaways
 .SECONDARY:
 all: $(LIB) $(BIN)
 
 deps:
-	$(Q)missing=""; for p in $(DEB_PACKAGES); do \
+	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -157,7 +161,23 @@ valgrind: deps
 	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_WRAP="$(VALGRIND)" SYMREC_TEST_WRAP="$(VALGRIND)" \
 	  sh tests/run_tests.sh build/debug test_cli,test_boolean,test_stack_mesh
 
-check: test valgrind
+# Accuracy on generated parts: a fixed sample of ../shared/partgen (two per family)
+# reconstructed posed and noisy by the release binary, scored by ../shared/eval/runparts
+# --strict on the files written.
+partgen-check: deps
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
+	$(Q)sh tests/partgen/check_generated.sh build/release/symrec
+
+# The inner loop: the debug build's unit tests and the CLI tests, no accuracy matrix,
+# no sanitizer, no Valgrind.
+quick: deps
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
+	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_QUICK=1 sh tests/run_tests.sh build/debug
+
+# What CI runs: every stage, its wall time printed at the end.
+check: deps
+	$(Q)sh tests/check_stages.sh "$(MAKE) --no-print-directory test" \
+	  "$(MAKE) --no-print-directory valgrind" "$(MAKE) --no-print-directory partgen-check"
 
 bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built

@@ -292,12 +292,18 @@ static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *
         if (!(lo[0] < reach && hi[0] > -reach))
             continue;
         for (size_t k = 0; k < ln; k++) {
+            /* the same place: the layer section's box holds at least half of the image
+             * piece's box, and it is not a different loss (at most four times more) */
             double a[3], b[3];
             sr_mesh_bbox(&ls[k].patch, a, b);
-            int meet = 1;
-            for (int c = 0; c < 3 && meet; c++)
-                meet = a[c] <= hi[c] && lo[c] <= b[c];
-            if (!meet || !ls[k].patch.tri || ls[k].volume_mm3 < 1.25 * sec->volume_mm3)
+            double common = 1, own = 1;
+            for (int c = 0; c < 3; c++) {
+                common *= fmax(0, fmin(b[c], hi[c]) - fmax(a[c], lo[c]));
+                own *= hi[c] - lo[c];
+            }
+            if (!ls[k].patch.tri || !(common >= 0.5 * own) ||
+                ls[k].volume_mm3 < 1.25 * sec->volume_mm3 ||
+                ls[k].volume_mm3 > 4.0 * sec->volume_mm3)
                 continue;
             /* the layer patch alone (it is grown into the scan, so it covers what the
              * image did): a union with the image piece would leave slivers where the
@@ -356,9 +362,30 @@ static sr_status unite_images(const sr_mesh *scan, const double xf[12], sr_recon
             snprintf(r->union_note, sizeof r->union_note, "section %zu: %s", i + 1,
                      uerr.msg);
             r->restored_by_union = 0;
-            /* what was united so far, then the remaining images as shells */
-            size_t rest = r->section_count - i;
-            memmove(r->sections + kept, r->sections + i, rest * sizeof *r->sections);
+            /* what was united so far, then the remaining patches as shells, each its
+             * image less the scan by a whole-mesh boolean (an image that overlaps the
+             * scan is never written as a patch: one that cannot be cut is dropped) */
+            size_t rest = 0;
+            sr_mesh al = {0};
+            if (sr_mesh_copy(&al, scan) == SR_OK) {
+                sr_mesh_transform(&al, xf);
+                for (size_t k = i; k < r->section_count; k++) {
+                    sr_mesh p = {0};
+                    sr_section *sk = &r->sections[k];
+                    if (sr_image_patch_alone(&sk->patch, &al, &p, &mended, NULL) == SR_OK &&
+                        p.tri_count && sr_mesh_volume(&p) >= min_vol) {
+                        sr_mesh_release(&sk->patch);
+                        sk->patch = p;
+                        sk->volume_mm3 = sr_mesh_volume(&p);
+                        sr_image_section_figures(&r->grid, sk);
+                        r->sections[kept + rest++] = *sk;
+                    } else {
+                        sr_mesh_release(&p);
+                        sr_mesh_release(&sk->patch);
+                    }
+                }
+            }
+            sr_mesh_release(&al);
             r->section_count = kept + rest;
             note_repairs(r, 0, mended, 0, NULL);
             st = concatenate(owned ? &acc : scan, xf, r->sections + kept, rest, &next);

@@ -75,6 +75,8 @@ if [ -n "$only" ]; then
 else
     bins=$(ls "$build"/tests/test_* 2>/dev/null | grep -v '\.[od]$')
 fi
+# make quick: no accuracy matrix (whole restorations of every shared part)
+[ -n "${SYMREC_QUICK:-}" ] && bins=$(echo "$bins" | grep -v '/test_accuracy$')
 
 logs=$(mktemp -d /tmp/symrec-run-tests-XXXXXX) || exit 2
 trap 'rm -rf "$logs"' EXIT

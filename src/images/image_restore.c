@@ -365,7 +365,9 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
                                  const sr_mesh *b, const char *b_what, sr_mesh *out,
                                  size_t *mended, sr_err *err)
 {
-    sr_err e1 = {{0}};
+    sr_err e1 = {{0}}, local = {{0}};
+    if (!err)
+        err = &local;
     sr_status st = sr_boolean_compute(op, a, a_what, b, b_what, out, &e1);
     if (st != SR_E_INVALID) {
         if (st != SR_OK)
@@ -456,6 +458,17 @@ static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label,
         return 0;
     double spread = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]) / design;
     return spread < 0.8;
+}
+
+sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh *out,
+                               size_t *mended, sr_err *err)
+{
+    size_t m = 0;
+    sr_status st = boolean_mending(SR_BOOLEAN_DIFFERENCE, q, "section's image", aligned,
+                                   "scan", out, mended ? mended : &m, err);
+    if (st == SR_OK)
+        sr_mesh_drop_small_shells(out, 0, NULL, NULL);
+    return st;
 }
 
 /* Depth of build-up and lost surface area from the section's voxels: the chamfer

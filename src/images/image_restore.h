@@ -63,6 +63,12 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
                                const sr_image_opts *opts, sr_section **sections,
                                size_t *count, sr_image_info *info, sr_err *err);
 
+/* *out = q \ aligned by a whole-mesh boolean (either operand mended near the other
+ * where it crosses itself): a section's patch when its union with the scan was
+ * refused. mended (may be NULL) adds the triangles replaced. */
+sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh *out,
+                               size_t *mended, sr_err *err);
+
 /* A section's z, layer and angular range (and cell count) from its patch (aligned
  * frame): the arc is the smallest one holding every vertex's azimuth. */
 void sr_image_section_figures(const sr_layer_grid *grid, sr_section *s);

@@ -1,0 +1,48 @@
+#!/bin/sh
+# check_generated.sh SYMREC [SEED] [INDICES]: accuracy on parts nobody tuned to. Draws a
+# fixed sample of random parts with ../shared/partgen (two per family, none of them
+# `hard`), reconstructs each from its posed and its noisy scan with SYMREC, and scores
+# the files written with ../shared/eval/runparts --strict (patch file volume within 5 %,
+# fill outside the intact part <= 3 %, missed <= 5 %, restored mean <= 0.05 mm and
+# max <= 1 mm). One line per input in the test runner's format; exit 1 if any part is
+# out of bounds. The parts are made once into build/partgen-SEED (a seed gives the same
+# parts byte for byte). Skipped, with a line saying so, without ../shared or OpenSCAD.
+set -u
+symrec=${1:?usage: check_generated.sh SYMREC [SEED] [INDICES]}
+seed=${2:-777}
+# of 16 drawn (the draw depends on the count): two per family, none of them hard
+only=${3:-3,4,5,6,7,8,13,14}
+shared=$(cd "$(dirname "$0")/../../.." && pwd)/shared
+gen=$shared/partgen/partgen
+runparts=$shared/eval/runparts
+if [ ! -x "$gen" ] || [ ! -x "$runparts" ] || ! command -v openscad >/dev/null 2>&1 ||
+   ! /usr/bin/python3 -c 'import numpy, scipy' 2>/dev/null; then
+    echo "partgen_check  skipped: no ../shared/partgen, OpenSCAD or python3-numpy/scipy"
+    exit 0
+fi
+dir=build/partgen-$seed
+mkdir -p "$dir"
+count=16
+if [ "$(ls "$dir"/*/truth.json 2>/dev/null | wc -l)" -lt "$(echo "$only" | tr ',' '\n' | wc -l)" ]; then
+    "$gen" --seed "$seed" --count "$count" --only "$only" --out "$dir" --jobs 2 >"$dir.log" 2>&1 ||
+        { echo "partgen_check  FAILED: partgen --seed $seed did not draw the sample (see $dir.log)"; exit 1; }
+fi
+names=$(for i in $(echo "$only" | tr ',' ' '); do ls "$dir" | grep "^s${seed}p$(printf %02d "$i")_"; done | paste -sd, -)
+rc=0
+for input in damaged_posed.stl damaged_scan.stl; do
+    start=$(date +%s)
+    out=$dir.$input.txt
+    "$runparts" "$symrec" "$dir" --strict --only "$names" --input "$input" --timeout 300 >"$out" 2>&1
+    r=$?
+    pass=$(grep -c ' ok ' "$out")
+    total=$(grep -c '^s[0-9]*p' "$out")
+    secs=$(( $(date +%s) - start ))
+    if [ "$r" -eq 0 ]; then
+        printf '%-14s %3d passed, %d failed  ok  (%ss)\n' "partgen[${input%%.stl}]" "$pass" 0 "$secs"
+    else
+        printf '%-14s %3d passed, %d failed  FAILED  (%ss)\n' "partgen[${input%%.stl}]" "$pass" $((total - pass)) "$secs"
+        grep -v ' ok ' "$out" | sed 's/^/    | /'
+        rc=1
+    fi
+done
+exit $rc
