@@ -182,6 +182,7 @@ check: deps
 bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
 	$(Q)build/release/bench/symrec_bench
+	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 
 bench-built: $(BENCH)
 

@@ -125,6 +125,12 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
                r->order_found.base_mm);
     printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
            r->grid.dz);
+    if (r->method == SR_METHOD_IMAGE && r->image.poor_fit)
+        printf("  poor fit:   %.1f%% of the scan is not in its images under this symmetry, "
+               "the sections explain %.1f%%: the part does not fit it%s\n",
+               100.0 * r->image.misfit,
+               r->scan_volume_mm3 > 0 ? 100.0 * r->patch_volume_mm3 / r->scan_volume_mm3 : 0,
+               r->order >= 2 ? " (try --order auto)" : "");
     if (r->method == SR_METHOD_IMAGE && r->image.continued)
         printf("  continued:  %zu section(s) broken through the plane, carried on along z "
                "from the layers below/above (no image holds them)\n",
@@ -202,6 +208,10 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
         json_int(&j, (int64_t)r->image.voxels);
         json_key(&j, "features_kept");
         json_int(&j, (int64_t)r->image.features_kept);
+        json_key(&j, "misfit");
+        json_number(&j, r->image.misfit);
+        json_key(&j, "poor_fit");
+        json_bool(&j, r->image.poor_fit);
         json_key(&j, "continued_across_plane");
         json_int(&j, (int64_t)r->image.continued);
         json_key(&j, "vote_s");

@@ -320,6 +320,10 @@ static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *
     return SR_OK;
 }
 
+/* Image method: the scan's share missing from its images that no damage explains
+ * (noise, facets, the grid's rounding) below which the fit is good */
+#define POOR_FIT_FLOOR 0.05
+
 static int cmp_section_volume(const void *pa, const void *pb)
 {
     const sr_section *a = pa, *b = pb;
@@ -800,6 +804,12 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     }
     r.scan_volume_mm3 = sr_mesh_volume(scan);
     r.restored_volume_mm3 = sr_mesh_volume(&r.restored);
+    /* the scan lacks, in its images, its damage's share (each image carries the damage
+     * elsewhere): much more than the sections found is a symmetry the part has not
+     * (measured: the gear read 19- or 21-fold misses 13-14 %, 20-fold 1.5 %) */
+    if (opts->method == SR_METHOD_IMAGE && r.scan_volume_mm3 > 0)
+        r.image.poor_fit =
+            r.image.misfit > POOR_FIT_FLOOR + 2.0 * r.patch_volume_mm3 / r.scan_volume_mm3;
     r.timings.total_s = now_s() - t0;
     *out = r;
     return SR_OK;

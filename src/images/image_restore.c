@@ -679,6 +679,7 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
                     if (vr.label[v] == (int)s)
                         vr.label[v] = -1; /* not missing; -1 so no label reuses it */
             }
+    info->misfit = vr.misfit;
     merge_near_sections(&g, &vr);
     info->vote_s = now_s() - t0;
     double t1 = now_s();

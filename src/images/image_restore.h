@@ -50,6 +50,9 @@ typedef struct sr_image_info {
     size_t mended_tris;         /* scan triangles replaced where it crossed itself */
     size_t features_kept;       /* axial: candidate sections read as holes, slots or
                                  * keyways of the design (kept, not filled) */
+    double misfit;              /* image_vote.h: share of the scan its images lack */
+    int poor_fit;               /* 1: misfit beyond what the sections found explain
+                                 * (reconstruct.c): the part does not fit the symmetry */
     size_t continued;           /* mirror/glide: sections through the plane carried on
                                  * by continuity along z (reconstruct.c) */
 } sr_image_info;

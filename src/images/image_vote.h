@@ -46,6 +46,9 @@ typedef struct sr_vote_result {
     int *label;          /* per voxel: 0 = not missing, k >= 1 = section k */
     size_t sections;     /* labels 1..sections, largest first */
     size_t *voxels;      /* per section (index k - 1): its voxel count */
+    double misfit;       /* the scan's share (of its voxels) an image lacks, median
+                          * over the images: the damage's share on a part that has the
+                          * symmetry, far more on one that has not */
 } sr_vote_result;
 
 /* Votes, opens and groups (see above). scan's bit 0 is the occupancy; z_lo..z_hi the

@@ -384,6 +384,7 @@ static void bench_parts(const char *dir)
     static const setting settings[3] = {
         {60, 80, SR_METHOD_PAPER}, {120, 160, SR_METHOD_PAPER}, {240, 320, SR_METHOD_PAPER}};
     static const setting robust = {240, 320, SR_METHOD_ROBUST};
+    static const setting image = {240, 320, SR_METHOD_IMAGE}; /* the default */
     const char *one = getenv("SYMREC_BENCH_PART");   /* developer aid: one part only */
     int quick = getenv("SYMREC_BENCH_QUICK") != NULL; /* developer aid: robust rows only */
     double t_all = now_s();
@@ -425,6 +426,8 @@ static void bench_parts(const char *dir)
                          settings[s]);
             part_row(name, "posed", &posed, &truth, &intact, have_missing ? &missing : NULL,
                      robust);
+            part_row(name, "posed", &posed, &truth, &intact, have_missing ? &missing : NULL,
+                     image);
             sr_mesh_release(&posed);
         }
         if (load(dir, name, "damaged_scan.stl", &scan)) {
@@ -433,6 +436,8 @@ static void bench_parts(const char *dir)
                          settings[2]);
             part_row(name, "scan", &scan, &truth, &intact, have_missing ? &missing : NULL,
                      robust);
+            part_row(name, "scan", &scan, &truth, &intact, have_missing ? &missing : NULL,
+                     image);
             sr_mesh_release(&scan);
         }
         sr_mesh_release(&intact);

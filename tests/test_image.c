@@ -1,0 +1,206 @@
+/*
+ * test_image.c: the image method (src/images/) on shapes with known answers: the
+ * occupancy of a box, a mirror part's chip restored exactly (the patch is the chip and
+ * no more, the restored part the intact one), nothing on intact parts, a wrong order
+ * that fills nothing, and a bolt hole of an axial part kept.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "bridge/boolean.h"
+#include "images/voxels.h"
+#include "reconstruct.h"
+#include "shapes.h"
+
+static void box(sr_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
+    assert_int_equal(sr_shape_box(lo, hi, m, NULL), SR_OK);
+}
+
+/* a - b as a new mesh */
+static void minus(const sr_mesh *a, const sr_mesh *b, sr_mesh *out)
+{
+    sr_err err = {{0}};
+    assert_int_equal(sr_boolean_difference(a, b, out, &err), SR_OK);
+}
+
+static void reconstruct_aligned(const sr_mesh *scan, sr_symmetry sym, sr_recon_result *r)
+{
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry = sym;
+    o.have_alignment = 1; /* the shapes are built in the aligned frame */
+    sr_xform_identity(o.alignment.xform);
+    sr_err err = {{0}};
+    assert_int_equal(sr_reconstruct(scan, &o, r, &err), SR_OK);
+    assert_int_equal(r->method, SR_METHOD_IMAGE); /* the default */
+}
+
+/* Voxel centres inside a box, counted exactly: per axis, the centres origin + i h in
+ * (lo, hi). */
+static void voxels_of_a_box_are_the_centres_inside_it(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(&m, 0.13, -2.21, 1.07, 10.13, 3.79, 5.07);
+    size_t n[3] = {30, 20, 16};
+    double origin[3] = {-1.0, -3.0, 0.0}, h = 0.5;
+    sr_voxels g;
+    assert_int_equal(sr_voxels_alloc(&g, n, h, origin), SR_OK);
+    assert_int_equal(sr_voxels_fill(&g, &m, NULL), SR_OK);
+    double lo[3] = {0.13, -2.21, 1.07}, hi[3] = {10.13, 3.79, 5.07};
+    size_t want = 1;
+    for (int a = 0; a < 3; a++) {
+        size_t c = 0;
+        for (size_t i = 0; i < n[a]; i++) {
+            double x = origin[a] + (double)i * h;
+            c += x > lo[a] && x < hi[a];
+        }
+        want *= c;
+    }
+    size_t got = 0;
+    for (size_t v = 0; v < n[0] * n[1] * n[2]; v++)
+        got += g.v[v] & 1;
+    assert_int_equal(got, want);
+    /* a point inside and one outside */
+    double in[3] = {5, 0, 3}, out[3] = {11, 0, 3};
+    assert_int_equal(g.v[sr_voxels_locate(&g, in)] & 1, 1);
+    assert_int_equal(g.v[sr_voxels_locate(&g, out)] & 1, 0);
+    sr_voxels_release(&g);
+    sr_mesh_release(&m);
+}
+
+/* A block symmetric about x = 0 with a bite out of its +x top edge: one section, whose
+ * patch is the bite (to 0.5 %) and does not overlap the scan; the restored part is the
+ * intact block. */
+static void mirror_chip_is_restored_exactly(void **state)
+{
+    (void)state;
+    sr_mesh intact, bite, scan;
+    box(&intact, -20, 0, 0, 20, 12, 30);
+    box(&bite, 12, 7, 18, 25, 20, 26); /* 8 x 5 x 8 inside the block: 320 mm^3 */
+    minus(&intact, &bite, &scan);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
+    reconstruct_aligned(&scan, sym, &r);
+    assert_int_equal(r.section_count, 1);
+    double want = 8.0 * 5.0 * 8.0;
+    assert_true(fabs(r.sections[0].volume_mm3 - want) <= 0.005 * want);
+    assert_true(fabs(sr_mesh_volume(&r.sections[0].patch) - r.sections[0].volume_mm3) < 1e-6);
+    assert_true(sr_mesh_is_closed(&r.sections[0].patch));
+    assert_int_equal(r.restored_by_union, 1);
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&intact)) <= 1e-4 * r.restored_volume_mm3);
+    /* no overlap with the scan: their intersection holds (next to) nothing */
+    sr_mesh both = {0};
+    sr_err err = {{0}};
+    assert_int_equal(sr_boolean_intersection(&scan, &r.sections[0].patch, &both, &err), SR_OK);
+    assert_true(sr_mesh_volume(&both) < 1e-3);
+    /* where and how deep: the bite's z range, 8 mm of build-up at most (+ a voxel) */
+    assert_true(fabs(r.sections[0].z_min - 18) < 1e-6 && fabs(r.sections[0].z_max - 26) < 1e-6);
+    assert_true(r.sections[0].depth_max_mm > 4.0 && r.sections[0].depth_max_mm < 9.5);
+    sr_mesh_release(&both);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&bite);
+    sr_mesh_release(&scan);
+}
+
+static void intact_block_has_no_section(void **state)
+{
+    (void)state;
+    sr_mesh intact;
+    box(&intact, -20, 0, 0, 20, 12, 30);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
+    reconstruct_aligned(&intact, sym, &r);
+    assert_int_equal(r.section_count, 0);
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&intact)) < 1e-6);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+}
+
+/* a star prism of `teeth` teeth (radii 24 / 30), 10 thick */
+static void star(sr_mesh *m, int teeth)
+{
+    size_t n = (size_t)(2 * teeth);
+    double *xy = malloc(2 * n * sizeof *xy);
+    assert_non_null(xy);
+    for (size_t i = 0; i < n; i++) {
+        double a = 2 * M_PI * (double)i / (double)n, rr = i % 2 ? 24.0 : 30.0;
+        xy[2 * i] = rr * cos(a);
+        xy[2 * i + 1] = rr * sin(a);
+    }
+    assert_int_equal(sr_shape_prism(xy, n, 0, 10, m, NULL), SR_OK);
+    free(xy);
+}
+
+/* A 15-tooth star: with order 14 (wrong) the fit is said to be poor; with order 15 a
+ * tooth tip cut off comes back to its volume and the fit is good. */
+static void cyclic_wrong_order_fills_nothing_and_right_order_restores(void **state)
+{
+    (void)state;
+    sr_mesh intact, cut, scan;
+    star(&intact, 15);
+    sr_recon_result r;
+    sr_symmetry wrong = {SR_SYM_AXIAL, 14, 0};
+    reconstruct_aligned(&intact, wrong, &r);
+    print_message("order 14 on 15 teeth: %zu section(s), %.1f mm^3, misfit %.3f\n",
+                  r.section_count, r.patch_volume_mm3, r.image.misfit);
+    assert_int_equal(r.image.poor_fit, 1); /* said, whatever the roots it fills */
+    sr_recon_result_release(&r);
+    box(&cut, 27, -3, -1, 31, 3, 11); /* the tip of the tooth at angle 0 */
+    minus(&intact, &cut, &scan);
+    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
+    sr_symmetry right = {SR_SYM_AXIAL, 15, 0};
+    reconstruct_aligned(&scan, right, &r);
+    assert_int_equal(r.section_count, 1);
+    assert_int_equal(r.image.poor_fit, 0);
+    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.005 * want);
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&intact)) <= 1e-4 * r.restored_volume_mm3);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&cut);
+    sr_mesh_release(&scan);
+}
+
+/* A disc with one axial bolt hole, continuous axial symmetry: the turns of the hole are
+ * material, but its walls all run along the axis, so it is a hole of the design, kept
+ * (and reported), not a section. */
+static void axial_bolt_hole_is_kept(void **state)
+{
+    (void)state;
+    sr_mesh disc, hole, part;
+    assert_int_equal(sr_shape_cylinder(30, 0, 10, 96, &disc, NULL), SR_OK);
+    assert_int_equal(sr_shape_cylinder(3, -1, 11, 32, &hole, NULL), SR_OK);
+    for (size_t v = 0; v < hole.vertex_count; v++)
+        hole.xyz[3 * v] += 20;
+    minus(&disc, &hole, &part);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_AXIAL, 0, 0};
+    reconstruct_aligned(&part, sym, &r);
+    assert_int_equal(r.section_count, 0);
+    assert_true(r.image.features_kept >= 1);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&disc);
+    sr_mesh_release(&hole);
+    sr_mesh_release(&part);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(voxels_of_a_box_are_the_centres_inside_it),
+        cmocka_unit_test(mirror_chip_is_restored_exactly),
+        cmocka_unit_test(intact_block_has_no_section),
+        cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
+        cmocka_unit_test(axial_bolt_hole_is_kept),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
