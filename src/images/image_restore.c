@@ -259,6 +259,29 @@ static sr_status hull_make(const sr_voxels *g, const local_box *b, sr_mesh *out,
     return st;
 }
 
+/* Over the section's voxels not covered yet: cover[m] += those whose preimage under
+ * im[m] (m < n) is material; mark: they are marked covered too (give one image). */
+static void cover_pass(const sr_voxels *g, const local_box *b, uint8_t *covered,
+                       const sr_image *im, size_t n, double z_lo, double z_hi, int glide,
+                       long *cover, int mark)
+{
+    for (size_t k = 0; k < b->nz; k++)
+        for (size_t j = 0; j < b->ny; j++)
+            for (size_t i = 0; i < b->nx; i++) {
+                size_t q = lidx(b, i, j, k);
+                if (b->sec[q] != 1 || covered[q])
+                    continue;
+                double c[3];
+                voxel_centre(g, sr_voxel_index(g, b->i0 + i, b->j0 + j, b->k0 + k), c);
+                for (size_t m = 0; m < n; m++)
+                    if (sr_image_material(g, &im[m], c, z_lo, z_hi, glide) == 1) {
+                        cover[m]++;
+                        if (mark)
+                            covered[q] = 1;
+                    }
+            }
+}
+
 /* The images whose material covers the section, best first (greedy cover): each
  * scored by the section voxels it newly covers less the band voxels where it
  * disagrees with the scan. Writes up to MAX_IMAGES indices; returns how many. */
@@ -295,18 +318,7 @@ static size_t choose_images(const sr_voxels *g, const local_box *b, const sr_ima
     size_t done_voxels = 0;
     while (chosen < MAX_IMAGES && done_voxels < section_voxels) {
         memset(cover, 0, n_im * sizeof *cover);
-        for (size_t k = 0; k < b->nz; k++)
-            for (size_t j = 0; j < b->ny; j++)
-                for (size_t i = 0; i < b->nx; i++) {
-                    size_t q = lidx(b, i, j, k);
-                    if (b->sec[q] != 1 || covered[q])
-                        continue;
-                    double c[3];
-                    voxel_centre(g, sr_voxel_index(g, b->i0 + i, b->j0 + j, b->k0 + k), c);
-                    for (size_t m = 0; m < n_im; m++)
-                        if (sr_image_material(g, &im[m], c, z_lo, z_hi, glide) == 1)
-                            cover[m]++;
-                }
+        cover_pass(g, b, covered, im, n_im, z_lo, z_hi, glide, cover, 0);
         long best_score = 0;
         size_t best = n_im;
         for (size_t m = 0; m < n_im; m++) {
@@ -325,19 +337,9 @@ static size_t choose_images(const sr_voxels *g, const local_box *b, const sr_ima
         if (best == n_im || (chosen > 0 && (double)cover[best] < 0.02 * (double)section_voxels))
             break;
         pick[chosen++] = best;
-        for (size_t k = 0; k < b->nz; k++)
-            for (size_t j = 0; j < b->ny; j++)
-                for (size_t i = 0; i < b->nx; i++) {
-                    size_t q = lidx(b, i, j, k);
-                    if (b->sec[q] != 1 || covered[q])
-                        continue;
-                    double c[3];
-                    voxel_centre(g, sr_voxel_index(g, b->i0 + i, b->j0 + j, b->k0 + k), c);
-                    if (sr_image_material(g, &im[best], c, z_lo, z_hi, glide) == 1) {
-                        covered[q] = 1;
-                        done_voxels++;
-                    }
-                }
+        long newly = 0;
+        cover_pass(g, b, covered, &im[best], 1, z_lo, z_hi, glide, &newly, 1);
+        done_voxels += (size_t)newly;
         if ((double)done_voxels >= 0.99 * (double)section_voxels)
             break;
     }
