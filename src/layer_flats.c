@@ -43,10 +43,8 @@ static sr_status build_histogram(const sr_mesh *m, double margin, flat_histogram
     for (size_t t = 0; t < m->tri_count; t++) {
         const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
                      *c = m->xyz + 3 * m->tri[3 * t + 2];
-        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                       u[0] * v[1] - u[1] * v[0]};
+        double n[3];
+        sr_mesh_tri_normal(m, t, n);
         double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (!(len > 0) || fabs(n[2]) < SR_LAYER_FLATS_NZ * len)
             continue;

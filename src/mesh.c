@@ -548,3 +548,14 @@ void sr_xform_rigid_inverse(double out[12], const double m[12])
         r[4 * i + 3] = -(r[4 * i] * m[3] + r[4 * i + 1] * m[7] + r[4 * i + 2] * m[11]);
     memcpy(out, r, sizeof r);
 }
+
+void sr_mesh_tri_normal(const sr_mesh *mesh, size_t t, double n[3])
+{
+    const double *a = mesh->xyz + 3 * mesh->tri[3 * t], *b = mesh->xyz + 3 * mesh->tri[3 * t + 1],
+                 *c = mesh->xyz + 3 * mesh->tri[3 * t + 2];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}

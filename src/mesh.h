@@ -56,6 +56,10 @@ typedef struct sr_mesh_report {
 sr_status sr_mesh_validate(const sr_mesh *mesh, const char *what, sr_mesh_report *report,
                            sr_err *err);
 
+/* Triangle t's normal (b - a) x (c - a): counter-clockwise outward, its length twice
+ * the triangle's area (zero for a degenerate triangle). */
+void sr_mesh_tri_normal(const sr_mesh *mesh, size_t t, double n[3]);
+
 /* Axis-aligned bounding box. For an empty mesh min = max = 0. */
 void sr_mesh_bbox(const sr_mesh *mesh, double min[3], double max[3]);
 

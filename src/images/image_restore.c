@@ -416,14 +416,13 @@ static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label,
 {
     /* the radial direction at the section's centre (a radial hole's axis) */
     double cen[2] = {0, 0};
-    size_t cnt = 0, total_v = g->nx * g->ny * g->nz;
+    size_t total_v = g->nx * g->ny * g->nz;
     for (size_t v = 0; v < total_v; v++)
         if (label[v] == s) {
             double c[3];
             voxel_centre(g, v, c);
             cen[0] += c[0];
             cen[1] += c[1];
-            cnt++;
         }
     double rc = hypot(cen[0], cen[1]);
     double rdir[2] = {rc > 0 ? cen[0] / rc : 1, rc > 0 ? cen[1] / rc : 0};
@@ -432,10 +431,8 @@ static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label,
     for (size_t t = 0; t < m->tri_count; t++) {
         const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
                      *c = m->xyz + 3 * m->tri[3 * t + 2];
-        double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                       u[0] * v[1] - u[1] * v[0]};
+        double n[3];
+        sr_mesh_tri_normal(m, t, n);
         double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (!(len > 0))
             continue;
