@@ -2,7 +2,8 @@
  * test_image.c: the image method (src/images/) on shapes with known answers: the
  * occupancy of a box, a mirror part's chip restored exactly (the patch is the chip and
  * no more, the restored part the intact one), nothing on intact parts, a wrong order
- * that fills nothing, and a bolt hole of an axial part kept.
+ * that fills nothing, a bolt hole of an axial part kept, and a glide rack whose
+ * pattern's ends are kept while a chip at its first tooth is restored.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -193,6 +194,73 @@ static void axial_bolt_hole_is_kept(void **state)
     sr_mesh_release(&part);
 }
 
+/* A double-sided rack along z: core |x| <= 5, y 0..10, z -8..62; five teeth 4 long
+ * and 4 high per side, +x at z = 12 k, -x at z = 6 + 12 k. Glide symmetric,
+ * (x, y, z) -> (-x, y, z + 6), away from its ends: beyond the last tooth of each side
+ * the core runs on plain. Built as a comb in the (x, z) plane extruded along y. */
+static void rack(sr_mesh *m)
+{
+    double xy[2 * 44];
+    size_t n = 0;
+#define PT(a, b) (xy[2 * n] = (a), xy[2 * n + 1] = (b), n++)
+    PT(-5, -8);
+    PT(5, -8);
+    for (int k = 0; k < 5; k++) {
+        double z = 12.0 * k;
+        PT(5, z - 2);
+        PT(9, z - 2);
+        PT(9, z + 2);
+        PT(5, z + 2);
+    }
+    PT(5, 62);
+    PT(-5, 62);
+    for (int k = 4; k >= 0; k--) {
+        double z = 6 + 12.0 * k;
+        PT(-5, z + 2);
+        PT(-9, z + 2);
+        PT(-9, z - 2);
+        PT(-5, z - 2);
+    }
+#undef PT
+    sr_mesh prism;
+    assert_int_equal(sr_shape_prism(xy, n, 0, 10, &prism, NULL), SR_OK);
+    double swap_yz[12] = {1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0};
+    sr_mesh_transform(&prism, swap_yz);
+    sr_mesh_flip(&prism); /* the swap is a reflection */
+    *m = prism;
+}
+
+/* Intact, the rack has nothing missing: the ends of its pattern, where one image says
+ * material (the plain core beyond the last tooth of a side), are not filled. A chip
+ * through its first tooth and into the core, within one shift of the end, comes back
+ * to its volume: the core's voxels have both images, the tooth's only the one from the
+ * middle's side, which continues them. */
+static void glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth(void **state)
+{
+    (void)state;
+    sr_mesh intact, chip, scan;
+    rack(&intact);
+    assert_true(fabs(sr_mesh_volume(&intact) - (10 * 70 * 10 + 10 * 4 * 4 * 10)) < 1e-6);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_GLIDE, 0, 6.0};
+    reconstruct_aligned(&intact, sym, &r);
+    assert_int_equal(r.section_count, 0);
+    sr_recon_result_release(&r);
+    box(&chip, 3, 5, -3, 12, 11, 3);
+    minus(&intact, &chip, &scan);
+    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
+    reconstruct_aligned(&scan, sym, &r);
+    print_message("chip at the first tooth: %zu section(s), %.1f of %.1f mm^3\n",
+                  r.section_count, r.patch_volume_mm3, want);
+    assert_int_equal(r.section_count, 1);
+    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.005 * want);
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&intact)) <= 1e-4 * r.restored_volume_mm3);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&chip);
+    sr_mesh_release(&scan);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -201,6 +269,7 @@ int main(void)
         cmocka_unit_test(intact_block_has_no_section),
         cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
         cmocka_unit_test(axial_bolt_hole_is_kept),
+        cmocka_unit_test(glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -224,7 +224,8 @@ static sr_status box_make(const sr_voxels *g, const int *label, int s, local_box
 }
 
 /* The section's hull: corners of its column-extreme voxels grown by HULL_GROW. */
-static sr_status hull_make(const sr_voxels *g, const local_box *b, sr_mesh *out, sr_err *err)
+static sr_status hull_make(const sr_voxels *g, const local_box *b, double z_min, double z_max,
+                           sr_mesh *out, sr_err *err)
 {
     size_t cap = 8 * 2 * (b->nx * b->ny + b->ny * b->nz + b->nx * b->nz) + 8, n = 0;
     double *pts = malloc(cap * 3 * sizeof *pts);
@@ -250,7 +251,7 @@ static sr_status hull_make(const sr_voxels *g, const local_box *b, sr_mesh *out,
                 for (int q = 0; q < 8 && n < cap; q++, n++) {
                     pts[3 * n] = c[0] + (q & 1 ? r : -r);
                     pts[3 * n + 1] = c[1] + (q & 2 ? r : -r);
-                    pts[3 * n + 2] = c[2] + (q & 4 ? r : -r);
+                    pts[3 * n + 2] = fmin(fmax(c[2] + (q & 4 ? r : -r), z_min), z_max);
                 }
             }
         }
@@ -636,6 +637,62 @@ static int cmp_section(const void *pa, const void *pb)
     return a->volume_mm3 < b->volume_mm3 ? 1 : a->volume_mm3 > b->volume_mm3 ? -1 : 0;
 }
 
+/* Q of a section: the chosen images of the scan (the first np of pick) clipped to the
+ * section's hull and united, checked closed and free of crossings; empty when that
+ * cannot be had. */
+static sr_status clip_images(const sr_mesh *aligned, const sr_image *im, const size_t *pick,
+                             size_t np, const sr_mesh *hull, sr_mesh *out, sr_image_info *info,
+                             sr_err *err)
+{
+    sr_mesh q = {0};
+    for (size_t u = 0; u < np; u++) {
+        sr_mesh img = {0}, piece = {0};
+        sr_status st = sr_mesh_copy(&img, aligned);
+        if (st != SR_OK) {
+            sr_mesh_release(&q);
+            return sr_err_set(err, st, "out of memory copying the scan");
+        }
+        sr_mesh_transform(&img, im[pick[u]].xf);
+        if (det3(im[pick[u]].xf) < 0)
+            sr_mesh_flip(&img); /* a reflection turns the faces inside out */
+        sr_err berr = {{0}};
+        sr_status bs = boolean_mending(SR_BOOLEAN_INTERSECTION, &img, "scan image", hull,
+                                       "section hull", &piece, &info->mended_tris, &berr);
+        sr_mesh_release(&img);
+        if (bs != SR_OK || piece.tri_count == 0) {
+            sr_mesh_release(&piece);
+            continue;
+        }
+        if (q.tri_count == 0) {
+            q = piece;
+        } else {
+            sr_mesh both = {0};
+            if (sr_boolean_compute(SR_BOOLEAN_UNION, &q, "image piece", &piece, "image piece",
+                                   &both, &berr) == SR_OK) {
+                sr_mesh_release(&q);
+                q = both;
+            }
+            sr_mesh_release(&piece);
+        }
+    }
+    if (q.tri_count > 0) {
+        /* the booleans' slivers rounded to zero area: no later boolean takes them */
+        sr_repair_report rep = {0};
+        int crosses = 0;
+        int ok = sr_mesh_repair(&q, &rep, NULL) == SR_OK && sr_mesh_is_closed(&q) &&
+                 sr_mesh_self_intersects(&q, &crosses, NULL) == SR_OK;
+        if (ok && crosses) { /* near-coincident intersection points rounded across */
+            sr_mend_report mr = {0};
+            ok = sr_mesh_mend_crossings(&q, NULL, &mr, NULL) == SR_OK && sr_mesh_is_closed(&q) &&
+                 sr_mesh_self_intersects(&q, &crosses, NULL) == SR_OK && !crosses;
+        }
+        if (!ok)
+            sr_mesh_release(&q);
+    }
+    *out = q;
+    return SR_OK;
+}
+
 sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid,
                                const sr_image_opts *opts, sr_section **sections,
                                size_t *count, sr_image_info *info, sr_err *err)
@@ -704,59 +761,17 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
         size_t pick[MAX_IMAGES];
         size_t np = choose_images(&g, &b, im, n_im, &opts->symmetry, z_lo, z_hi, pick);
         sr_err herr = {{0}};
-        if (np == 0 || hull_make(&g, &b, &hull, &herr) != SR_OK) {
+        int glide = opts->symmetry.kind == SR_SYM_GLIDE; /* its hull ends with the part */
+        if (np == 0 || hull_make(&g, &b, glide ? lo[2] : -HUGE_VAL, glide ? hi[2] : HUGE_VAL,
+                                 &hull, &herr) != SR_OK) {
             free(b.sec);
             continue; /* no image carries it, or too thin for a hull: not restorable */
         }
-        for (size_t u = 0; st == SR_OK && u < np; u++) {
-            sr_mesh img = {0}, piece = {0};
-            st = sr_mesh_copy(&img, aligned);
-            if (st != SR_OK) {
-                st = sr_err_set(err, st, "out of memory copying the scan");
-                break;
-            }
-            sr_mesh_transform(&img, im[pick[u]].xf);
-            if (det3(im[pick[u]].xf) < 0)
-                sr_mesh_flip(&img); /* a reflection turns the faces inside out */
-            sr_err berr = {{0}};
-            sr_status bs = boolean_mending(SR_BOOLEAN_INTERSECTION, &img, "scan image", &hull,
-                                           "section hull", &piece,
-                                           &info->mended_tris, &berr);
-            sr_mesh_release(&img);
-            if (bs != SR_OK || piece.tri_count == 0) {
-                sr_mesh_release(&piece);
-                continue;
-            }
-            if (q.tri_count == 0) {
-                q = piece;
-            } else {
-                sr_mesh both = {0};
-                if (sr_boolean_compute(SR_BOOLEAN_UNION, &q, "image piece", &piece,
-                                       "image piece", &both, &berr) == SR_OK) {
-                    sr_mesh_release(&q);
-                    q = both;
-                }
-                sr_mesh_release(&piece);
-            }
-        }
+        st = clip_images(aligned, im, pick, np, &hull, &q, info, err);
+        if (st == SR_OK && q.tri_count == 0 && np > 1) /* two images that do not unite clean */
+            st = clip_images(aligned, im, pick, 1, &hull, &q, info, err);
         sr_mesh_release(&hull);
         if (st != SR_OK || q.tri_count == 0) {
-            sr_mesh_release(&q);
-            free(b.sec);
-            continue;
-        }
-        /* the booleans' slivers rounded to zero area: no later boolean takes them */
-        sr_repair_report rep = {0};
-        int crosses = 0;
-        int ok = sr_mesh_repair(&q, &rep, NULL) == SR_OK && sr_mesh_is_closed(&q) &&
-                 sr_mesh_self_intersects(&q, &crosses, NULL) == SR_OK;
-        if (ok && crosses) { /* near-coincident intersection points rounded across */
-            sr_mend_report mr = {0};
-            ok = sr_mesh_mend_crossings(&q, NULL, &mr, NULL) == SR_OK &&
-                 sr_mesh_is_closed(&q) && sr_mesh_self_intersects(&q, &crosses, NULL) == SR_OK &&
-                 !crosses;
-        }
-        if (!ok) {
             sr_mesh_release(&q);
             free(b.sec);
             continue;

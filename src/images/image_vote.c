@@ -79,23 +79,33 @@ int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[
     return v >= 0 ? (scan->v[v] & 1) : 0;
 }
 
-/* The vote at one voxel the scan lacks: 1 when the images say material. */
+/* The vote at one voxel the scan lacks: 2 when the images say material (strong), 1
+ * for a glide voxel that one image says material and the other does not confirm
+ * (weak), 0 otherwise. */
 static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_symmetry *sym,
                 const double c[3], double z_lo, double z_hi)
 {
     int glide = sym->kind == SR_SYM_GLIDE;
     if (sym->kind == SR_SYM_MIRROR)
-        return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1;
+        return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1 ? 2 : 0;
     if (glide) {
-        /* both images, inside the part's length: within a shift of its ends the
-         * pattern of a rail or rack ends on one side only, which one image alone
-         * would read as a broken feature (tried: one image where the other falls
-         * beyond the ends, or says air, filled the pattern's ends on every rail and
-         * rack of a generated set) */
-        for (size_t k = 0; k < n; k++)
-            if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 1) != 1)
-                return 0;
-        return 1;
+        /* both images, inside the part's length, are strong evidence. Within a
+         * feature of the ends a rail's or rack's pattern ends on one side first, so
+         * the image from beyond (the end's side) may say air or fall beyond the
+         * ends: the image from the middle's side alone is weak evidence, taken only
+         * where it continues a strong core (see sr_vote_missing). Tried: one image
+         * alone (filled the patterns' ends on every rail and rack of a generated
+         * set), the majority over the whole orbit (filled the plain ends beyond a
+         * rack's teeth), both images only (missed every chip within a feature of
+         * the ends), either image as weak evidence (filled a design notch at the
+         * end beside a chip), weak only beyond the ends (missed a broken first
+         * tooth). */
+        if (c[2] < z_lo || c[2] > z_hi)
+            return 0; /* beyond the ends the images say nothing */
+        int a = sr_image_material(scan, &im[0], c, z_lo, z_hi, 1);
+        int b = sr_image_material(scan, &im[1], c, z_lo, z_hi, 1);
+        int inward = 2.0 * c[2] < z_lo + z_hi ? b : a; /* the image from the middle's side */
+        return a == 1 && b == 1 ? 2 : inward == 1 ? 1 : 0;
     }
     size_t allowed = sym->order >= 2 ? n / CYCLIC_SLACK
                                      : (size_t)floor((1.0 - AXIAL_SHARE) * (double)n);
@@ -103,7 +113,7 @@ static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_sy
     for (size_t k = 0; k < n; k++)
         if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 0) != 1 && ++fails > allowed)
             return 0;
-    return 1;
+    return 2;
 }
 
 void sr_vote_result_release(sr_vote_result *r)
@@ -152,8 +162,8 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
                 double c[3] = {scan->origin[0] + (double)i * scan->h,
                                scan->origin[1] + (double)j * scan->h,
                                scan->origin[2] + (double)k * scan->h};
-                if (vote(scan, im, n, sym, c, z_lo, z_hi))
-                    m[v] = 1;
+                int e = vote(scan, im, n, sym, c, z_lo, z_hi);
+                m[v] = e == 2 ? 1 : e == 1 ? 4 : 0;
             }
     /* how well the scan fits the symmetry: per image, the share of the scan's voxels
      * whose preimage is empty (where it is valid); the median over the images */
@@ -188,15 +198,22 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     free(miss);
     free(seen);
     free(share);
-    /* erosion: a missing voxel whose six neighbours are all missing */
+    /* erosion: a missing voxel whose six neighbours are all missing (bit 1: of the
+     * strong and weak voxels together; bit 3: of the strong alone) */
     size_t sx = 1, sy = nx, sz = nx * ny;
     for (size_t k = 1; k + 1 < nz; k++)
         for (size_t j = 1; j + 1 < ny; j++)
             for (size_t i = 1; i + 1 < nx; i++) {
                 size_t v = sr_voxel_index(scan, i, j, k);
-                if ((m[v] & 1) && (m[v - sx] & 1) && (m[v + sx] & 1) && (m[v - sy] & 1) &&
-                    (m[v + sy] & 1) && (m[v - sz] & 1) && (m[v + sz] & 1))
+                uint8_t all = m[v] & m[v - sx] & m[v + sx] & m[v - sy] & m[v + sy] &
+                              m[v - sz] & m[v + sz];
+                uint8_t any = (m[v] & 5) && (m[v - sx] & 5) && (m[v + sx] & 5) &&
+                              (m[v - sy] & 5) && (m[v + sy] & 5) && (m[v - sz] & 5) &&
+                              (m[v + sz] & 5);
+                if (any)
                     m[v] |= 2;
+                if (all & 1)
+                    m[v] |= 8;
             }
     /* the eroded cores, 26-connected */
     size_t cap = 1024, ncomp = 0;
@@ -246,6 +263,23 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         }
     }
     free(stack);
+    /* a core with no strong voxel is only an end of a pattern: dropped */
+    if (ncomp) {
+        uint8_t *strong = calloc(ncomp + 1, 1);
+        if (!strong) {
+            free(im);
+            free(m);
+            free(label);
+            return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+        }
+        for (size_t v = 0; v < total; v++)
+            if (label[v] > 0 && (m[v] & 8))
+                strong[label[v]] = 1;
+        for (size_t v = 0; v < total; v++)
+            if (label[v] > 0 && !strong[label[v]])
+                label[v] = 0;
+        free(strong);
+    }
     /* grown back inside the missing set, GROW_BACK steps (26-connected): one undoes
      * the erosion, the rest take back the thin edges of a chip the erosion cut off */
     for (int step = 0; step < GROW_BACK; step++) {
@@ -253,7 +287,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
             for (size_t j = 0; j < ny; j++)
                 for (size_t i = 0; i < nx; i++) {
                     size_t v = sr_voxel_index(scan, i, j, k);
-                    if (!(m[v] & 1) || label[v])
+                    if (!(m[v] & 5) || label[v])
                         continue;
                     int l = 0;
                     for (int dk = -1; dk <= 1 && !l; dk++)
