@@ -102,6 +102,10 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
                r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s,
                r->image.patch_s);
     printf("\n");
+    if (r->unfold_vertices)
+        printf("  scan folds: %zu crossing triangle pairs, %zu vertices moved (at most %.3f mm),"
+               " %zu pairs left to mend\n",
+               r->unfold_pairs, r->unfold_vertices, r->unfold_max_mm, r->unfold_left);
     if (r->repair_note[0])
         printf("  note:       %s\n", r->repair_note);
     printf("  parameters: set '%s', %d layers x %d sectors, gamma %g/%g, min depth %g mm\n",
@@ -311,6 +315,19 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
     if (r->repair_note[0]) {
         json_key(&j, "repair_note");
         json_string(&j, r->repair_note);
+    }
+    if (r->method == SR_METHOD_IMAGE) {
+        json_key(&j, "scan_folds");
+        json_object_begin(&j);
+        json_key(&j, "crossing_pairs");
+        json_int(&j, (int64_t)r->unfold_pairs);
+        json_key(&j, "vertices_moved");
+        json_int(&j, (int64_t)r->unfold_vertices);
+        json_key(&j, "max_move_mm");
+        json_number(&j, r->unfold_max_mm);
+        json_key(&j, "pairs_left");
+        json_int(&j, (int64_t)r->unfold_left);
+        json_object_end(&j);
     }
     json_key(&j, "timings");
     json_object_begin(&j);

@@ -329,6 +329,9 @@ static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *
 
 /* Image method: the scan's share missing from its images that no damage explains
  * (noise, facets, the grid's rounding) below which the fit is good */
+/* the farthest a vertex of a noisy scan moves to undo a fold (a fold of noise on a
+ * sliver needs about twice the noise) */
+#define UNFOLD_MAX_MM 0.1
 #define POOR_FIT_FLOOR 0.05
 
 static int cmp_section_volume(const void *pa, const void *pb)
@@ -659,12 +662,15 @@ static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
     return SR_OK;
 }
 
-sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
-                         sr_err *err)
+sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts,
+                         sr_recon_result *out, sr_err *err)
 {
-    sr_status st = sr_mesh_validate(scan, "scan", NULL, err);
+    sr_status st = sr_mesh_validate(scan_in, "scan", NULL, err);
     if (st != SR_OK)
         return st;
+    const sr_mesh *scan = scan_in;
+    sr_mesh unfolded = {0};
+    sr_unfold_report unfold = {0};
     /* the symmetry as given, with an order to find read as continuous until found */
     sr_symmetry given = opts->symmetry;
     int find_order = given.order == SR_ORDER_AUTO;
@@ -679,6 +685,22 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
     memset(&r, 0, sizeof r);
     sr_mesh aligned = {0};
     double t0 = now_s();
+    if (opts->method == SR_METHOD_IMAGE) {
+        /* a noisy scan's folds undone first, where the union would cut them out */
+        st = sr_mesh_copy(&unfolded, scan_in);
+        if (st != SR_OK)
+            return sr_err_set(err, st, "out of memory copying the scan");
+        if (sr_mesh_unfold(&unfolded, UNFOLD_MAX_MM, &unfold, NULL) == SR_OK &&
+            unfold.moved_vertices) {
+            scan = &unfolded;
+            r.unfold_pairs = unfold.crossing_pairs;
+            r.unfold_left = unfold.remaining_pairs;
+            r.unfold_vertices = unfold.moved_vertices;
+            r.unfold_max_mm = unfold.max_move_mm;
+        } else {
+            sr_mesh_release(&unfolded);
+        }
+    }
 
     st = align_and_slice(scan, &given, opts, &r, &aligned, err);
     if (st != SR_OK)
@@ -837,10 +859,12 @@ sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_reco
         r.image.poor_fit =
             r.image.misfit > POOR_FIT_FLOOR + 2.0 * r.patch_volume_mm3 / r.scan_volume_mm3;
     r.timings.total_s = now_s() - t0;
+    sr_mesh_release(&unfolded);
     *out = r;
     return SR_OK;
 fail:
     aligned_release(&aligned);
+    sr_mesh_release(&unfolded);
     sr_recon_result_release(&r);
     return st;
 }

@@ -73,6 +73,10 @@ typedef struct sr_recon_result {
     int order_auto;             /* 1: it was found (order_found holds the figures) */
     sr_order_detection order_found;
     sr_image_info image;        /* image method: pitch, voxels, phase times */
+    size_t unfold_pairs;        /* image: crossing triangle pairs of the scan found ... */
+    size_t unfold_left;         /* ... of which still crossing after the unfolding */
+    size_t unfold_vertices;     /* scan vertices moved to unfold them */
+    double unfold_max_mm;       /* the farthest one moved */
     sr_recon_timings timings;
 } sr_recon_result;
 

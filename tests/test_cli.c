@@ -2149,6 +2149,9 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     assert_true(id >= 1);
     assert_string_equal(jstr(jget(&rec, "params"), "name"), "coarse");
     assert_int_equal((int)jnum(&rec, "layers"), 80);
+    /* the demo scan is clean: nothing crossed, nothing moved */
+    assert_int_equal((int)jnum(jget(&rec, "scan_folds"), "crossing_pairs"), 0);
+    assert_int_equal((int)jnum(jget(&rec, "scan_folds"), "vertices_moved"), 0);
     const jv *secs = jget(&rec, "sections");
     assert_true(secs->count >= 1);
     char ids[32];

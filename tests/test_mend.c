@@ -6,7 +6,9 @@
  * neighbour's. Known answers: no crossing is left, the mesh stays closed (or keeps its
  * border), the enclosed volume moves by no more than the fold's own size, vertices keep
  * their indices; the mending union has the volume of the unfolded union; what cannot be
- * mended is refused with a message and the mesh untouched.
+ * mended is refused with a message and the mesh untouched. Unfolding
+ * (sr_mesh_unfold): a fold of noise's size comes out by moving vertices, within the
+ * cap, topology and volume kept; one too large for the cap is left, and said.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -361,6 +363,80 @@ static void folded_scan_unites_with_a_patch_over_the_fold(void **state)
     sr_mesh_release(&clean);
 }
 
+/* ---- sr_mesh_unfold ------------------------------------------------------------------ */
+
+/* Folds at deg, z by `times` the way to the neighbour 3.75 deg on (1.31 mm away). */
+static void fold_by(sr_mesh *m, double deg, double z, double times)
+{
+    double a = deg * M_PI / 180.0, b = (deg + 3.75) * M_PI / 180.0;
+    size_t v = nearest_vertex(m, 20 * cos(a), 20 * sin(a), z);
+    size_t w = nearest_vertex(m, 20 * cos(b), 20 * sin(b), z);
+    double *p = m->xyz + 3 * v;
+    const double *q = m->xyz + 3 * w;
+    for (int k = 0; k < 3; k++)
+        p[k] += times * (q[k] - p[k]);
+}
+
+/* A vertex pushed 4 % past its neighbour (0.05 mm, noise's size): unfolded, nothing
+ * crosses, no vertex farther than the cap from where it was, the triangles as they
+ * were, the volume within what the moved vertices can sweep. */
+static void fold_of_noise_size_is_unfolded_within_the_cap(void **state)
+{
+    (void)state;
+    sr_mesh m, before;
+    make_ringed_cylinder(&m);
+    fold_by(&m, 30, 20, 1.04);
+    assert_true(crosses(&m));
+    assert_int_equal(sr_mesh_copy(&before, &m), SR_OK);
+    sr_unfold_report rep;
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_unfold(&m, 0.1, &rep, &err), SR_OK);
+    assert_true(rep.crossing_pairs > 0);
+    assert_int_equal(rep.remaining_pairs, 0);
+    assert_false(crosses(&m));
+    assert_true(rep.moved_vertices >= 1);
+    assert_true(rep.max_move_mm > 0 && rep.max_move_mm <= 0.1 + 1e-9);
+    assert_int_equal(m.tri_count, before.tri_count);
+    assert_memory_equal(m.tri, before.tri, 3 * m.tri_count * sizeof *m.tri);
+    for (size_t v = 0; v < m.vertex_count; v++) {
+        const double *p = m.xyz + 3 * v, *q = before.xyz + 3 * v;
+        double d = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                        (p[2] - q[2]) * (p[2] - q[2]));
+        assert_true(d <= 0.1 + 1e-9);
+    }
+    /* each moved vertex sweeps at most the cap over its share of the surface (one
+     * 1 x 1.31 mm cell) */
+    print_message("%zu crossing pairs, %zu vertices moved, at most %.3f mm; volume %+.3f mm^3\n",
+                  rep.crossing_pairs, rep.moved_vertices, rep.max_move_mm,
+                  sr_mesh_volume(&m) - sr_mesh_volume(&before));
+    assert_near(sr_mesh_volume(&m), sr_mesh_volume(&before),
+                (double)rep.moved_vertices * 0.1 * 1.31);
+    sr_mesh_release(&m);
+    sr_mesh_release(&before);
+}
+
+/* A fold of 1.8 mm is beyond a 0.1 mm cap: what still crosses is said (for the mender),
+ * and no vertex went farther than the cap. Without crossings nothing moves. */
+static void fold_beyond_the_cap_is_left_and_said(void **state)
+{
+    (void)state;
+    sr_mesh m, before;
+    make_ringed_cylinder(&m);
+    sr_unfold_report rep;
+    assert_int_equal(sr_mesh_unfold(&m, 0.1, &rep, NULL), SR_OK);
+    assert_int_equal(rep.crossing_pairs, 0);
+    assert_int_equal(rep.moved_vertices, 0);
+    fold_at(&m, -40, 20);
+    assert_int_equal(sr_mesh_copy(&before, &m), SR_OK);
+    assert_int_equal(sr_mesh_unfold(&m, 0.1, &rep, NULL), SR_OK);
+    assert_true(rep.crossing_pairs > 0);
+    assert_true(rep.remaining_pairs > 0);
+    assert_true(crosses(&m));
+    assert_true(rep.max_move_mm <= 0.1 + 1e-9);
+    sr_mesh_release(&m);
+    sr_mesh_release(&before);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -372,6 +448,8 @@ int main(void)
         cmocka_unit_test(fold_at_the_border_is_refused_and_mesh_untouched),
         cmocka_unit_test(non_manifold_input_is_refused),
         cmocka_unit_test(folded_scan_unites_with_a_patch_over_the_fold),
+        cmocka_unit_test(fold_of_noise_size_is_unfolded_within_the_cap),
+        cmocka_unit_test(fold_beyond_the_cap_is_left_and_said),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -49,4 +49,24 @@ typedef struct sr_mend_report {
 sr_status sr_mesh_mend_crossings(sr_mesh *mesh, const double *box, sr_mend_report *report,
                                  sr_err *err);
 
+/* What sr_mesh_unfold did. */
+typedef struct sr_unfold_report {
+    size_t crossing_pairs;  /* crossing triangle pairs found first */
+    size_t remaining_pairs; /* ... left where the last round looked (0: all unfolded) */
+    size_t moved_vertices;  /* vertices moved */
+    double max_move_mm;     /* the farthest any moved from where it was */
+} sr_unfold_report;
+
+/* Unfolds a noisy scan where it crosses itself: the vertices of the crossing triangles
+ * (off the border) move halfway towards the centre of their ring of neighbours, never
+ * more than max_move_mm from where they were, and the crossings are looked for again
+ * around them, up to six rounds. A fold of noise on a sliver comes out this way with
+ * the surface moved by about the noise, where cutting it out and filling the hole
+ * (sr_mesh_mend_crossings) takes out material under a whole fan. Only vertex positions
+ * change (indices, triangles and topology stay); what still crosses is left for the
+ * mender. SR_E_INVALID when mesh is not an oriented manifold (mesh unchanged);
+ * SR_E_NOMEM. report may be NULL. */
+sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *report,
+                         sr_err *err);
+
 #endif

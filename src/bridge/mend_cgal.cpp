@@ -75,6 +75,7 @@ typedef CGAL::Constrained_Delaunay_triangulation_2<K, Cdt_tds, CGAL::No_constrai
 const int max_rings = 4;  /* attempts take 0..max_rings rings around the crossings */
 const int max_passes = 3; /* cut-and-fill passes per attempt */
 const int max_grow = 8;   /* growth steps of a region whose rim crosses itself */
+const int unfold_rounds = 6; /* relaxation rounds of sr_mesh_unfold */
 
 bool build(const sr_mesh *m, Mesh &sm)
 {
@@ -732,6 +733,106 @@ sr_status mend(sr_mesh *mesh, const double *box, sr_mend_report *rep, sr_err *er
     return SR_OK;
 }
 
+/* sr_mesh_unfold proper: see mend.h. */
+sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err)
+{
+    Mesh sm;
+    if (!build(m, sm))
+        return sr_err_set(err, SR_E_INVALID, "cannot unfold: not an oriented manifold");
+    std::vector<Point> start(m->vertex_count);
+    for (Vertex_index v : sm.vertices())
+        start[v.idx()] = sm.point(v);
+    std::vector<Face_index> range(sm.faces().begin(), sm.faces().end());
+    std::vector<uint8_t> moved(m->vertex_count, 0);
+    for (int round = 0; round < unfold_rounds; round++) {
+        std::vector<std::pair<Face_index, Face_index>> pairs;
+        PMP::self_intersections(range, sm, std::back_inserter(pairs));
+        if (round == 0)
+            rep->crossing_pairs = pairs.size();
+        rep->remaining_pairs = pairs.size();
+        if (pairs.empty())
+            break;
+        /* the crossing triangles' vertices off the border, each to halfway towards
+         * the centre of its ring (Jacobi: all from the old positions) */
+        std::vector<Vertex_index> verts;
+        for (const auto &pr : pairs)
+            for (Face_index f : {pr.first, pr.second})
+                for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+                    verts.push_back(v);
+        std::sort(verts.begin(), verts.end());
+        verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+        std::vector<Point> next;
+        next.reserve(verts.size());
+        for (Vertex_index v : verts) {
+            const Point &p = sm.point(v);
+            if (sm.is_border(v)) {
+                next.push_back(p);
+                continue;
+            }
+            double c[3] = {0, 0, 0};
+            int n = 0;
+            for (Vertex_index w : sm.vertices_around_target(sm.halfedge(v))) {
+                const Point &q = sm.point(w);
+                c[0] += q.x();
+                c[1] += q.y();
+                c[2] += q.z();
+                n++;
+            }
+            double t[3] = {0.5 * (p.x() + c[0] / n), 0.5 * (p.y() + c[1] / n),
+                           0.5 * (p.z() + c[2] / n)};
+            /* never farther than max_move from where the scan put it */
+            const Point &o = start[v.idx()];
+            double d[3] = {t[0] - o.x(), t[1] - o.y(), t[2] - o.z()};
+            double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (len > max_move) {
+                double k = max_move / len;
+                t[0] = o.x() + k * d[0];
+                t[1] = o.y() + k * d[1];
+                t[2] = o.z() + k * d[2];
+            }
+            next.push_back(Point(t[0], t[1], t[2]));
+        }
+        for (size_t i = 0; i < verts.size(); i++) {
+            sm.point(verts[i]) = next[i];
+            moved[verts[i].idx()] = 1;
+        }
+        /* the next round looks where this one moved: the triangles around the moved
+         * vertices and two rings more */
+        std::vector<uint8_t> take(sm.number_of_faces(), 0);
+        std::vector<Vertex_index> ring(verts), more;
+        for (int r = 0; r < 3; r++) {
+            more.clear();
+            for (Vertex_index v : ring)
+                for (Face_index f : sm.faces_around_target(sm.halfedge(v))) {
+                    if (f == Mesh::null_face() || take[f.idx()])
+                        continue;
+                    take[f.idx()] = 1;
+                    for (Vertex_index w : sm.vertices_around_face(sm.halfedge(f)))
+                        more.push_back(w);
+                }
+            ring.swap(more);
+        }
+        range.clear();
+        for (Face_index f : sm.faces())
+            if (take[f.idx()])
+                range.push_back(f);
+    }
+    double worst = 0;
+    for (Vertex_index v : sm.vertices()) {
+        if (!moved[v.idx()])
+            continue;
+        rep->moved_vertices++;
+        const Point &p = sm.point(v), &o = start[v.idx()];
+        worst = std::max(worst, std::sqrt(CGAL::squared_distance(p, o)));
+        double *x = m->xyz + 3 * v.idx();
+        x[0] = p.x();
+        x[1] = p.y();
+        x[2] = p.z();
+    }
+    rep->max_move_mm = worst;
+    return SR_OK;
+}
+
 } // namespace
 
 extern "C" {
@@ -751,6 +852,24 @@ sr_status sr_mesh_mend_crossings(sr_mesh *mesh, const double *box, sr_mend_repor
         return sr_err_set(err, SR_E_INTERNAL, "mending a mesh: %s", e.what());
     } catch (...) {
         return sr_err_set(err, SR_E_INTERNAL, "mending a mesh: unknown exception");
+    }
+}
+
+sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *report,
+                         sr_err *err)
+{
+    sr_unfold_report local;
+    if (!report)
+        report = &local;
+    memset(report, 0, sizeof *report);
+    try {
+        return unfold(mesh, max_move_mm, report, err);
+    } catch (const std::bad_alloc &) {
+        return sr_err_set(err, SR_E_NOMEM, "out of memory unfolding a mesh");
+    } catch (const std::exception &e) {
+        return sr_err_set(err, SR_E_INTERNAL, "unfolding a mesh: %s", e.what());
+    } catch (...) {
+        return sr_err_set(err, SR_E_INTERNAL, "unfolding a mesh: unknown exception");
     }
 }
 
