@@ -22,11 +22,11 @@ CC  ?= cc
 CXX ?= g++
 PKG_LIBS := sqlite3 openmesh tinygltf polyclipping
 
-CFLAGS_COMMON   := -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
+CFLAGS_COMMON   := -std=c11 -fopenmp -D_DEFAULT_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
                    -Wno-unused-parameter -Isrc -Icli -Itests -I$(BUILD)/gen -MMD -MP
 CXXFLAGS_COMMON := -std=c++17 -Wall -Wextra -Wno-unused-parameter -Isrc -MMD -MP \
                    -DOM_STATIC_BUILD=0 -Wno-deprecated-copy -Wno-class-memaccess
-LDLIBS := -lOpenMeshCore -lOpenMeshTools -ltinygltf -lpolyclipping -lsqlite3 -lgmp -lmpfr -lm -lstdc++
+LDLIBS := -fopenmp -lOpenMeshCore -lOpenMeshTools -ltinygltf -lpolyclipping -lsqlite3 -lgmp -lmpfr -lm -lstdc++
 
 ifeq ($(config),release)
   OPT := -O2 -DNDEBUG

@@ -49,6 +49,8 @@ typedef struct sr_recon_opts {
     int have_alignment;         /* 1: use `alignment` instead of searching (override) */
     sr_alignment alignment;
     int skip_union;             /* 1: restored = scan + patches as separate shells */
+    int threads;                /* image: threads of the vote; 0 = all cores. The result
+                                 * is the same for any number */
 } sr_recon_opts;
 
 typedef struct sr_recon_timings {

@@ -168,6 +168,22 @@ static size_t lidx(const local_box *b, size_t i, size_t j, size_t k)
     return (k * b->ny + j) * b->nx + i;
 }
 
+/* out[i] = 1 where in has a 1 within BAND steps of i along a line of len voxels,
+ * stride apart (a running count over the window). */
+static void dilate_line(const uint8_t *in, uint8_t *out, size_t len, size_t stride)
+{
+    long n = (long)len, ones = 0;
+    for (long i = 0; i < BAND && i < n; i++)
+        ones += in[(size_t)i * stride];
+    for (long i = 0; i < n; i++) {
+        if (i + BAND < n)
+            ones += in[(size_t)(i + BAND) * stride];
+        if (i - BAND - 1 >= 0)
+            ones -= in[(size_t)(i - BAND - 1) * stride];
+        out[(size_t)i * stride] = ones > 0;
+    }
+}
+
 static sr_status box_make(const sr_voxels *g, const int *label, int s, local_box *b)
 {
     size_t lo[3] = {SIZE_MAX, SIZE_MAX, SIZE_MAX}, hi[3] = {0, 0, 0};
@@ -202,24 +218,33 @@ static sr_status box_make(const sr_voxels *g, const int *label, int s, local_box
             for (size_t i = 0; i < b->nx; i++)
                 if (label[sr_voxel_index(g, b->i0 + i, b->j0 + j, b->k0 + k)] == s)
                     b->sec[lidx(b, i, j, k)] = 1;
-    /* the band: within BAND voxels (a cube) of the section */
+    /* the band: within BAND voxels (a cube) of the section, a dilation axis by axis */
+    size_t nb = b->nx * b->ny * b->nz;
+    uint8_t *m = malloc(nb), *t = malloc(nb);
+    if (!m || !t) {
+        free(m);
+        free(t);
+        free(b->sec);
+        b->sec = NULL;
+        return SR_E_NOMEM;
+    }
+    for (size_t v = 0; v < nb; v++)
+        m[v] = b->sec[v] == 1;
+    size_t sx = 1, sy = b->nx, sz = b->nx * b->ny;
     for (size_t k = 0; k < b->nz; k++)
         for (size_t j = 0; j < b->ny; j++)
-            for (size_t i = 0; i < b->nx; i++) {
-                if (b->sec[lidx(b, i, j, k)] != 1)
-                    continue;
-                for (long dk = -BAND; dk <= BAND; dk++)
-                    for (long dj = -BAND; dj <= BAND; dj++)
-                        for (long di = -BAND; di <= BAND; di++) {
-                            long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
-                            if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)b->nx ||
-                                jj >= (long)b->ny || kk >= (long)b->nz)
-                                continue;
-                            uint8_t *q = &b->sec[lidx(b, (size_t)ii, (size_t)jj, (size_t)kk)];
-                            if (*q == 0)
-                                *q = 2;
-                        }
-            }
+            dilate_line(m + k * sz + j * sy, t + k * sz + j * sy, b->nx, sx);
+    for (size_t k = 0; k < b->nz; k++)
+        for (size_t i = 0; i < b->nx; i++)
+            dilate_line(t + k * sz + i, m + k * sz + i, b->ny, sy);
+    for (size_t j = 0; j < b->ny; j++)
+        for (size_t i = 0; i < b->nx; i++)
+            dilate_line(m + j * sy + i, t + j * sy + i, b->nz, sz);
+    for (size_t v = 0; v < nb; v++)
+        if (b->sec[v] == 0 && t[v])
+            b->sec[v] = 2;
+    free(m);
+    free(t);
     return SR_OK;
 }
 
@@ -227,7 +252,7 @@ static sr_status box_make(const sr_voxels *g, const int *label, int s, local_box
 static sr_status hull_make(const sr_voxels *g, const local_box *b, double z_min, double z_max,
                            sr_mesh *out, sr_err *err)
 {
-    size_t cap = 8 * 2 * (b->nx * b->ny + b->ny * b->nz + b->nx * b->nz) + 8, n = 0;
+    size_t cap = 2 * b->nx * b->ny + 8, n = 0;
     double *pts = malloc(cap * 3 * sizeof *pts);
     if (!pts)
         return sr_err_set(err, SR_E_NOMEM, "out of memory for a section's hull");
@@ -244,19 +269,47 @@ static sr_status hull_make(const sr_voxels *g, const local_box *b, double z_min,
             if (kmin < 0)
                 continue;
             long ks[2] = {kmin, kmax};
-            for (int e = 0; e < (kmin == kmax ? 1 : 2); e++) {
-                double c[3] = {g->origin[0] + (double)(b->i0 + i) * g->h,
-                               g->origin[1] + (double)(b->j0 + j) * g->h,
-                               g->origin[2] + (double)(b->k0 + (size_t)ks[e]) * g->h};
-                for (int q = 0; q < 8 && n < cap; q++, n++) {
-                    pts[3 * n] = c[0] + (q & 1 ? r : -r);
-                    pts[3 * n + 1] = c[1] + (q & 2 ? r : -r);
-                    pts[3 * n + 2] = fmin(fmax(c[2] + (q & 4 ? r : -r), z_min), z_max);
-                }
+            for (int e = 0; e < (kmin == kmax ? 1 : 2) && n < cap; e++, n++) {
+                pts[3 * n] = g->origin[0] + (double)(b->i0 + i) * g->h;
+                pts[3 * n + 1] = g->origin[1] + (double)(b->j0 + j) * g->h;
+                pts[3 * n + 2] = g->origin[2] + (double)(b->k0 + (size_t)ks[e]) * g->h;
             }
         }
-    sr_status st = sr_convex_hull(pts, n, out, err);
+    /* the hull of the centres first, then its corners grown: the hull of a set grown
+     * by a cube is the hull of its hull's vertices grown by it (8 times fewer points
+     * for the large hull) */
+    sr_mesh centres = {0};
+    sr_status st = sr_convex_hull(pts, n, &centres, err);
+    if (st != SR_OK) { /* flat (one layer, one row): every centre grown */
+        centres.xyz = pts;
+        centres.vertex_count = n;
+        pts = NULL;
+    }
+    size_t m = centres.vertex_count;
+    double *grown = malloc((8 * m + 1) * 3 * sizeof *grown);
+    if (!grown) {
+        free(pts);
+        if (st == SR_OK)
+            sr_mesh_release(&centres);
+        else
+            free(centres.xyz);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory for a section's hull");
+    }
+    for (size_t v = 0; v < m; v++)
+        for (int q = 0; q < 8; q++) {
+            const double *c = centres.xyz + 3 * v;
+            double *o = grown + 3 * (8 * v + (size_t)q);
+            o[0] = c[0] + (q & 1 ? r : -r);
+            o[1] = c[1] + (q & 2 ? r : -r);
+            o[2] = fmin(fmax(c[2] + (q & 4 ? r : -r), z_min), z_max);
+        }
+    if (st == SR_OK)
+        sr_mesh_release(&centres);
+    else
+        free(centres.xyz);
     free(pts);
+    st = sr_convex_hull(grown, 8 * m, out, err);
+    free(grown);
     return st;
 }
 
@@ -719,7 +772,8 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
     double z_lo = lo[2] + 0.5 * g.h, z_hi = hi[2] - 0.5 * g.h;
     size_t min_voxels = (size_t)ceil(0.5 * min_vol / (g.h * g.h * g.h));
     sr_vote_result vr = {0};
-    st = sr_vote_missing(&g, &opts->symmetry, z_lo, z_hi, min_voxels, &vr, err);
+    st = sr_vote_missing(&g, &opts->symmetry, z_lo, z_hi, min_voxels, opts->threads, &vr,
+                         err);
     if (st != SR_OK) {
         sr_voxels_release(&g);
         return st;

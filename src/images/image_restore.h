@@ -41,6 +41,7 @@ typedef struct sr_image_opts {
     double pitch_mm;            /* voxel pitch; 0 = from the part's size */
     double min_volume_mm3;      /* smallest section kept; 0 = 1 mm^3 */
     double min_depth_mm;        /* shallowest section kept; 0 = any */
+    int threads;                /* the vote's threads; 0 = all cores (same result) */
 } sr_image_opts;
 
 typedef struct sr_image_info {

@@ -5,6 +5,7 @@
 #include "images/image_vote.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -136,7 +137,8 @@ static int cmp_comp(const void *a, const void *b)
 }
 
 sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo,
-                          double z_hi, size_t min_voxels, sr_vote_result *out, sr_err *err)
+                          double z_hi, size_t min_voxels, int threads, sr_vote_result *out,
+                          sr_err *err)
 {
     sr_image *im = NULL;
     size_t n = 0;
@@ -153,6 +155,10 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         free(label);
         return sr_err_set(err, SR_E_NOMEM, "out of memory for %zu voxels", total);
     }
+    /* each voxel's vote reads the scan alone and writes its own byte: layers spread
+     * over the threads give the same votes for any number of them */
+    int nt = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 4)
     for (size_t k = 0; k < nz; k++)
         for (size_t j = 0; j < ny; j++)
             for (size_t i = 0; i < nx; i++) {

@@ -53,9 +53,11 @@ typedef struct sr_vote_result {
 
 /* Votes, opens and groups (see above). scan's bit 0 is the occupancy; z_lo..z_hi the
  * part's extent along z (glide validity); min_voxels: sections with fewer voxels after
- * the opening are dropped. *out only on success. */
+ * the opening are dropped; threads: the vote's threads (0: OpenMP's default, all
+ * cores), the result the same for any number. *out only on success. */
 sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo,
-                          double z_hi, size_t min_voxels, sr_vote_result *out, sr_err *err);
+                          double z_hi, size_t min_voxels, int threads, sr_vote_result *out,
+                          sr_err *err);
 
 void sr_vote_result_release(sr_vote_result *r);
 
