@@ -116,7 +116,7 @@ static double spread_along(const al_surface *s, const double n[3])
  * (and the hint's) are refined as mirrors on the coarse samples (a plane is only
  * chosen when it scores 0.8 of the best). Returns the number of refined candidates
  * written to out (<= MAX_PLANES). */
-static int plane_candidates(al_ctx *ctx, plane_cand *out)
+static int plane_candidates(al_ctx *ctx, double keep, plane_cand *out)
 {
     al_surface *s = ctx->surf;
     double w[3], v[9];
@@ -169,7 +169,7 @@ static int plane_candidates(al_ctx *ctx, plane_cand *out)
     int count = 0;
     for (int r = 0; r < nn; r++) {
         int i = order[r];
-        if (count > 0 && sc[i] < 0.8 * top && i != hinted)
+        if (count > 0 && sc[i] < keep * top && i != hinted)
             continue;
         plane_cand *pc = &out[count++];
         pc->m = m[i];
@@ -196,7 +196,7 @@ static void finish(al_ctx *ctx, al_model *m, const al_fit *cf, al_fit *fit)
 static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     plane_cand pc[MAX_PLANES];
-    int np = plane_candidates(ctx, pc);
+    int np = plane_candidates(ctx, 0.8, pc);
     double top = 0;
     for (int k = 0; k < np; k++)
         top = pc[k].f.score > top ? pc[k].f.score : top;
@@ -321,7 +321,7 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     al_surface *s = ctx->surf;
     plane_cand pc[MAX_PLANES];
-    int np = plane_candidates(ctx, pc);
+    int np = plane_candidates(ctx, 0.4, pc); /* a glide's plane is a poor mirror */
     double top = 0;
     for (int k = 0; k < np; k++)
         top = pc[k].f.score > top ? pc[k].f.score : top;
