@@ -349,12 +349,14 @@ static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *
              * overfill (a generated bracket's chip beside the plane: +225 %, 760 mm3
              * added on the image's side). The lever: 257 mm3 added across, -0.6 on
              * the image's side. */
-            double ln_, lp_, in_, ip_;
-            if (!side_volumes(&ls[k].patch, &ln_, &lp_) ||
-                !side_volumes(&sec->patch, &in_, &ip_))
+            double layer_neg, layer_pos, image_neg, image_pos;
+            if (!side_volumes(&ls[k].patch, &layer_neg, &layer_pos) ||
+                !side_volumes(&sec->patch, &image_neg, &image_pos))
                 continue;
-            double add_own = ip_ >= in_ ? lp_ - ip_ : ln_ - in_;
-            double add_across = ip_ >= in_ ? ln_ - in_ : lp_ - ip_;
+            int image_pos_side = image_pos >= image_neg;
+            double add_neg = layer_neg - image_neg, add_pos = layer_pos - image_pos;
+            double add_own = image_pos_side ? add_pos : add_neg;
+            double add_across = image_pos_side ? add_neg : add_pos;
             if (!(add_across > 0) || add_own > 0.1 * add_across)
                 continue;
             /* the layer patch alone (it is grown into the scan, so it covers what the
@@ -372,11 +374,11 @@ static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *
     return SR_OK;
 }
 
-/* Image method: the scan's share missing from its images that no damage explains
- * (noise, facets, the grid's rounding) below which the fit is good */
 /* the farthest a vertex of a noisy scan moves to undo a fold (a fold of noise on a
  * sliver needs about twice the noise) */
 #define UNFOLD_MAX_MM 0.1
+/* Image method: the scan's share missing from its images that no damage explains
+ * (noise, facets, the grid's rounding) below which the fit is good */
 #define POOR_FIT_FLOOR 0.05
 
 static int cmp_section_volume(const void *pa, const void *pb)

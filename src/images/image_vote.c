@@ -86,10 +86,9 @@ int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[
 static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_symmetry *sym,
                 const double c[3], double z_lo, double z_hi)
 {
-    int glide = sym->kind == SR_SYM_GLIDE;
     if (sym->kind == SR_SYM_MIRROR)
         return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1 ? 2 : 0;
-    if (glide) {
+    if (sym->kind == SR_SYM_GLIDE) {
         /* both images, inside the part's length, are strong evidence. Within a
          * feature of the ends a rail's or rack's pattern ends on one side first, so
          * the image from beyond (the end's side) may say air or fall beyond the
