@@ -51,7 +51,7 @@ ifneq ($(V),1)
   Q := @
 endif
 
-LIB_C_SRC   := $(wildcard src/*.c src/images/*.c)
+LIB_C_SRC   := $(wildcard src/*.c $(filter-out src/bridge/%,$(wildcard src/*/*.c)))
 CGAL_SRC    := $(wildcard src/bridge/*_cgal.cpp)
 LIB_CXX_SRC := $(filter-out $(CGAL_SRC),$(wildcard src/bridge/*.cpp))
 CLI_SRC     := $(wildcard cli/*.c)
@@ -103,7 +103,7 @@ $(BUILD)/%.o: %.cpp
 $(GEN_SQL): $(SQL_SRC) Makefile
 	@mkdir -p $(dir $@)
 	$(Q){ echo '/* generated from the files of sql/ by the Makefile; do not edit */'; \
-	  echo '#include "sql_embedded.h"'; \
+	  echo '#include "catalog/sql_embedded.h"'; \
 	  echo 'const sr_sql_file sr_sql_files[] = {'; \
 	  for f in $(SQL_SRC); do \
 	    printf '  { "%s",\n' "$$(basename $$f)"; \

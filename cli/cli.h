@@ -17,9 +17,9 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "catalog.h"
-#include "status.h"
-#include "symmetry.h"
+#include "catalog/catalog.h"
+#include "base/status.h"
+#include "base/symmetry.h"
 
 enum {
     CLI_OK = 0,

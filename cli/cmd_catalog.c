@@ -8,7 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "catalog_runs.h"
+#include "catalog/catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
 

@@ -3,15 +3,15 @@
  * a restoration against a reference part: both volumes and their difference, the
  * surface deviation both ways (max, mean, RMS) and the Hausdorff distance. A and B are
  * mesh files or stored meshes (instance:N, part:P, run:N). The figures come from
- * src/compare.h; this file loads the inputs and prints.
+ * src/mesh/compare.h; this file loads the inputs and prints.
  */
 #include <stdio.h>
 #include <string.h>
 
 #include "bridge/mesh_io.h"
-#include "catalog_runs.h"
+#include "catalog/catalog_runs.h"
 #include "cli.h"
-#include "compare.h"
+#include "mesh/compare.h"
 #include "json_out.h"
 
 static const char usage[] =

@@ -1,6 +1,6 @@
 /*
  * cmd_demo.c: `symrec demo`, the README's first command: fills the catalogue with the
- * built-in demo parts (src/shapes.h: each part's intact mesh, material and symmetry,
+ * built-in demo parts (src/mesh/shapes.h: each part's intact mesh, material and symmetry,
  * plus one damaged instance with its serial and what is broken), then prints the part
  * table and every demo part in full. Parts already present are skipped, so running it
  * twice adds nothing. Progress goes to stderr, the catalogue's contents to stdout.
@@ -10,9 +10,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "catalog_runs.h"
+#include "catalog/catalog_runs.h"
 #include "cli.h"
-#include "shapes.h"
+#include "mesh/shapes.h"
 
 static const char usage[] =
     "usage: symrec [--db FILE] demo [--out DIR] [--part NUMBER] [--catalog-only]\n"

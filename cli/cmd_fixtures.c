@@ -18,7 +18,7 @@
 #include "bridge/mesh_io.h"
 #include "cli.h"
 #include "json_out.h"
-#include "shapes.h"
+#include "mesh/shapes.h"
 
 static const char usage[] =
     "usage: symrec fixtures --out DIR\n"

@@ -1,6 +1,6 @@
 /*
  * cmd_history.c: `symrec history`: the repair history of a part, an instance, a
- * material or a date range (src/catalog_history.h): the runs with their damage
+ * material or a date range (src/catalog/catalog_history.h): the runs with their damage
  * classes, missing volumes, advice and outcomes, and summaries (most frequent damage
  * per part, average missing volume, repair vs replace, runs per month). Output as a
  * table, CSV (RFC 4180: a header row, fields with commas, quotes or line breaks quoted,
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog_history.h"
+#include "catalog/catalog_history.h"
 #include "cli.h"
 #include "json_out.h"
 

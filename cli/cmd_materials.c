@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog_rules.h"
+#include "catalog/catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
 

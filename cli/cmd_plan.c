@@ -2,20 +2,20 @@
  * cmd_plan.c: `symrec plan`: the build plan of one missing section of a stored
  * reconstruction run, written as plan.json, layer_NNN.svg per layer and plan.gcode.
  *
- * The plan itself is src/plan.h (regions, allowance, paths, figures) and its files
- * src/plan_export.h; this file reads the run with its layer polylines from the
+ * The plan itself is src/plan/plan.h (regions, allowance, paths, figures) and its files
+ * src/plan/plan_export.h; this file reads the run with its layer polylines from the
  * catalogue, passes the options on and prints the summary.
  */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "catalog_runs.h"
-#include "catalog_rules.h"
+#include "catalog/catalog_runs.h"
+#include "catalog/catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
-#include "plan.h"
-#include "plan_export.h"
+#include "plan/plan.h"
+#include "plan/plan_export.h"
 
 static const char usage[] =
     "usage: symrec [--db FILE] plan RUN --out DIR [--section K] [--step-over MM]\n"

@@ -5,7 +5,7 @@
  *
  * Pipeline: src/reconstruct.h (align, slice, analyse, patches, union). This file only
  * parses arguments, loads the input and the parameter set, calls it, writes the
- * results, records the run in the catalogue (an INSTANCE input: src/run_build.h then
+ * results, records the run in the catalogue (an INSTANCE input: src/run/run_build.h then
  * sr_catalog_run_add, one transaction) and prints.
  *
  * Order after a successful reconstruction: output files, then the run record, then
@@ -22,8 +22,8 @@
 #include "cli.h"
 #include "json_out.h"
 #include "reconstruct.h"
-#include "rules.h"
-#include "run_build.h"
+#include "advice/rules.h"
+#include "run/run_build.h"
 
 static const char usage[] =
     "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"

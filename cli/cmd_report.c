@@ -1,7 +1,7 @@
 /*
  * cmd_report.c: `symrec report RUN --out FILE.html`: reads run RUN whole (meshes and
  * layers) with its instance, part and the part's material (the density of the build
- * plans), has src/report_html.c build the page, and writes
+ * plans), has src/report/report_html.c build the page, and writes
  * it atomically: into a temporary file beside FILE, flushed to disk, then renamed over
  * FILE, so FILE is either the old file or the whole new report, never half of one.
  */
@@ -13,12 +13,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "catalog_rules.h"
-#include "catalog_runs.h"
+#include "catalog/catalog_rules.h"
+#include "catalog/catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
-#include "plan.h"
-#include "report_html.h"
+#include "plan/plan.h"
+#include "report/report_html.h"
 
 static const char usage_report[] =
     "usage: symrec [--db FILE] report RUN --out FILE.html [--max-triangles N] [--json]\n"

@@ -1,7 +1,7 @@
 /*
  * cmd_rules.c: `symrec rules list|show|set|add|enable|disable`: the repair rules of
- * the catalogue (src/catalog_rules.h), the rows the advice of every run is drawn from
- * (src/rules.h). `set` changes one field of one rule in one transaction; the library
+ * the catalogue (src/catalog/catalog_rules.h), the rows the advice of every run is drawn from
+ * (src/advice/rules.h). `set` changes one field of one rule in one transaction; the library
  * checks the value and the whole rule, so a refused change leaves the rule as it was.
  * The same rows may be edited with plain SQL (table repair_rules).
  */
@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog_rules.h"
+#include "catalog/catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
 

@@ -1,6 +1,6 @@
 /*
  * cmd_run.c: `symrec run list` and `symrec run show N`: the record of reconstruction
- * runs that `symrec reconstruct INSTANCE` writes (src/catalog_runs.h), read back as a
+ * runs that `symrec reconstruct INSTANCE` writes (src/catalog/catalog_runs.h), read back as a
  * table or in full: parameters, alignment and fit, timings, the missing sections with
  * their figures, class and features, the advice given, and on request the per-layer
  * outlines.
@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog_runs.h"
+#include "catalog/catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
 

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "symmetry.h"
+#include "base/symmetry.h"
 
 void json_init(json_out *j, FILE *f)
 {

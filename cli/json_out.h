@@ -12,7 +12,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "catalog.h"
+#include "catalog/catalog.h"
 
 #define JSON_MAX_DEPTH 16
 

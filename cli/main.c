@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "version.h"
+#include "base/version.h"
 
 static const char usage[] =
     "usage: symrec [--db FILE] COMMAND [ARGS...]\n"

@@ -14,9 +14,9 @@
 
 #include "bridge/boolean.h"
 #include "bridge/mend.h"
-#include "mesh_shells.h"
-#include "region_sections.h"
-#include "shapes.h"
+#include "mesh/mesh_shells.h"
+#include "robust/region_sections.h"
+#include "mesh/shapes.h"
 
 static double now_s(void)
 {

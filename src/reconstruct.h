@@ -9,14 +9,14 @@
 #ifndef SR_RECONSTRUCT_H
 #define SR_RECONSTRUCT_H
 
-#include "align.h"
+#include "align/align.h"
 #include "images/image_restore.h"
-#include "analyse.h"
-#include "mesh.h"
-#include "order_detect.h"
-#include "patch.h"
-#include "slice.h"
-#include "symmetry.h"
+#include "paper/analyse.h"
+#include "mesh/mesh.h"
+#include "align/order_detect.h"
+#include "paper/patch.h"
+#include "slice/slice.h"
+#include "base/symmetry.h"
 
 /* Which reconstruction runs between alignment and the union. */
 typedef enum sr_recon_method {

@@ -36,9 +36,9 @@
 
 #include "bridge/boolean.h"
 #include "bridge/mesh_io.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "reconstruct.h"
-#include "compare.h"
+#include "mesh/compare.h"
 #include "support/assert_near.h"
 #include "support/test_select.h"
 #include "support/truth.h"

@@ -2,7 +2,7 @@
  * test_align.c: finding the symmetry element of a scan and the transform to the
  * canonical frame (align.h).
  *
- * Exact CAD geometry (src/shapes.h solids and meshes built here) is moved by a known
+ * Exact CAD geometry (src/mesh/shapes.h solids and meshes built here) is moved by a known
  * random rigid pose and must be found again within 0.01 deg and 0.01 mm: cylinders and
  * stepped, chipped solids of revolution (axial), a 6-fold star prism (n-fold), a
  * mirror prism, a box with three mirror planes (the widest-spread rule, and the hint
@@ -34,10 +34,10 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "align.h"
+#include "align/align.h"
 #include "bridge/mesh_io.h"
-#include "mesh.h"
-#include "shapes.h"
+#include "mesh/mesh.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/truth.h"
 

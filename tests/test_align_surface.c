@@ -1,5 +1,5 @@
 /*
- * test_align_surface.c: the alignment's surface search structure (src/align_surface.c,
+ * test_align_surface.c: the alignment's surface search structure (src/align/align_surface.c,
  * private interface align_internal.h): the closest surface point from the brick grid
  * must be the one a brute-force scan of every triangle finds, on meshes that stress
  * the filing (a tilted cylinder whose end caps are fans of long thin triangles, a
@@ -15,8 +15,8 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "align_internal.h"
-#include "shapes.h"
+#include "align/align_internal.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 
 /* Squared distance from p to triangle t of m (brute force, by projection and edges). */

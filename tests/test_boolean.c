@@ -18,7 +18,7 @@
 #include <cmocka.h>
 
 #include "bridge/boolean.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "support/assert_near.h"
 
 #define SHAFT_DIR "../shared/parts/shaft_chipped_shoulder"

@@ -20,8 +20,8 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "catalog.h"
-#include "catalog_int.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_int.h"
 #include "support/assert_near.h"
 
 /* ---- fixture: a fresh temporary directory per test ---- */

@@ -29,14 +29,14 @@
 #include <sqlite3.h>
 
 #include "bridge/mesh_io.h"
-#include "catalog.h"
-#include "catalog_runs.h"
-#include "mesh.h"
-#include "shapes.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_runs.h"
+#include "mesh/mesh.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/run_cmd.h"
 #include "support/test_select.h"
-#include "version.h"
+#include "base/version.h"
 
 #define PI 3.14159265358979323846
 

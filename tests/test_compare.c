@@ -1,5 +1,5 @@
 /*
- * test_compare.c: sr_compare_meshes (src/compare.c): two unit cubes 0.1 mm apart
+ * test_compare.c: sr_compare_meshes (src/mesh/compare.c): two unit cubes 0.1 mm apart
  * (deviation 0.1 both ways, Hausdorff 0.1, volume difference 0), a cube against itself
  * (all zero), the volume difference in mm³ and %, denser sampling finding a maximum
  * that vertices and centroids miss (a plate under a pyramid, exact answer known), and
@@ -13,8 +13,8 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "compare.h"
-#include "shapes.h"
+#include "mesh/compare.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 
 static void cube(double x0, double size, sr_mesh *out)

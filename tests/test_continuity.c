@@ -18,11 +18,11 @@
 
 #include "bridge/boolean.h"
 #include "bridge/polygon.h"
-#include "contour_slice.h"
-#include "mesh.h"
-#include "restore_continuity.h"
-#include "restore_vote.h"
-#include "shapes.h"
+#include "slice/contour_slice.h"
+#include "mesh/mesh.h"
+#include "robust/restore_continuity.h"
+#include "robust/restore_vote.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 
 #define LAYERS 136 /* z = 0.25, 0.35, .., 13.75: step 0.1 mm, so the carry stride is 5 */

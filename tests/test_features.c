@@ -1,6 +1,6 @@
 /*
  * test_features.c: the feature-level description of missing sections
- * (src/section_features.h) on run records built inline (tests/support/synth_run.h): a
+ * (src/advice/section_features.h) on run records built inline (tests/support/synth_run.h): a
  * shaft of radius 20 stepping to 30 at z = 50, 100 layers 1 mm apart, 72 sectors of
  * 5 degrees, with chips, bands, deep losses and narrow losses dug out at known places.
  * Each class, location and figure is checked against what the geometry makes exact.
@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "section_features.h"
+#include "advice/section_features.h"
 #include "support/assert_near.h"
 #include "support/json_query.h"
 #include "support/synth_run.h"

@@ -1,5 +1,5 @@
 /*
- * test_history.c: history queries (src/catalog_history.h) on a small catalogue built
+ * test_history.c: history queries (src/catalog/catalog_history.h) on a small catalogue built
  * through the public API: parts A (steel) and B (bronze), instances A1, A2, B1, and
  * five runs with known dates, sections (classes, volumes) and advice:
  *   run 1  A1  2024-01-10  chip 10 + chip 5    spray_forming       repair
@@ -22,11 +22,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog.h"
-#include "catalog_history.h"
-#include "catalog_int.h"
-#include "catalog_runs.h"
-#include "shapes.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_history.h"
+#include "catalog/catalog_int.h"
+#include "catalog/catalog_runs.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/tmpdir.h"
 

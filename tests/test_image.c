@@ -18,7 +18,7 @@
 #include "bridge/boolean.h"
 #include "images/voxels.h"
 #include "reconstruct.h"
-#include "shapes.h"
+#include "mesh/shapes.h"
 
 static void box(sr_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
 {

@@ -14,9 +14,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "layer_flats.h"
-#include "mesh.h"
-#include "shapes.h"
+#include "robust/layer_flats.h"
+#include "mesh/mesh.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 
 #define MARGIN 0.2

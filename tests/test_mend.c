@@ -21,8 +21,8 @@
 
 #include "bridge/boolean.h"
 #include "bridge/mend.h"
-#include "mesh.h"
-#include "shapes.h"
+#include "mesh/mesh.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 
 static double ring_radius(double theta, size_t ring, void *user)

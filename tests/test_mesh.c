@@ -12,7 +12,7 @@
 #include <cmocka.h>
 
 
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "support/assert_near.h"
 
 /* Unit cube [0,1]^3, 8 vertices, 12 outward triangles. */

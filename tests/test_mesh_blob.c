@@ -1,5 +1,5 @@
 /*
- * test_mesh_blob.c: the catalogue's mesh blob format (src/mesh_blob.h): exact bytes of
+ * test_mesh_blob.c: the catalogue's mesh blob format (src/catalog/mesh_blob.h): exact bytes of
  * the header, bit-identical round trips, and refusal of every kind of bad blob
  * (truncated, trailing bytes, bad magic, unknown version, impossible counts, index
  * out of range, non-finite coordinate) with the output left untouched.
@@ -13,7 +13,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "mesh_blob.h"
+#include "catalog/mesh_blob.h"
 
 /* A tetrahedron whose coordinates include values a text format would not keep:
  * -0, a subnormal, 0.1, a large value and an odd-mantissa fraction. */

@@ -1,6 +1,6 @@
 /*
  * test_mesh_io.c: reading and writing mesh files (src/bridge/mesh_io.cpp and the byte
- * checks of src/file_check.c). Every input file is written by the test itself into a
+ * checks of src/io/file_check.c). Every input file is written by the test itself into a
  * fresh temporary directory: a closed octahedron with unround coordinates goes through
  * every format and must come back with the same vertices, triangles and volume; then
  * one case per kind of bad input, each asserting the status and the message.
@@ -18,7 +18,7 @@
 #include <cmocka.h>
 
 #include "bridge/mesh_io.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "support/assert_near.h"
 #include "support/tmpdir.h"
 

@@ -1,5 +1,5 @@
 /*
- * test_mesh_shells.c: removal of small voids from a closed mesh (src/mesh_shells.h).
+ * test_mesh_shells.c: removal of small voids from a closed mesh (src/mesh/mesh_shells.h).
  * Known answers from boxes: a 10 mm cube holding a 2 mm cubic void (a shell turned
  * inward, -8 mm^3) loses the void when the limit allows it and keeps it otherwise;
  * solid shells are never removed, whatever their size; vertices only the void used are
@@ -13,9 +13,9 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "mesh.h"
-#include "mesh_shells.h"
-#include "shapes.h"
+#include "mesh/mesh.h"
+#include "mesh/mesh_shells.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 
 static void box(sr_mesh *m, double a, double b)

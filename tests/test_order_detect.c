@@ -15,9 +15,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "order_detect.h"
-#include "shapes.h"
-#include "slice.h"
+#include "align/order_detect.h"
+#include "mesh/shapes.h"
+#include "slice/slice.h"
 
 #define LAYERS 20
 #define SECTORS 240

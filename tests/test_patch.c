@@ -13,10 +13,10 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "analyse.h"
+#include "paper/analyse.h"
 #include "bridge/boolean.h"
-#include "patch.h"
-#include "slice.h"
+#include "paper/patch.h"
+#include "slice/slice.h"
 #include "support/assert_near.h"
 
 /* How far a patch's surface may sit from the cells' exact boundary: the polygon library

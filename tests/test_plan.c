@@ -1,5 +1,5 @@
 /*
- * test_plan.c: build plans (src/plan.h) and their files (src/plan_export.h) on runs
+ * test_plan.c: build plans (src/plan/plan.h) and their files (src/plan/plan_export.h) on runs
  * built in memory: an axial run (a radius-20 cylinder whose restored outline is the
  * full circle, with a 2 mm deep chip over 40 degrees in 6 of 10 layers) and a planar
  * run (a 40 x 20 rectangle with a 3 mm notch on the +x side). The missing area of a
@@ -21,8 +21,8 @@
 #include <cmocka.h>
 
 #include "bridge/polygon.h"
-#include "plan.h"
-#include "plan_export.h"
+#include "plan/plan.h"
+#include "plan/plan_export.h"
 #include "support/assert_near.h"
 #include "support/tmpdir.h"
 

@@ -1,5 +1,5 @@
 /*
- * test_report.c: the HTML report of a run (src/report_html.h). A synthetic run (two
+ * test_report.c: the HTML report of a run (src/report/report_html.h). A synthetic run (two
  * sections with known figures, one with a patch mesh, advice whose reason holds HTML
  * metacharacters, 3 layers x 8 sectors of outlines, a restored box) is stored in a
  * fresh catalogue and read back whole, then the page is checked: the section figures
@@ -18,12 +18,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog.h"
+#include "catalog/catalog.h"
 #include "bridge/polygon.h"
-#include "catalog_runs.h"
-#include "plan.h"
-#include "report_html.h"
-#include "shapes.h"
+#include "catalog/catalog_runs.h"
+#include "plan/plan.h"
+#include "report/report_html.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/json_query.h"
 #include "support/synth_run.h"

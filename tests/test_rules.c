@@ -1,6 +1,6 @@
 /*
  * test_rules.c: repair rules and materials in a fresh catalogue (sql/002_rules.sql,
- * src/catalog_rules.h) and the rule engine (src/rules.h) on run records built inline
+ * src/catalog/catalog_rules.h) and the rule engine (src/advice/rules.h) on run records built inline
  * (tests/support/synth_run.h: a shaft of radius 20 stepping to 30 at z = 50). Checks
  * that the seed rules give spray forming for a small chip and "replace" beyond 25 %
  * lost volume; that editing a rule through the API or with plain SQL on the file
@@ -20,9 +20,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "catalog.h"
-#include "catalog_rules.h"
-#include "rules.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_rules.h"
+#include "advice/rules.h"
 #include "support/assert_near.h"
 #include "support/json_query.h"
 #include "support/synth_run.h"

@@ -1,6 +1,6 @@
 /*
- * test_runs.c: the record of reconstruction runs (src/catalog_runs.c) and the building
- * of a run from a reconstruction (src/run_build.c): a run with layers, two sections,
+ * test_runs.c: the record of reconstruction runs (src/catalog/catalog_runs.c) and the building
+ * of a run from a reconstruction (src/run/run_build.c): a run with layers, two sections,
  * advice and meshes read back field for field (NaN outline points included); what is
  * read without the layer/mesh flags; listing order, filters and summaries; the count;
  * every refused field leaving no row in any table; a failure inside the transaction
@@ -22,13 +22,13 @@
 
 #include <sqlite3.h>
 
-#include "catalog.h"
-#include "catalog_runs.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_runs.h"
 #include "reconstruct.h"
-#include "run_build.h"
-#include "shapes.h"
+#include "run/run_build.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
-#include "version.h"
+#include "base/version.h"
 
 /* ---- fixture: a catalogue with two parts and three instances ---- */
 

@@ -13,8 +13,8 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "shapes.h"
-#include "symmetry.h"
+#include "mesh/shapes.h"
+#include "base/symmetry.h"
 #include "support/assert_near.h"
 
 #define PI 3.14159265358979323846

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "slice.h"
+#include "slice/slice.h"
 #include "support/assert_near.h"
 
 /* Regular n-gon prism, vertex i at angle phase + 2 pi i / n, radius r, z in [0, h]. */

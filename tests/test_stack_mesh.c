@@ -13,10 +13,10 @@
 #include <string.h>
 
 #include "bridge/polygon.h"
-#include "contour_slice.h"
-#include "mesh.h"
-#include "shapes.h"
-#include "stack_mesh.h"
+#include "slice/contour_slice.h"
+#include "mesh/mesh.h"
+#include "mesh/shapes.h"
+#include "robust/stack_mesh.h"
 #include "support/assert_near.h"
 
 static void square(sr_poly2 *p, double x0, double y0, double side, int cw)

@@ -23,9 +23,9 @@
 
 #include "bridge/boolean.h"
 #include "bridge/mesh_io.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "reconstruct.h"
-#include "shapes.h"
+#include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/truth.h"
 

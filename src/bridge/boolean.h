@@ -14,8 +14,8 @@
 
 #include <stddef.h>
 
-#include "mesh.h"
-#include "status.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
 
 /* out = a ∪ b (closed, oriented, no internal faces). On failure *out is untouched.
  * On success *out is overwritten, not released (as sr_mesh_copy); out may be a or b,

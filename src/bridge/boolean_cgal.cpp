@@ -66,8 +66,8 @@
 extern "C" {
 #include "bridge/boolean.h"
 #include "bridge/mend.h"
-#include "mesh.h"
-#include "status.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
 }
 
 namespace {

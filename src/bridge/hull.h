@@ -9,8 +9,8 @@
 
 #include <stddef.h>
 
-#include "mesh.h"
-#include "status.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
 
 /* *out = the convex hull of the n points xyz (n by 3), closed, outward oriented,
  * triangulated. SR_E_INVALID when the points are fewer than 4 or all coplanar (no

@@ -17,8 +17,8 @@
 
 #include <stddef.h>
 
-#include "mesh.h"
-#include "status.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
 
 typedef struct sr_mend_report {
     size_t crossing_pairs; /* crossing triangle pairs found in the first round */

@@ -49,8 +49,8 @@
 
 extern "C" {
 #include "bridge/mend.h"
-#include "mesh.h"
-#include "status.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
 }
 
 namespace {

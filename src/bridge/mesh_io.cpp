@@ -3,7 +3,7 @@
  * OBJ, PLY and OFF; tinygltf 2.7 parses and serialises glTF/GLB. Both accept bad input
  * silently (shared/DEPENDENCY-NOTES.md), so every read here is:
  *   1. the file read into memory by us (missing, empty, directory, unreadable: SR_E_IO);
- *   2. checked by src/file_check.c (pure C): sizes, counts, NaN/Inf, indices, PLY
+ *   2. checked by src/io/file_check.c (pure C): sizes, counts, NaN/Inf, indices, PLY
  *      header, GLB chunks; these checks also return what the file holds;
  *   3. parsed by the library from that memory (never by path: no second open, and
  *      OpenMesh's OBJ reader gets no chance to open an mtllib), into a Collector that
@@ -28,7 +28,7 @@
  */
 extern "C" {
 #include "bridge/mesh_io.h"
-#include "file_check.h"
+#include "io/file_check.h"
 }
 
 /* OpenMesh's property vectors trip GCC 12's -Wmaybe-uninitialized inside libstdc++. */

@@ -17,8 +17,8 @@
 
 #include <stddef.h>
 
-#include "mesh.h"
-#include "status.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
 
 typedef enum sr_format {
     SR_FMT_UNKNOWN = 0,

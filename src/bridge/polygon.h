@@ -35,7 +35,7 @@
 
 #include <stddef.h>
 
-#include "status.h"
+#include "base/status.h"
 
 #define SR_POLY2_SCALE 1e5        /* Clipper integer units per mm */
 #define SR_POLY2_MAX_MM 1e9       /* largest |coordinate| accepted, mm */

@@ -27,7 +27,7 @@
 
 extern "C" {
 #include "bridge/polygon.h"
-#include "status.h"
+#include "base/status.h"
 }
 
 namespace {

@@ -27,7 +27,7 @@
 
 extern "C" {
 #include "bridge/stack_cgal.h"
-#include "status.h"
+#include "base/status.h"
 }
 
 namespace {

@@ -21,7 +21,7 @@
 #include <stdint.h>
 
 #include "bridge/polygon.h"
-#include "status.h"
+#include "base/status.h"
 
 /* Triangle soup of the stack (vertices not shared between faces; weld by exact
  * coordinates): *xyz (3 doubles per vertex) and *tri (3 indices per triangle), both

@@ -17,7 +17,7 @@
 #include "bridge/mend.h"
 #include "images/image_vote.h"
 #include "images/voxels.h"
-#include "mesh_shells.h"
+#include "mesh/mesh_shells.h"
 
 #define GRID_VOXELS 8.0e6       /* the automatic pitch aims at this many voxels */
 #define PITCH_MIN 0.15

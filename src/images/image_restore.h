@@ -30,11 +30,11 @@
 
 #include <stddef.h>
 
-#include "mesh.h"
-#include "patch.h"
-#include "slice.h"
-#include "status.h"
-#include "symmetry.h"
+#include "mesh/mesh.h"
+#include "paper/patch.h"
+#include "slice/slice.h"
+#include "base/status.h"
+#include "base/symmetry.h"
 
 typedef struct sr_image_opts {
     sr_symmetry symmetry;       /* glide: shift_mm > 0 */

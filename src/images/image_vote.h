@@ -21,8 +21,8 @@
 #include <stddef.h>
 
 #include "images/voxels.h"
-#include "status.h"
-#include "symmetry.h"
+#include "base/status.h"
+#include "base/symmetry.h"
 
 /* One image of the symmetry: p -> R p + t (3x4 row-major), a rigid motion of the
  * aligned frame that maps the intact part onto itself. */

@@ -14,9 +14,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "catalog.h"
-#include "mesh.h"
-#include "mesh_blob.h"
+#include "catalog/catalog.h"
+#include "mesh/mesh.h"
+#include "catalog/mesh_blob.h"
 
 #define PI 3.14159265358979323846
 

@@ -24,10 +24,10 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "catalog.h"
-#include "catalog_history.h"
-#include "catalog_int.h"
-#include "catalog_runs.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_history.h"
+#include "catalog/catalog_int.h"
+#include "catalog/catalog_runs.h"
 
 void bench_history(void);
 

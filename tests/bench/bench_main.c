@@ -45,10 +45,10 @@
 
 #include "bridge/boolean.h"
 #include "bridge/mesh_io.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "reconstruct.h"
-#include "shapes.h"
-#include "slice.h"
+#include "mesh/shapes.h"
+#include "slice/slice.h"
 #include "support/truth.h"
 
 extern char **environ;

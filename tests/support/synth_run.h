@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "catalog_runs.h"
+#include "catalog/catalog_runs.h"
 
 /* A run with the grid above and no sections; the caller frees with synth_run_free. */
 void synth_run_make(sr_run *run, size_t layers, size_t sectors, double r_low, double r_high,

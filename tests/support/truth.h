@@ -12,11 +12,11 @@
 #ifndef SR_TEST_TRUTH_H
 #define SR_TEST_TRUTH_H
 
-#include "align.h"
-#include "mesh.h"
-#include "patch.h"
-#include "status.h"
-#include "symmetry.h"
+#include "align/align.h"
+#include "mesh/mesh.h"
+#include "paper/patch.h"
+#include "base/status.h"
+#include "base/symmetry.h"
 
 typedef struct sr_truth {
     char name[96];

@@ -1,0 +1,196 @@
+/*
+ * catalog.h: the symrec catalogue, an SQLite file holding parts (models) with their
+ * intact meshes, damaged instances with their scans, the symmetry chosen for each,
+ * named parameter sets, and (filled by later work) reconstruction runs, layer
+ * polylines, missing sections, repair rules and advice, materials.
+ *
+ * This module is the only owner of a sqlite3 handle (an opaque sr_catalog). The schema
+ * and its numbered migrations are the files in sql/, compiled into the binary and keyed
+ * by PRAGMA user_version; PRAGMA application_id marks a symrec catalogue. Every write is
+ * one BEGIN IMMEDIATE transaction that rolls back on any error, so a failed call leaves
+ * the catalogue as it was. WAL mode and a busy timeout let two processes share a file.
+ * Meshes are stored as compact blobs (src/catalog/mesh_blob.h) and load back at memory speed.
+ *
+ * Strings in the *_info structs are fixed-size; inputs longer than the field are
+ * refused with SR_E_RANGE rather than truncated.
+ */
+#ifndef SR_CATALOG_H
+#define SR_CATALOG_H
+
+#include <stdint.h>
+
+#include "mesh/mesh.h"
+#include "base/status.h"
+#include "base/symmetry.h"
+
+typedef struct sr_catalog sr_catalog;
+
+/* Current schema version: the highest migration number in sql/. */
+int sr_catalog_schema_latest(void);
+
+/* 'SYMR' as PRAGMA application_id. */
+#define SR_CATALOG_APP_ID 0x53594d52
+
+enum {
+    SR_CATALOG_CREATE = 1,    /* create the file (and apply all migrations) if missing */
+    SR_CATALOG_READONLY = 2,  /* open read-only; never migrates */
+};
+
+/* Opens (and with SR_CATALOG_CREATE creates) a catalogue and brings its schema up to
+ * date. Refuses a file that is not SQLite, not a symrec catalogue (application_id), or
+ * from a newer schema version (SR_E_VERSION). *out only on success. */
+sr_status sr_catalog_open(const char *path, unsigned flags, sr_catalog **out, sr_err *err);
+
+/* Closes; accepts NULL. */
+void sr_catalog_close(sr_catalog *cat);
+
+/* The schema version of the open file (PRAGMA user_version). */
+int sr_catalog_schema_version(sr_catalog *cat);
+
+/* The file the catalogue was opened from. */
+const char *sr_catalog_path(const sr_catalog *cat);
+
+/* ---- parts (models) ---- */
+
+typedef struct sr_part_info {
+    int64_t id;
+    char number[64];            /* the shop's part number, unique */
+    char name[128];
+    char material[64];          /* material name ("" if none) */
+    char notes[512];
+    int64_t mesh_id;            /* intact model mesh (0 if none) */
+    size_t vertex_count, tri_count;
+    double volume_mm3, area_mm2;
+    double bbox_min[3], bbox_max[3];
+    char created_at[32];        /* UTC, ISO 8601 */
+    int64_t instance_count;
+    sr_symmetry symmetry;       /* part-level symmetry; kind SR_SYM_NONE if not set */
+} sr_part_info;
+
+typedef struct sr_part_new {
+    const char *number;         /* required, 1..63 chars */
+    const char *name;           /* required, 1..127 chars */
+    const char *material;       /* optional; created in the materials table if new */
+    const char *notes;          /* optional */
+    const sr_mesh *mesh;        /* optional intact model (validated before storing) */
+    const char *source_file;    /* optional: where the mesh came from */
+    sr_symmetry symmetry;       /* optional: kind SR_SYM_NONE = not set */
+} sr_part_new;
+
+/* Adds a part (and its mesh) in one transaction. SR_E_EXISTS if the number is taken. */
+sr_status sr_catalog_part_add(sr_catalog *cat, const sr_part_new *part, int64_t *out_id,
+                              sr_err *err);
+
+/* Finds a part by its number, or by its numeric id when no number matches `key`.
+ * SR_E_NOTFOUND with "no part 'X' in the catalogue" otherwise. */
+sr_status sr_catalog_part_find(sr_catalog *cat, const char *key, sr_part_info *out,
+                               sr_err *err);
+
+/* Filters for listing; NULL/zeroed fields match everything. name and number match as
+ * case-insensitive substrings, material exactly (case-insensitive). */
+typedef struct sr_part_filter {
+    const char *name;
+    const char *number;
+    const char *material;
+} sr_part_filter;
+
+/* Calls fn for each matching part, ordered by number. fn returns non-zero to stop. */
+typedef int (*sr_part_fn)(const sr_part_info *part, void *user);
+sr_status sr_catalog_part_list(sr_catalog *cat, const sr_part_filter *filter, sr_part_fn fn,
+                               void *user, sr_err *err);
+
+/* Loads a part's intact mesh. SR_E_NOTFOUND if the part has none. */
+sr_status sr_catalog_part_mesh(sr_catalog *cat, int64_t part_id, sr_mesh *out, sr_err *err);
+
+/* Sets (replaces) the symmetry of a part. */
+sr_status sr_catalog_part_set_symmetry(sr_catalog *cat, int64_t part_id,
+                                       const sr_symmetry *sym, sr_err *err);
+
+/* ---- damaged instances ---- */
+
+typedef struct sr_instance_info {
+    int64_t id;
+    int64_t part_id;
+    char part_number[64];
+    char serial[64];
+    char received[32];          /* date received, YYYY-MM-DD ("" if unknown) */
+    char notes[512];
+    int64_t mesh_id;
+    size_t vertex_count, tri_count;
+    double volume_mm3, area_mm2;
+    double bbox_min[3], bbox_max[3];
+    char created_at[32];
+    sr_symmetry symmetry;       /* instance override, else the part's; NONE if neither */
+} sr_instance_info;
+
+typedef struct sr_instance_new {
+    const char *part;           /* part number or id */
+    const sr_mesh *mesh;        /* required: the damaged scan */
+    const char *serial;         /* optional */
+    const char *received;       /* optional YYYY-MM-DD; default today (UTC) */
+    const char *notes;          /* optional */
+    const char *source_file;    /* optional */
+    sr_symmetry symmetry;       /* optional override; SR_SYM_NONE = use the part's */
+} sr_instance_new;
+
+sr_status sr_catalog_instance_add(sr_catalog *cat, const sr_instance_new *inst,
+                                  int64_t *out_id, sr_err *err);
+
+/* By numeric id. SR_E_NOTFOUND with "no instance N in the catalogue". */
+sr_status sr_catalog_instance_get(sr_catalog *cat, int64_t id, sr_instance_info *out,
+                                  sr_err *err);
+
+/* Instances of one part (part = number or id), or all when part is NULL; by id. */
+typedef int (*sr_instance_fn)(const sr_instance_info *inst, void *user);
+sr_status sr_catalog_instance_list(sr_catalog *cat, const char *part, sr_instance_fn fn,
+                                   void *user, sr_err *err);
+
+sr_status sr_catalog_instance_mesh(sr_catalog *cat, int64_t instance_id, sr_mesh *out,
+                                   sr_err *err);
+
+/* ---- named parameter sets ---- */
+
+typedef struct sr_params {
+    char name[64];
+    int layers;                 /* N_layers, >= 1 */
+    int sectors;                /* N_sectors, >= 3 */
+    double gamma_axis;          /* Alg. 4 threshold, (0,1] */
+    double gamma_plane;         /* Alg. 5 threshold, (0,1] */
+    double delta_d;             /* Alg. 3 threshold, (0,1] */
+    double min_depth_mm;        /* smallest depth reported as a section, >= 0 */
+    double min_volume_mm3;      /* smallest volume reported as a section, >= 0 */
+    char notes[256];
+} sr_params;
+
+/* Range checks of a parameter set; the message names the field. */
+sr_status sr_params_check(const sr_params *p, sr_err *err);
+
+/* SR_E_NOTFOUND if there is no set of that name. "default" is seeded. */
+sr_status sr_catalog_params_get(sr_catalog *cat, const char *name, sr_params *out,
+                                sr_err *err);
+/* Inserts or replaces a set (checked first). */
+sr_status sr_catalog_params_put(sr_catalog *cat, const sr_params *p, sr_err *err);
+typedef int (*sr_params_fn)(const sr_params *p, void *user);
+sr_status sr_catalog_params_list(sr_catalog *cat, sr_params_fn fn, void *user, sr_err *err);
+
+/* Loads any stored mesh by its id (meshes table). */
+sr_status sr_catalog_mesh_load(sr_catalog *cat, int64_t mesh_id, sr_mesh *out, sr_err *err);
+
+/* ---- additions (catalogue module) ---- */
+
+/* Sets (replaces) the symmetry override of one instance; kind SR_SYM_NONE removes the
+ * override, so the instance falls back to its part's symmetry. (Likewise kind
+ * SR_SYM_NONE in sr_catalog_part_set_symmetry removes the part's symmetry.)
+ * SR_E_NOTFOUND "no instance N in the catalogue"; SR_E_RANGE for a bad symmetry. */
+sr_status sr_catalog_instance_set_symmetry(sr_catalog *cat, int64_t instance_id,
+                                           const sr_symmetry *sym, sr_err *err);
+
+/* Notes on the calls above:
+ * - List callbacks run while the catalogue is being read: they may read (find, load a
+ *   mesh) but must not write through the same handle.
+ * - sr_catalog_params_list goes by name; sr_catalog_params_put matches an existing set
+ *   by name ignoring ASCII case and then takes the new spelling.
+ * - Part numbers, material and parameter set names are unique ignoring ASCII case.
+ * - A handle is for one thread at a time; use one handle per thread or process. */
+
+#endif

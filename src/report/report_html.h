@@ -1,0 +1,63 @@
+/*
+ * report_html.h: the HTML report of one reconstruction run, as one self-contained
+ * text (no network, nothing outside the file: the CSS, the script and the data are
+ * inline). It shows the part and its patches in 3D (a small canvas viewer, rotate by
+ * dragging, patches highlighted), the per-layer outlines (damaged vs restored, an SVG
+ * plot with a layer selector) with each section's build plan drawn over them (the
+ * layer's missing region, the deposit region and the deposition paths, contour rings
+ * and raster, computed by plan.h exactly as `symrec plan` does), the build plan's
+ * figures per section, the table of missing sections with their features, the advice
+ * with the rules that fired, and the run's parameters, alignment and timings.
+ *
+ * Build plans: every section gets one unless its advice (or a whole-part advice) is a
+ * process beginning 'replace' (ASCII case ignored): then the page says there is no
+ * build plan because the part is to be replaced. A section whose plan cannot be made
+ * (no layer polylines stored, a symmetry without sections' geometry) says why in its
+ * row; only running out of memory fails the whole report. The plan data in the page's
+ * JSON block ("plans") carry coordinates to 1e-5 mm, the polygon library's own grid,
+ * so they read back as the very numbers plan.h produced.
+ *
+ * Meshes above a display budget are decimated by vertex clustering for the viewer
+ * (the page says so, with the counts); every figure in the tables is the stored one.
+ * Writing the file is the caller's business (cli/cmd_report.c writes it atomically).
+ */
+#ifndef SR_REPORT_HTML_H
+#define SR_REPORT_HTML_H
+
+#include <stddef.h>
+
+#include "catalog/catalog.h"
+#include "catalog/catalog_runs.h"
+#include "plan/plan.h"
+#include "base/status.h"
+
+typedef struct sr_report_opts {
+    size_t max_triangles;       /* viewer budget, all meshes together; 0 = 60000 */
+    const sr_instance_info *instance;  /* optional: serial, received date */
+    const sr_part_info *part;   /* optional: name, material */
+    const sr_plan_opts *plan;   /* build plan settings; NULL = sr_plan_opts_init's
+                                 * defaults (the caller sets the material's density) */
+} sr_report_opts;
+
+/* Figures of what the viewer got, for the caller's messages. */
+typedef struct sr_report_info {
+    size_t tri_stored;          /* restored + patches, as stored */
+    size_t tri_shown;           /* after decimation */
+    int decimated;              /* 1 when some mesh was reduced */
+    size_t plan_sections;       /* sections with a build plan in the page */
+    size_t plan_layers;         /* their plan layers, all together */
+    size_t replace_sections;    /* sections advised 'replace': no build plan */
+} sr_report_info;
+
+/* Builds the report of `run` (read with SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS for
+ * the 3D view and the outlines; without them the page says they were not stored).
+ * *out receives a NUL-terminated heap string (free()) and *out_len its length, only on
+ * success; info may be NULL. SR_E_NOMEM when memory runs out. */
+sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **out,
+                         size_t *out_len, sr_report_info *info, sr_err *err);
+
+/* Decimates `in` by vertex clustering until it has at most max_tri triangles (a copy
+ * when it has no more already). Degenerate triangles are dropped. For display only. */
+sr_status sr_report_decimate(const sr_mesh *in, size_t max_tri, sr_mesh *out, sr_err *err);
+
+#endif
