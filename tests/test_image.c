@@ -2,7 +2,8 @@
  * test_image.c: the image method (src/images/) on shapes with known answers: the
  * occupancy of a box, a mirror part's chip restored exactly (the patch is the chip and
  * no more, the restored part the intact one), nothing on intact parts, a wrong order
- * that fills nothing, a bolt hole of an axial part kept, and a glide rack whose
+ * that fills nothing, a bolt hole of an axial part kept, a shaft's end chip across the
+ * axis restored without a seam on it, and a glide rack whose
  * pattern's ends are kept while a chip at its first tooth is restored; the same
  * result, to the bit, with one thread or two.
  */
@@ -16,6 +17,7 @@
 #include <cmocka.h>
 
 #include "bridge/boolean.h"
+#include "images/axis_seam.h"
 #include "images/voxels.h"
 #include "reconstruct.h"
 #include "mesh/shapes.h"
@@ -202,6 +204,128 @@ static void axial_bolt_hole_is_kept(void **state)
     sr_mesh_release(&part);
 }
 
+/* A shaft (radius 15, z 0..40, a 96-gon with no vertex on the axis) less a wedge of
+ * angles [a0, a1] degrees from the axis out, z 28..41. */
+static void shaft_less_wedge(double a0, double a1, double bore, sr_mesh *out)
+{
+    sr_mesh shaft, wedge, hole;
+    double rim[2 * 96];
+    for (int k = 0; k < 96; k++) {
+        rim[2 * k] = 15 * cos(2 * M_PI * (k + 0.5) / 96);
+        rim[2 * k + 1] = 15 * sin(2 * M_PI * (k + 0.5) / 96);
+    }
+    assert_int_equal(sr_shape_prism(rim, 96, 0, 40, &shaft, NULL), SR_OK);
+    double xy[2 * 25] = {0, 0};
+    for (int k = 0; k < 24; k++) {
+        double a = (a0 + (a1 - a0) * k / 23.0) * M_PI / 180.0;
+        xy[2 + 2 * k] = 20 * cos(a);
+        xy[3 + 2 * k] = 20 * sin(a);
+    }
+    assert_int_equal(sr_shape_prism(xy, 25, 28, 41, &wedge, NULL), SR_OK);
+    minus(&shaft, &wedge, out);
+    if (bore > 0) {
+        sr_mesh part = *out;
+        assert_int_equal(sr_shape_cylinder(bore, -1, 41, 32, &hole, NULL), SR_OK);
+        minus(&part, &hole, out);
+        sr_mesh_release(&part);
+        sr_mesh_release(&hole);
+    }
+    sr_mesh_release(&shaft);
+    sr_mesh_release(&wedge);
+}
+
+/* An image lacking the wedge [200, 330] and a scan lacking [0, 120]: together they hold
+ * all round the axis, each only to the axis line, so a pin goes in along the loss (z
+ * 28..40) and nowhere else; with a bore, or where the scan is whole, none does. */
+static void seam_on_the_axis_gets_a_pin_only_where_the_loss_reaches_it(void **state)
+{
+    (void)state;
+    sr_mesh image, scan, bored_image, bored_scan;
+    shaft_less_wedge(200, 330, 0, &image);
+    shaft_less_wedge(0, 120, 0, &scan);
+    double before = sr_mesh_volume(&image);
+    size_t pins = 0;
+    double ring = 0.1;
+    assert_int_equal(sr_axis_seam_close(&image, &scan, ring, &pins, NULL), SR_OK);
+    assert_int_equal(pins, 1);
+    double lo[3], hi[3];
+    sr_mesh_bbox(&image, lo, hi);
+    /* the pin (radius ring / 2, 8 sides) adds at most its own volume, z 28..40 */
+    double added = sr_mesh_volume(&image) - before;
+    assert_true(added > 0 && added < 12.5 * 2 * 0.25 * ring * ring);
+    /* the axis at z 34 is inside now, at z 20 it always was */
+    size_t n[3] = {1, 1, 2};
+    double origin[3] = {0, 0, 20};
+    sr_voxels g = {0};
+    assert_int_equal(sr_voxels_alloc(&g, n, 14, origin), SR_OK);
+    assert_int_equal(sr_voxels_fill(&g, &image, NULL), SR_OK);
+    assert_int_equal(g.v[0] & 1, 1);
+    assert_int_equal(g.v[1] & 1, 1);
+    sr_voxels_release(&g);
+
+    pins = 7;
+    shaft_less_wedge(200, 330, 3, &bored_image);
+    shaft_less_wedge(0, 120, 3, &bored_scan);
+    assert_int_equal(sr_axis_seam_close(&bored_image, &bored_scan, ring, &pins, NULL), SR_OK);
+    assert_int_equal(pins, 0);
+    sr_mesh whole;
+    assert_int_equal(sr_shape_cylinder(15, 0, 40, 96, &whole, NULL), SR_OK);
+    assert_int_equal(sr_axis_seam_close(&scan, &whole, ring, &pins, NULL), SR_OK);
+    assert_int_equal(pins, 0);
+    sr_mesh_release(&image);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&bored_image);
+    sr_mesh_release(&bored_scan);
+    sr_mesh_release(&whole);
+}
+
+/* A solid shaft whose end lost a 120-degree wedge with its edge on the axis (its walls
+ * through the axis, its floor sloping): every turn
+ * lacks a wedge there too, so the images meet on the axis; the seam is pinned shut and
+ * the restored part keeps no vertex inside itself (unpinned, the wedge's edge stayed
+ * as a slit 12 mm deep). */
+static void end_chip_across_the_axis_leaves_no_seam(void **state)
+{
+    (void)state;
+    sr_mesh shaft, wedge, part;
+    assert_int_equal(sr_shape_cylinder(15, 0, 40, 96, &shaft, NULL), SR_OK);
+    double xy[2 * 25] = {0, 0};
+    for (int k = 0; k < 24; k++) {
+        double a = 120.0 * M_PI / 180.0 * k / 23.0;
+        xy[2 + 2 * k] = 20 * cos(a);
+        xy[3 + 2 * k] = 20 * sin(a);
+    }
+    assert_int_equal(sr_shape_prism(xy, 25, 28, 41, &wedge, NULL), SR_OK);
+    for (size_t v = 0; v < wedge.vertex_count; v++) /* a fracture's sloping floor */
+        if (wedge.xyz[3 * v + 2] < 30)
+            wedge.xyz[3 * v + 2] += 0.25 * wedge.xyz[3 * v] + 0.15 * wedge.xyz[3 * v + 1];
+    minus(&shaft, &wedge, &part);
+    /* posed as a scan comes: the images' edges then meet the scan's only to rounding */
+    double c = cos(0.4), sn = sin(0.4);
+    double pose[12] = {c, 0, sn, 12.5, 0, 1, 0, -7.25, -sn, 0, c, 3.125}, back[12];
+    sr_xform_rigid_inverse(back, pose);
+    sr_mesh_transform(&part, pose);
+    sr_mesh_transform(&shaft, pose);
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry = (sr_symmetry){SR_SYM_AXIAL, 0, 0};
+    o.have_alignment = 1;
+    memcpy(o.alignment.xform, back, sizeof back);
+    sr_recon_result r;
+    assert_int_equal(sr_reconstruct(&part, &o, &r, NULL), SR_OK);
+    assert_int_equal(r.section_count, 1);
+    assert_true(r.image.axis_pins >= 1);
+    double lost = sr_mesh_volume(&shaft) - sr_mesh_volume(&part);
+    assert_true(fabs(r.sections[0].volume_mm3 - lost) < 0.01 * lost);
+    sr_deviation d;
+    assert_int_equal(sr_mesh_deviation(&r.restored, &shaft, &d, NULL), SR_OK);
+    assert_true(d.max_mm < 0.2);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&shaft);
+    sr_mesh_release(&wedge);
+    sr_mesh_release(&part);
+}
+
 /* A double-sided rack along z: core |x| <= 5, y 0..10, z -8..62; five teeth 4 long
  * and 4 high per side, +x at z = 12 k, -x at z = 6 + 12 k. Glide symmetric,
  * (x, y, z) -> (-x, y, z + 6), away from its ends: beyond the last tooth of each side
@@ -309,6 +433,8 @@ int main(void)
         cmocka_unit_test(intact_block_has_no_section),
         cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
         cmocka_unit_test(axial_bolt_hole_is_kept),
+        cmocka_unit_test(seam_on_the_axis_gets_a_pin_only_where_the_loss_reaches_it),
+        cmocka_unit_test(end_chip_across_the_axis_leaves_no_seam),
         cmocka_unit_test(glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth),
         cmocka_unit_test(one_thread_and_two_give_the_same_result),
     };

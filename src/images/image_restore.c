@@ -15,6 +15,7 @@
 #include "bridge/boolean.h"
 #include "bridge/hull.h"
 #include "bridge/mend.h"
+#include "images/axis_seam.h"
 #include "images/image_vote.h"
 #include "images/voxels.h"
 #include "mesh/mesh_shells.h"
@@ -25,6 +26,7 @@
 #define HULL_GROW 4.5           /* hull corners: voxel half-size + four voxels, in pitches */
 #define BAND 2                  /* voxels around a section where images are compared */
 #define MAX_IMAGES 3            /* images united for one section, at most */
+#define AXIS_RING 0.25          /* the ring about the axis tested for a seam, in pitches */
 
 static double now_s(void)
 {
@@ -825,6 +827,11 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
         if (st == SR_OK && q.tri_count == 0 && np > 1) /* two images that do not unite clean */
             st = clip_images(aligned, im, pick, 1, &hull, &q, info, err);
         sr_mesh_release(&hull);
+        if (st == SR_OK && q.tri_count > 0 && opts->symmetry.kind == SR_SYM_AXIAL) {
+            size_t pins = 0;
+            st = sr_axis_seam_close(&q, aligned, AXIS_RING * g.h, &pins, err);
+            info->axis_pins += pins;
+        }
         if (st != SR_OK || q.tri_count == 0) {
             sr_mesh_release(&q);
             free(b.sec);

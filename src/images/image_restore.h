@@ -49,6 +49,7 @@ typedef struct sr_image_info {
     size_t voxels;              /* grid size */
     double vote_s, patch_s;     /* seconds: occupancy + vote, hulls + booleans */
     size_t mended_tris;         /* scan triangles replaced where it crossed itself */
+    size_t axis_pins;           /* axial: seams on the axis closed by a pin (axis_seam.h) */
     size_t features_kept;       /* axial: candidate sections read as holes, slots or
                                  * keyways of the design (kept, not filled) */
     double misfit;              /* image_vote.h: share of the scan its images lack */
