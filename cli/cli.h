@@ -193,6 +193,11 @@ void cli_table_release(cli_table *t);
 /* A labelled bounding box in mm, with its size on a second line. */
 void cli_print_bbox(FILE *f, const char *label, const double min[3], const double max[3]);
 
+/* A run's description as `run show` and `reconstruct` print it (cli/cmd_run.c): one
+ * "    features of N: {...}" line per described section, then "  advice:" with one
+ * line per advice ("  advice:      none" without). */
+void cli_run_advice_print(const sr_run *r);
+
 /* "label value" where a multi-line value keeps its later lines under the first. */
 void cli_print_field(FILE *f, const char *label, const char *value);
 

@@ -5,8 +5,9 @@
  *
  * Pipeline: src/reconstruct.h (align, slice, analyse, patches, union). This file only
  * parses arguments, loads the input and the parameter set, calls it, writes the
- * results, records the run in the catalogue (an INSTANCE input: src/run/run_build.h then
- * sr_catalog_run_add, one transaction) and prints.
+ * results, describes the run and records it in the catalogue (src/run/run_build.h, then
+ * src/catalog/catalog_record.h: features, advice and, for an INSTANCE input, the record
+ * in one transaction) and prints, the run's features and advice included.
  *
  * Order after a successful reconstruction: output files, then the run record, then
  * stdout; a failure at any step prints one error line, exits 1 and records nothing (a
@@ -22,7 +23,7 @@
 #include "cli.h"
 #include "json_out.h"
 #include "reconstruct.h"
-#include "advice/rules.h"
+#include "catalog/catalog_record.h"
 #include "run/run_build.h"
 
 static const char usage[] =
@@ -74,7 +75,12 @@ static const char usage[] =
     "it prints \"run N recorded\" (JSON: \"run_id\"). See 'symrec run list' and\n"
     "'symrec run show N'. A --mesh reconstruction is not recorded (a run belongs to\n"
     "an instance: add the scan with 'symrec instance add' first), nor is one that\n"
-    "fails. The parameter set's min_volume_mm3 is recorded but not applied yet.\n"
+    "fails. Every run prints the features of each missing section and the repair\n"
+    "advice (JSON: each section's \"class\" and \"features\", and \"advice\"), drawn\n"
+    "from the catalogue's rules and the part's material; a --mesh run has no part, so\n"
+    "no material, and takes the rules of the --db catalogue (read only) when the file\n"
+    "exists, else the built-in seeded rules.\n"
+    "The parameter set's min_volume_mm3 is recorded but not applied yet.\n"
     "A fit score below 0.5 (the share of the surface the symmetry maps onto itself)\n"
     "is reported as a poor fit: the part may not have that symmetry.\n"
     "Lengths in mm, areas mm², volumes mm³, angles degrees.\n";
@@ -88,8 +94,8 @@ static const sr_params builtin_default = {
     "built-in copy of the seeded 'default' set",
 };
 
-static void print_human(const sr_recon_result *r, const char *source, const sr_params *p,
-                        int64_t run_id)
+static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
+                        const sr_params *p, int64_t run_id)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", source);
@@ -163,12 +169,13 @@ static void print_human(const sr_recon_result *r, const char *source, const sr_p
     printf("  time %.3f s (align %.3f, slice %.3f, analyse %.3f, patch %.3f, union %.3f)\n",
            r->timings.total_s, r->timings.align_s, r->timings.slice_s, r->timings.analyse_s,
            r->timings.patch_s, r->timings.union_s);
+    cli_run_advice_print(run);
     if (run_id > 0)
         printf("run %lld recorded\n", (long long)run_id);
 }
 
-static void print_json(const sr_recon_result *r, const char *source, const sr_symmetry *sym,
-                       const sr_params *p, int64_t run_id)
+static void print_json(const sr_recon_result *r, const sr_run *run, const char *source,
+                       const sr_symmetry *sym, const sr_params *p, int64_t run_id)
 {
     json_out j;
     json_init(&j, stdout);
@@ -297,9 +304,15 @@ static void print_json(const sr_recon_result *r, const char *source, const sr_sy
         json_number(&j, s->area_mm2);
         json_key(&j, "patch_triangles");
         json_int(&j, (int64_t)s->patch.tri_count);
+        json_key(&j, "class");
+        json_string(&j, run->sections[i].damage_class);
+        json_key(&j, "features");
+        json_run_features(&j, &run->sections[i]);
         json_object_end(&j);
     }
     json_array_end(&j);
+    json_key(&j, "advice");
+    json_run_advice(&j, run);
     json_key(&j, "scan_volume_mm3");
     json_number(&j, r->scan_volume_mm3);
     json_key(&j, "restored_volume_mm3");
@@ -391,32 +404,52 @@ static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
     return CLI_OK;
 }
 
-/* Records the run of instance `inst` (one transaction): the features of every section
- * and the repair advice from the catalogue's rules (rules.h) are worked out first, from
- * the part's material and intact volume. *run_id only on success. */
-static sr_status record_run(sr_catalog *cat, const sr_instance_info *inst,
-                            const sr_recon_result *r, const sr_symmetry *sym,
-                            const sr_params *p, const char *started, int64_t *run_id,
-                            sr_err *err)
+/* The catalogue a run that is not recorded takes its rules and material from: *cat
+ * when one is open already, else ctx's file read-only when it exists, else a catalogue
+ * in memory with the seeded rules (a file that cannot be opened is noted and left). */
+static sr_status advice_catalog(const cli_ctx *ctx, sr_catalog **cat, sr_err *err)
 {
-    sr_run run;
-    sr_status st = sr_run_from_result(r, inst->id, sym, p, sr_recon_method_name(r->method),
-                                      &run, err);
+    if (*cat)
+        return SR_OK;
+    struct stat sb;
+    if (stat(ctx->db_path, &sb) == 0) {
+        sr_status st = sr_catalog_open(ctx->db_path, SR_CATALOG_READONLY, cat, err);
+        if (st == SR_OK)
+            return SR_OK;
+        cli_note("advice from the built-in rules: %s", err->msg[0] ? err->msg
+                                                                   : sr_status_str(st));
+        sr_err_clear(err);
+    }
+    return sr_catalog_open_memory(cat, err);
+}
+
+/* The run record of `r` (features and advice worked out by catalog_record.h from the
+ * catalogue's rules and, for an instance, its part's material and intact volume),
+ * recorded in one transaction when `record`. *run and *run_id only on success. */
+static sr_status describe_run(const cli_ctx *ctx, sr_catalog **cat, const sr_recon_result *r,
+                              int64_t instance_id, const sr_symmetry *sym, const sr_params *p,
+                              const char *started, bool record, sr_run *run, int64_t *run_id,
+                              sr_err *err)
+{
+    sr_run made;
+    sr_status st = sr_run_from_result(r, instance_id, sym, p, sr_recon_method_name(r->method),
+                                      &made, err);
     if (st != SR_OK)
         return st;
-    if (strcmp(started, run.finished_at) <= 0)
-        snprintf(run.started_at, sizeof run.started_at, "%s", started);
-    sr_part_info part;
-    st = sr_catalog_part_find(cat, inst->part_number, &part, err);
-    if (st == SR_OK)
-        st = sr_advise_run(cat, part.material, part.mesh_id ? part.volume_mm3 : 0, &run, err);
+    if (strcmp(started, made.finished_at) <= 0)
+        snprintf(made.started_at, sizeof made.started_at, "%s", started);
+    int64_t id = 0;
+    if (record)
+        st = sr_catalog_run_record(*cat, &made, &id, err);
+    else if ((st = advice_catalog(ctx, cat, err)) == SR_OK)
+        st = sr_catalog_run_describe(*cat, &made, err);
     if (st != SR_OK) {
-        sr_run_release(&run);
+        sr_run_release(&made);
         return st;
     }
-    st = sr_catalog_run_add(cat, &run, run_id, err);
-    sr_run_release(&run);
-    return st;
+    *run = made;
+    *run_id = id;
+    return SR_OK;
 }
 
 int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
@@ -547,17 +580,21 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if (out)
         rc = write_outputs(out, fmt, &scan, &r);
     int64_t run_id = 0;
-    if (rc == CLI_OK && !mesh_file && !no_record) {
-        st = record_run(cat, &inst, &r, &ro.symmetry, &params, started, &run_id, &err);
+    sr_run run;
+    memset(&run, 0, sizeof run);
+    if (rc == CLI_OK) {
+        st = describe_run(ctx, &cat, &r, mesh_file ? 0 : id, &ro.symmetry, &params, started,
+                          !mesh_file && !no_record, &run, &run_id, &err);
         if (st != SR_OK)
             rc = cli_fail(st, &err);
     }
     if (rc == CLI_OK) {
         if (json)
-            print_json(&r, source, &ro.symmetry, &params, run_id);
+            print_json(&r, &run, source, &ro.symmetry, &params, run_id);
         else
-            print_human(&r, source, &params, run_id);
+            print_human(&r, &run, source, &params, run_id);
     }
+    sr_run_release(&run);
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);
     sr_catalog_close(cat);

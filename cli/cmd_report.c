@@ -144,7 +144,9 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         sr_run_release(&run);
         return cli_fail(st, &err);
     }
-    sr_report_opts ro = {(size_t)budget, &inst, &part, &po};
+    sr_report_opts ro = {.max_triangles = (size_t)budget, .serial = inst.serial,
+                         .received = inst.received, .part_name = part.name,
+                         .material = part.material, .plan = &po};
     char *html = NULL;
     size_t len = 0;
     sr_report_info info;

@@ -333,20 +333,8 @@ static double arc_end(const sr_run_section *s)
     return s->angle_to_deg > 360 ? s->angle_to_deg - 360 : s->angle_to_deg;
 }
 
-static void json_section(json_out *j, const sr_run_section *s)
+void json_run_features(json_out *j, const sr_run_section *s)
 {
-    json_object_begin(j);
-    json_key(j, "index");
-    json_int(j, (int64_t)s->index + 1);
-    json_key(j, "id");
-    json_int(j, s->id);
-    json_key(j, "layer_first");
-    json_int(j, (int64_t)s->layer_first);
-    json_key(j, "layer_last");
-    json_int(j, (int64_t)s->layer_last);
-    json_key(j, "patch_triangles");
-    json_int(j, (int64_t)s->patch.tri_count);
-    json_key(j, "features");
     json_object_begin(j);
     json_key(j, "z_min_mm");
     json_number(j, s->z_min_mm);
@@ -378,6 +366,23 @@ static void json_section(json_out *j, const sr_run_section *s)
     json_string(j, s->damage_class);
     for_members(s->features_json, feature_member, j);
     json_object_end(j);
+}
+
+static void json_section(json_out *j, const sr_run_section *s)
+{
+    json_object_begin(j);
+    json_key(j, "index");
+    json_int(j, (int64_t)s->index + 1);
+    json_key(j, "id");
+    json_int(j, s->id);
+    json_key(j, "layer_first");
+    json_int(j, (int64_t)s->layer_first);
+    json_key(j, "layer_last");
+    json_int(j, (int64_t)s->layer_last);
+    json_key(j, "patch_triangles");
+    json_int(j, (int64_t)s->patch.tri_count);
+    json_key(j, "features");
+    json_run_features(j, s);
     json_object_end(j);
 }
 
@@ -386,6 +391,38 @@ static void json_point(json_out *j, const double *xy)
     json_array_begin(j);
     json_number(j, xy[0]);
     json_number(j, xy[1]);
+    json_array_end(j);
+}
+
+void json_run_advice(json_out *j, const sr_run *r)
+{
+    json_array_begin(j);
+    for (size_t i = 0; i < r->advice_count; i++) {
+        const sr_run_advice *a = &r->advice[i];
+        json_object_begin(j);
+        json_key(j, "section");
+        if (a->section_index >= 0)
+            json_int(j, (int64_t)a->section_index + 1);
+        else
+            json_null(j);
+        json_key(j, "process");
+        json_string(j, a->process);
+        json_key(j, "rules");
+        json_array_begin(j);
+        if (a->rule_name[0])
+            json_string(j, a->rule_name);
+        json_array_end(j);
+        json_key(j, "rule_id");
+        if (a->rule_id)
+            json_int(j, a->rule_id);
+        else
+            json_null(j);
+        json_key(j, "reason");
+        json_string(j, a->reason);
+        json_key(j, "details");
+        json_raw(j, a->details_json ? a->details_json : "{}");
+        json_object_end(j);
+    }
     json_array_end(j);
 }
 
@@ -463,34 +500,7 @@ static void print_json(const sr_run *r, bool layers)
         json_section(j, &r->sections[i]);
     json_array_end(j);
     json_key(j, "advice");
-    json_array_begin(j);
-    for (size_t i = 0; i < r->advice_count; i++) {
-        const sr_run_advice *a = &r->advice[i];
-        json_object_begin(j);
-        json_key(j, "section");
-        if (a->section_index >= 0)
-            json_int(j, (int64_t)a->section_index + 1);
-        else
-            json_null(j);
-        json_key(j, "process");
-        json_string(j, a->process);
-        json_key(j, "rules");
-        json_array_begin(j);
-        if (a->rule_name[0])
-            json_string(j, a->rule_name);
-        json_array_end(j);
-        json_key(j, "rule_id");
-        if (a->rule_id)
-            json_int(j, a->rule_id);
-        else
-            json_null(j);
-        json_key(j, "reason");
-        json_string(j, a->reason);
-        json_key(j, "details");
-        json_raw(j, a->details_json ? a->details_json : "{}");
-        json_object_end(j);
-    }
-    json_array_end(j);
+    json_run_advice(j, r);
     if (layers) {
         json_key(j, "sectors");
         json_int(j, (int64_t)r->sectors);
@@ -539,6 +549,32 @@ static void print_point(const double *xy)
         printf(" %.3f,%.3f", xy[0], xy[1]);
     else
         printf(" -");
+}
+
+void cli_run_advice_print(const sr_run *r)
+{
+    for (size_t i = 0; i < r->section_count; i++)
+        if (r->sections[i].features_json) {
+            printf("    features of %zu: ", r->sections[i].index + 1);
+            const char *f = r->sections[i].features_json;
+            write_compact(stdout, f, f + strlen(f));
+            printf("\n");
+        }
+    if (r->advice_count == 0) {
+        printf("  advice:      none\n");
+    } else {
+        printf("  advice:\n");
+        for (size_t i = 0; i < r->advice_count; i++) {
+            const sr_run_advice *a = &r->advice[i];
+            char where[32];
+            if (a->section_index >= 0)
+                snprintf(where, sizeof where, "section %ld", a->section_index + 1);
+            else
+                snprintf(where, sizeof where, "whole part");
+            printf("    %s: %s (rule %s): %s\n", where, a->process,
+                   a->rule_name[0] ? a->rule_name : "-", a->reason);
+        }
+    }
 }
 
 static bool print_text(const sr_run *r, bool layers)
@@ -616,29 +652,8 @@ static bool print_text(const sr_run *r, bool layers)
         cli_table_release(&t);
         if (!ok)
             return false;
-        for (size_t i = 0; i < r->section_count; i++)
-            if (r->sections[i].features_json) {
-                printf("    features of %zu: ", r->sections[i].index + 1);
-                const char *f = r->sections[i].features_json;
-                write_compact(stdout, f, f + strlen(f));
-                printf("\n");
-            }
     }
-    if (r->advice_count == 0) {
-        printf("  advice:      none\n");
-    } else {
-        printf("  advice:\n");
-        for (size_t i = 0; i < r->advice_count; i++) {
-            const sr_run_advice *a = &r->advice[i];
-            char where[32];
-            if (a->section_index >= 0)
-                snprintf(where, sizeof where, "section %ld", a->section_index + 1);
-            else
-                snprintf(where, sizeof where, "whole part");
-            printf("    %s: %s (rule %s): %s\n", where, a->process,
-                   a->rule_name[0] ? a->rule_name : "-", a->reason);
-        }
-    }
+    cli_run_advice_print(r);
     if (layers) {
         printf("  layers:      %zu x %zu sectors (aligned frame, x,y in mm; - = no point)\n",
                r->layer_count, r->sectors);

@@ -58,4 +58,10 @@ void json_params(json_out *j, const sr_params *p);
 void json_part_members(json_out *j, const sr_part_info *p);
 void json_instance_members(json_out *j, const sr_instance_info *in);
 
+/* A run's description as `run show --json` and `reconstruct --json` write it
+ * (cli/cmd_run.c): a section's "features" object (its figures, "class", then the
+ * members of its features_json), and the "advice" array. */
+void json_run_features(json_out *j, const sr_run_section *s);
+void json_run_advice(json_out *j, const sr_run *r);
+
 #endif

@@ -2294,6 +2294,51 @@ static void reconstruct_prints_run_recorded_and_no_record_records_none(void **st
     assert_string_equal(after, before);
 }
 
+/* A --mesh run (no instance, never recorded) gets the features and advice an instance
+ * run gets, in the lines `run show` prints and in --json: from the --db catalogue's
+ * rules, read only, when the file exists, else from the built-in seeded rules (and no
+ * catalogue file is created). */
+static void reconstruct_of_a_mesh_file_prints_features_and_advice(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    char mesh[160], before[256], after[256], none[200];
+    path_in(e, "shaft.stl", mesh, sizeof mesh);
+    path_in(e, "no-such.db", none, sizeof none);
+    result r;
+    RUN(&r, "--db", e->db, "export", "instance", "1", "--out", mesh);
+    expect_ok(&r);
+    result_free(&r);
+    run_rows(e, before, sizeof before);
+    RUN(&r, "--db", e->db, "reconstruct", "--mesh", mesh, "--symmetry", "axial", "--layers", "40",
+        "--sectors", "60", "--no-union");
+    expect_ok(&r);
+    expect_contains(r.out, "\n    features of 1: {\"class\":\"");
+    expect_contains(r.out, "\n  advice:\n    section 1: ");
+    assert_null(strstr(r.out, "recorded"));
+    result_free(&r);
+    RUN(&r, "--db", none, "reconstruct", "--mesh", mesh, "--symmetry", "axial", "--layers", "40",
+        "--sectors", "60", "--no-union", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_int_equal(jget(&v, "run_id")->type, J_NULL);
+    const jv *secs = jget(&v, "sections");
+    assert_true(secs->count >= 1);
+    const jv *feat = jget(&secs->items[0], "features");
+    assert_int_equal(feat->type, J_OBJ);
+    assert_string_equal(jstr(feat, "class"), jstr(&secs->items[0], "class"));
+    const jv *adv = jget(&v, "advice");
+    assert_int_equal(adv->type, J_ARR);
+    assert_true(adv->count >= 1);
+    assert_int_equal((int)jnum(&adv->items[adv->count - 1], "section"), (int)secs->count);
+    assert_true(strlen(jstr(&adv->items[0], "process")) > 0);
+    jv_release(&v);
+    result_free(&r);
+    assert_false(file_exists(none));
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+}
+
 /* --order auto (issue 6 item 4): a hexagonal prism is found 6-fold and restored with
  * that order; a round demo shaft is found continuous and its run records order 0 (not
  * "auto"); a catalogue part keeps only orders, so 'part add --order auto' is refused. */
@@ -3137,6 +3182,7 @@ int main(void)
         T(fixtures_write_meshes_whose_volumes_match_volumes_json),
         T(reconstruct_of_an_instance_records_a_run_that_run_list_and_show_return),
         T(reconstruct_prints_run_recorded_and_no_record_records_none),
+        T(reconstruct_of_a_mesh_file_prints_features_and_advice),
         T(reconstruct_params_and_overrides_are_recorded),
         T(reconstruct_order_auto_finds_and_records_the_order),
         T(a_failed_reconstruct_records_nothing),

@@ -170,7 +170,7 @@ static size_t count_of(const char *hay, const char *needle)
 
 static char *build(const sr_run *r, size_t budget, sr_report_info *info)
 {
-    sr_report_opts o = {budget, NULL, NULL, NULL};
+    sr_report_opts o = {.max_triangles = budget};
     char *html = NULL;
     size_t len = 0;
     sr_err err = {{0}};

@@ -23,6 +23,7 @@
 #include "catalog/catalog.h"
 #include "catalog/catalog_rules.h"
 #include "advice/rules.h"
+#include "catalog/catalog_record.h"
 #include "support/assert_near.h"
 #include "support/json_query.h"
 #include "support/synth_run.h"
@@ -78,18 +79,17 @@ static void advise(fixture *fx, const char *material, double volume)
 {
     sr_err err;
     sr_err_clear(&err);
-    if (sr_advise_run(fx->cat, material, volume, &fx->run, &err) != SR_OK)
-        fail_msg("sr_advise_run: %s", err.msg);
+    if (sr_catalog_advise_run(fx->cat, material, volume, &fx->run, &err) != SR_OK)
+        fail_msg("sr_catalog_advise_run: %s", err.msg);
 }
 
 /* The advice for section i (-1: the whole part); fails if there is none. */
 static const sr_run_advice *advice_for(const fixture *fx, long i)
 {
-    for (size_t k = 0; k < fx->run.advice_count; k++)
-        if (fx->run.advice[k].section_index == i)
-            return &fx->run.advice[k];
-    fail_msg("no advice for section %ld", i);
-    return NULL;
+    const sr_run_advice *a = synth_run_advice_for(&fx->run, i);
+    if (!a)
+        fail_msg("no advice for section %ld", i);
+    return a;
 }
 
 static bool has_advice_for(const fixture *fx, long i)
@@ -567,7 +567,7 @@ static void advise_failure_leaves_the_run_as_it_was(void **state)
     synth_run_dig(&fx->run, 20, 24, 30, 6, 2.0, 0);
     fx->run.sections[1].layer_last = 500;
     sr_err err;
-    assert_int_equal(sr_advise_run(fx->cat, NULL, shaft_volume(), &fx->run, &err), SR_E_RANGE);
+    assert_int_equal(sr_catalog_advise_run(fx->cat, NULL, shaft_volume(), &fx->run, &err), SR_E_RANGE);
     assert_msg_has(err, "section 1");
     assert_ptr_equal(fx->run.advice, before);
     assert_int_equal(fx->run.advice_count, 1);

@@ -2,8 +2,8 @@
  * rules.c: the repair-rule engine of rules.h: three-valued evaluation of a rule's
  * conditions on a section (or on the whole part), the choice of advice in priority
  * order with the material's process limits, the advice's details_json (rules fired,
- * blocked, unevaluated), reason texts with figures filled in, and sr_advise_run, the
- * one call that describes and advises a run in place before it is stored.
+ * blocked, unevaluated), reason texts with figures filled in, and sr_advise_run, which
+ * describes and advises a run in place before it is stored or printed.
  */
 #include "advice/rules.h"
 
@@ -441,21 +441,19 @@ sr_status sr_rules_advise(const sr_rule *rules, size_t rule_count, const sr_rule
     return SR_OK;
 }
 
-/* ---- the CLI's entry point ---- */
+/* ---- describe and advise a run in place ---- */
 
-sr_status sr_advise_run(sr_catalog *cat, const char *material, double part_volume_mm3,
-                        sr_run *run, sr_err *err)
+sr_status sr_advise_run(const sr_rule *rules, size_t rule_count, const char *material,
+                        const sr_material *info, double part_volume_mm3, sr_run *run,
+                        sr_err *err)
 {
     size_t n = run->section_count;
     sr_feature_part fp = {part_volume_mm3 > 0 ? part_volume_mm3 : 0, 0};
     sr_features *fs = calloc(n ? n : 1, sizeof *fs);
     char **json = calloc(n ? n : 1, sizeof *json);
-    sr_rule *rules = NULL;
-    size_t rule_count = 0;
     sr_run_advice *adv = NULL;
     size_t adv_count = 0;
-    sr_material info;
-    sr_rule_part part = {material, NULL, run->symmetry.kind, fp.volume_mm3, NAN};
+    sr_rule_part part = {material, info, run->symmetry.kind, fp.volume_mm3, NAN};
     sr_status st = SR_OK;
     if (!fs || !json)
         st = sr_err_set(err, SR_E_NOMEM, "out of memory describing %zu sections", n);
@@ -463,17 +461,6 @@ sr_status sr_advise_run(sr_catalog *cat, const char *material, double part_volum
         st = sr_features_compute(run, i, &fp, &fs[i], err);
         if (st == SR_OK)
             st = sr_features_to_json(&fs[i], &json[i], err);
-    }
-    if (st == SR_OK)
-        st = sr_catalog_rule_load(cat, true, &rules, &rule_count, err);
-    if (st == SR_OK && material && *material) {
-        st = sr_catalog_material_get(cat, material, &info, err);
-        if (st == SR_OK) {
-            part.info = &info;
-        } else if (st == SR_E_NOTFOUND) {
-            sr_err_clear(err);
-            st = SR_OK;
-        }
     }
     if (st == SR_OK)
         st = sr_rules_advise(rules, rule_count, &part, run, fs, &adv, &adv_count, err);
@@ -494,6 +481,5 @@ sr_status sr_advise_run(sr_catalog *cat, const char *material, double part_volum
             free(json[i]);
     free(json);
     free(fs);
-    free(rules);
     return st;
 }

@@ -1,8 +1,9 @@
 /*
  * rules.h: the repair-rule engine. It turns the feature-level description of a run's
  * missing sections (section_features.h) into advice (the paper's expert advice for repair by
- * spray forming, section 7 / Figure 8), drawing on the rules and materials of the
- * catalogue (catalog_rules.h), so that the shop changes the advice by editing rows.
+ * spray forming, section 7 / Figure 8), drawing on rules and a material given as plain
+ * rows (rule.h). Pure C, no SQLite: the catalogue keeps the rows the shop edits and
+ * hands them in (catalog_record.h), so the shop changes the advice by editing rows.
  *
  * How rules are applied:
  *   * the enabled rules are tried in order of priority (lower first), then id;
@@ -42,10 +43,9 @@
 
 #include <stddef.h>
 
-#include "catalog/catalog.h"
-#include "catalog/catalog_rules.h"
-#include "catalog/catalog_runs.h"
+#include "advice/rule.h"
 #include "advice/section_features.h"
+#include "run/run.h"
 #include "base/status.h"
 
 /* What the engine knows of the part besides its sections. */
@@ -79,13 +79,16 @@ sr_status sr_rules_advise(const sr_rule *rules, size_t rule_count, const sr_rule
                           const sr_run *run, const sr_features *fs, sr_run_advice **out,
                           size_t *count, sr_err *err);
 
-/* The CLI's one call before a run is stored: describes every section
- * (sr_features_describe: damage_class, features_json), reads the enabled rules and the
- * material (`material` NULL or "" = none; a name the catalogue does not know is kept
- * as the material's name with family and limits unknown), and replaces run->advice
- * (freeing what was there). part_volume_mm3 <= 0 = unknown. All or nothing: on failure
- * the run is as it was. */
-sr_status sr_advise_run(sr_catalog *cat, const char *material, double part_volume_mm3,
-                        sr_run *run, sr_err *err);
+/* Describes every section (sr_features_compute: damage_class, features_json) and
+ * replaces run->advice (freeing what was there) with sr_rules_advise's from `rules`
+ * (rule_count, in the order to try them; disabled ones are skipped). `material` is the
+ * part's material name (NULL or "" = none) and `info` its row with limits (NULL = not
+ * known: a name without a row keeps its name, with family and limits unknown).
+ * part_volume_mm3 <= 0 = unknown. All or nothing: on failure the run is as it was.
+ * The catalogue's version, with its rules and material rows, is catalog_record.h's
+ * sr_catalog_advise_run. */
+sr_status sr_advise_run(const sr_rule *rules, size_t rule_count, const char *material,
+                        const sr_material *info, double part_volume_mm3, sr_run *run,
+                        sr_err *err);
 
 #endif

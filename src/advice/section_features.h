@@ -95,7 +95,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "catalog/catalog_runs.h"
+#include "run/run.h"
 #include "base/status.h"
 
 #define SR_FEAT_CRACK_WIDTH_RATIO 0.5

@@ -543,6 +543,13 @@ sr_status sr_catalog_open(const char *path, unsigned flags, sr_catalog **out, sr
     return sr_cat_open_with(path, flags, sr_sql_files, out, err);
 }
 
+sr_status sr_catalog_open_memory(sr_catalog **out, sr_err *err)
+{
+    /* SQLite's own name for a private in-memory database; a file of that name in the
+     * working directory is not opened (SQLite never treats ":memory:" as a path). */
+    return sr_cat_open_with(":memory:", SR_CATALOG_CREATE, sr_sql_files, out, err);
+}
+
 void sr_catalog_close(sr_catalog *cat)
 {
     if (!cat)

@@ -22,6 +22,7 @@
 #include "mesh/mesh.h"
 #include "base/status.h"
 #include "base/symmetry.h"
+#include "run/run.h"
 
 typedef struct sr_catalog sr_catalog;
 
@@ -40,6 +41,12 @@ enum {
  * date. Refuses a file that is not SQLite, not a symrec catalogue (application_id), or
  * from a newer schema version (SR_E_VERSION). *out only on success. */
 sr_status sr_catalog_open(const char *path, unsigned flags, sr_catalog **out, sr_err *err);
+
+/* Creates a new catalogue in memory with every migration applied, so it holds only the
+ * seeded rows of sql/ (parameter sets, repair rules, materials); it is gone when
+ * closed. For work that needs the built-in defaults without a catalogue file (a --mesh
+ * reconstruction's advice). sr_catalog_path gives ":memory:". *out only on success. */
+sr_status sr_catalog_open_memory(sr_catalog **out, sr_err *err);
 
 /* Closes; accepts NULL. */
 void sr_catalog_close(sr_catalog *cat);
@@ -148,22 +155,7 @@ sr_status sr_catalog_instance_list(sr_catalog *cat, const char *part, sr_instanc
 sr_status sr_catalog_instance_mesh(sr_catalog *cat, int64_t instance_id, sr_mesh *out,
                                    sr_err *err);
 
-/* ---- named parameter sets ---- */
-
-typedef struct sr_params {
-    char name[64];
-    int layers;                 /* N_layers, >= 1 */
-    int sectors;                /* N_sectors, >= 3 */
-    double gamma_axis;          /* Alg. 4 threshold, (0,1] */
-    double gamma_plane;         /* Alg. 5 threshold, (0,1] */
-    double delta_d;             /* Alg. 3 threshold, (0,1] */
-    double min_depth_mm;        /* smallest depth reported as a section, >= 0 */
-    double min_volume_mm3;      /* smallest volume reported as a section, >= 0 */
-    char notes[256];
-} sr_params;
-
-/* Range checks of a parameter set; the message names the field. */
-sr_status sr_params_check(const sr_params *p, sr_err *err);
+/* ---- named parameter sets (sr_params and sr_params_check: run/run.h) ---- */
 
 /* SR_E_NOTFOUND if there is no set of that name. "default" is seeded. */
 sr_status sr_catalog_params_get(sr_catalog *cat, const char *name, sr_params *out,

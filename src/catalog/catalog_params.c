@@ -1,60 +1,13 @@
 /*
- * catalog_params.c: named parameter sets (table parameter_sets): range checks,
+ * catalog_params.c: named parameter sets (table parameter_sets): storage only:
  * get, put (insert or replace by name, ignoring ASCII case) and list. The seeded
- * sets 'coarse', 'medium' and 'default' come from sql/001_init.sql. The ranges here
- * are the same as the table's CHECK constraints, so a set that passes
- * sr_params_check is never refused by the database.
+ * sets 'coarse', 'medium' and 'default' come from sql/001_init.sql. The range checks
+ * are sr_params_check's (src/run/run.c), the same as the table's CHECK constraints, so
+ * a set that passes them is never refused by the database.
  */
 #include "catalog/catalog_int.h"
 
-#include <math.h>
 #include <string.h>
-
-#define LAYERS_MAX 100000
-#define SECTORS_MAX 100000
-
-/* True when a fixed field holds a NUL-terminated string of min..size-1 bytes. */
-static bool field_ok(const char *field, size_t size, size_t min)
-{
-    const char *nul = memchr(field, '\0', size);
-    return nul && (size_t)(nul - field) >= min;
-}
-
-static sr_status check_fraction(const char *field, double x, sr_err *err)
-{
-    if (!(x > 0 && x <= 1))  /* also refuses NaN */
-        return sr_err_set(err, SR_E_RANGE, "bad %s %g: expected a value in (0, 1]", field, x);
-    return SR_OK;
-}
-
-static sr_status check_minimum(const char *field, double x, sr_err *err)
-{
-    if (!(isfinite(x) && x >= 0))
-        return sr_err_set(err, SR_E_RANGE, "bad %s %g: expected a finite value >= 0", field, x);
-    return SR_OK;
-}
-
-sr_status sr_params_check(const sr_params *p, sr_err *err)
-{
-    if (!field_ok(p->name, sizeof p->name, 1))
-        return sr_err_set(err, SR_E_RANGE, "bad name: expected 1..%zu bytes", sizeof p->name - 1);
-    if (!field_ok(p->notes, sizeof p->notes, 0))
-        return sr_err_set(err, SR_E_RANGE, "bad notes: expected at most %zu bytes",
-                          sizeof p->notes - 1);
-    if (p->layers < 1 || p->layers > LAYERS_MAX)
-        return sr_err_set(err, SR_E_RANGE, "bad layers %d: expected 1..%d", p->layers, LAYERS_MAX);
-    if (p->sectors < 3 || p->sectors > SECTORS_MAX)
-        return sr_err_set(err, SR_E_RANGE, "bad sectors %d: expected 3..%d", p->sectors,
-                          SECTORS_MAX);
-    sr_status st;
-    if ((st = check_fraction("gamma_axis", p->gamma_axis, err)) != SR_OK ||
-        (st = check_fraction("gamma_plane", p->gamma_plane, err)) != SR_OK ||
-        (st = check_fraction("delta_d", p->delta_d, err)) != SR_OK ||
-        (st = check_minimum("min_depth_mm", p->min_depth_mm, err)) != SR_OK ||
-        (st = check_minimum("min_volume_mm3", p->min_volume_mm3, err)) != SR_OK)
-        return st;
-    return SR_OK;
-}
 
 #define PARAMS_COLUMNS                                                                  \
     "name, layers, sectors, gamma_axis, gamma_plane, delta_d, min_depth_mm, min_volume_mm3," \

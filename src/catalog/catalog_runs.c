@@ -533,26 +533,6 @@ sr_status sr_catalog_run_add(sr_catalog *cat, const sr_run *run, int64_t *out_id
 
 /* ---- reading ---- */
 
-void sr_run_release(sr_run *run)
-{
-    if (!run)
-        return;
-    free(run->timings_json);
-    free(run->layer_z);
-    free(run->damaged_xy);
-    free(run->restored_xy);
-    for (size_t i = 0; run->sections && i < run->section_count; i++) {
-        free(run->sections[i].features_json);
-        sr_mesh_release(&run->sections[i].patch);
-    }
-    free(run->sections);
-    for (size_t i = 0; run->advice && i < run->advice_count; i++)
-        free(run->advice[i].details_json);
-    free(run->advice);
-    sr_mesh_release(&run->restored);
-    memset(run, 0, sizeof *run);
-}
-
 /* A copy of a text column, NULL for SQL NULL. *fail set when out of memory. */
 static char *column_dup(sqlite3_stmt *stmt, int col, bool *fail)
 {

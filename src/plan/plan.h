@@ -54,7 +54,7 @@
 #include <stdint.h>
 
 #include "bridge/polygon.h"
-#include "catalog/catalog_runs.h"
+#include "run/run.h"
 #include "base/status.h"
 
 typedef enum sr_plan_pattern {

@@ -890,8 +890,6 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
                          size_t *out_len, sr_report_info *info, sr_err *err)
 {
     size_t budget = opts && opts->max_triangles ? opts->max_triangles : DEFAULT_BUDGET;
-    const sr_instance_info *inst = opts ? opts->instance : NULL;
-    const sr_part_info *part = opts ? opts->part : NULL;
 
     /* display meshes: each its share of the budget */
     size_t stored = run->restored.tri_count;
@@ -958,16 +956,16 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     snprintf(num, sizeof num, "%lld", (long long)run->id);
     fact(&b, "run", num);
     fact(&b, "part", run->part_number);
-    if (part) {
-        fact(&b, "part name", part->name);
-        fact(&b, "material", part->material);
-    }
+    if (opts && opts->part_name)
+        fact(&b, "part name", opts->part_name);
+    if (opts && opts->material)
+        fact(&b, "material", opts->material);
     snprintf(num, sizeof num, "%lld", (long long)run->instance_id);
     fact(&b, "instance", num);
-    if (inst) {
-        fact(&b, "serial", inst->serial);
-        fact(&b, "received", inst->received);
-    }
+    if (opts && opts->serial)
+        fact(&b, "serial", opts->serial);
+    if (opts && opts->received)
+        fact(&b, "received", opts->received);
     fact(&b, "symmetry", sym_text(&run->symmetry, sym, sizeof sym));
     fact(&b, "method", run->method);
     fact(&b, "started (UTC)", run->started_at);

@@ -26,15 +26,18 @@
 
 #include <stddef.h>
 
-#include "catalog/catalog.h"
-#include "catalog/catalog_runs.h"
 #include "plan/plan.h"
+#include "run/run.h"
 #include "base/status.h"
 
 typedef struct sr_report_opts {
     size_t max_triangles;       /* viewer budget, all meshes together; 0 = 60000 */
-    const sr_instance_info *instance;  /* optional: serial, received date */
-    const sr_part_info *part;   /* optional: name, material */
+    /* The instance's and the part's facts from the catalogue, shown in the run table
+     * when given; NULL = the row is left out. */
+    const char *serial;         /* the instance's serial */
+    const char *received;       /* the date it was received, YYYY-MM-DD */
+    const char *part_name;
+    const char *material;
     const sr_plan_opts *plan;   /* build plan settings; NULL = sr_plan_opts_init's
                                  * defaults (the caller sets the material's density) */
 } sr_report_opts;

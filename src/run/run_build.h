@@ -1,11 +1,11 @@
 /*
  * run_build.h: turns one reconstruction (reconstruct.h's sr_recon_result) into the run
- * record the catalogue stores (catalog_runs.h's sr_run): what was asked (instance,
+ * record (run/run.h's sr_run, which the catalogue stores): what was asked (instance,
  * symmetry, parameter set, method), the alignment and its fit, the per-layer polyline
  * pairs of the paper (Polylines(0,.) the damaged outline, Polylines(1,.) the restored
  * one), the missing sections with copies of their patch meshes, a copy of the restored
  * mesh and the timings. Pure C, no I/O, no SQLite: the caller records it with
- * sr_catalog_run_add.
+ * sr_catalog_run_record (catalog_record.h: features, advice, then the record).
  *
  * Sections leave here with damage_class "unclassified", no features_json and no
  * advice: the classifier and the rules engine fill those before the run is stored.
@@ -15,7 +15,7 @@
 
 #include <stdint.h>
 
-#include "catalog/catalog_runs.h"
+#include "run/run.h"
 #include "reconstruct.h"
 
 /* Builds *out (heap-owned, free with sr_run_release) from `result`, which is only

@@ -108,3 +108,11 @@ void synth_run_free(sr_run *run)
     free(run->advice);
     memset(run, 0, sizeof *run);
 }
+
+const sr_run_advice *synth_run_advice_for(const sr_run *run, long i)
+{
+    for (size_t k = 0; k < run->advice_count; k++)
+        if (run->advice[k].section_index == i)
+            return &run->advice[k];
+    return NULL;
+}

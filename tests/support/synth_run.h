@@ -24,6 +24,10 @@ void synth_run_make(sr_run *run, size_t layers, size_t sectors, double r_low, do
 sr_run_section *synth_run_dig(sr_run *run, size_t l0, size_t l1, size_t j0, size_t count,
                               double depth, int planar_side);
 
+/* The first advice for section i of `run` (-1: the whole part); NULL if there is
+ * none. */
+const sr_run_advice *synth_run_advice_for(const sr_run *run, long i);
+
 /* Frees everything synth_run_make/dig allocated and what the code under test put in
  * (features_json, advice details). */
 void synth_run_free(sr_run *run);
