@@ -110,6 +110,57 @@ static double spread_along(const al_surface *s, const double n[3])
     return v;
 }
 
+/* The symmetry ICP slides: a part's large flat faces across the plane (a lever's web)
+ * reflect onto themselves whatever the plane's tilt about their normal, so once damage
+ * has taken away what pinned the tilt (the walls of one boss), the fit can settle a
+ * degree or two off, on a plane that matches fewer samples exactly. The refined plane
+ * is restarted tilted by POLISH_DEG and twice that about two directions in it, both
+ * ways, each start fitted on the screening samples; the best start that matches more
+ * of them than the plane does is refined on the coarse samples and replaces the plane
+ * if it matches more there too (al_fit_better); at most POLISH_ROUNDS rounds. */
+#define POLISH_DEG 1.5
+#define POLISH_ROUNDS 2
+static void polish_plane(al_ctx *ctx, double tau, plane_cand *pc)
+{
+    al_surface *s = ctx->surf;
+    for (int round = 0; round < POLISH_ROUNDS; round++) {
+        double u[3], w[3], ref[3] = {1, 0, 0};
+        if (fabs(pc->m.a[0]) > 0.8)
+            ref[0] = 0, ref[1] = 1;
+        v3_cross(pc->m.a, ref, u);
+        v3_normalize(u);
+        v3_cross(pc->m.a, u, w);
+        al_fit here;
+        al_evaluate(s, &ctx->screen, &pc->m, ctx->tol, &here);
+        al_model best = pc->m;
+        al_fit best_f = here;
+        for (int k = 0; k < 8; k++) {
+            double deg = (k < 4 ? 1 : 2) * POLISH_DEG * M_PI / 180;
+            const double *d = (k % 2) ? w : u;
+            double sg = (k % 4) < 2 ? 1 : -1;
+            double n[3];
+            for (int q = 0; q < 3; q++)
+                n[q] = cos(deg) * pc->m.a[q] + sg * sin(deg) * d[q];
+            al_model t;
+            al_fit tf;
+            plane_model(s, AL_MIRROR, n, pc->m.c, &t);
+            al_icp(s, &ctx->screen, &t, 15, tau, ctx->tol, &tf);
+            if (al_fit_better(&tf, &best_f)) {
+                best = t;
+                best_f = tf;
+            }
+        }
+        if (!al_fit_better(&best_f, &here))
+            break;
+        plane_cand t = *pc;
+        t.m = best;
+        al_icp(s, &ctx->coarse, &t.m, 25, tau, ctx->tol, &t.f);
+        if (!al_fit_better(&t.f, &pc->f))
+            break;
+        *pc = t;
+    }
+}
+
 /* Plane candidates: the three principal planes of the area covariance, the
  * reflection-symmetric directions of the normals (align_egi.c) and the hint, each
  * moved to its best offset and screened; those screening at least 0.8 of the best
@@ -177,6 +228,7 @@ static int plane_candidates(al_ctx *ctx, double keep, plane_cand *out)
         double tau = 4 * med[i];
         tau = tau < ctx->tol ? ctx->tol : (tau < 0.03 * s->diag ? tau : 0.03 * s->diag);
         al_icp(s, &ctx->coarse, &pc->m, 25, tau, ctx->tol, &pc->f);
+        polish_plane(ctx, tau, pc);
         pc->spread = spread_along(s, pc->m.a);
     }
     return count;
