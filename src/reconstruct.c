@@ -408,6 +408,30 @@ static void image_figures(const sr_layer_grid *grid, const double xf[12], sr_sec
     sr_mesh_release(&copy);
 }
 
+/* Where images met each other or the scan to rounding, the union leaves fins of
+ * needles inside the solid (joined to the surface by edges of a micrometre): their
+ * short edges are collapsed (sr_mesh_collapse_short_edges), kept only when the mesh
+ * stays closed with its volume. Returns the edges collapsed. */
+#define SLIVER_EDGE_MM 0.005
+static size_t fold_slivers(sr_mesh *m)
+{
+    sr_mesh copy = {0};
+    size_t n = 0;
+    if (sr_mesh_copy(&copy, m) != SR_OK)
+        return 0;
+    double v0 = sr_mesh_volume(m);
+    sr_status cst = sr_mesh_collapse_short_edges(&copy, SLIVER_EDGE_MM, &n, NULL);
+    if (cst != SR_OK || n == 0 ||
+        !sr_mesh_is_closed(&copy) ||
+        !(fabs(sr_mesh_volume(&copy) - v0) <= 1e-6 * fabs(v0) + 1e-3)) {
+        sr_mesh_release(&copy);
+        return 0;
+    }
+    sr_mesh_release(m);
+    *m = copy;
+    return n;
+}
+
 static sr_status unite_images(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
                               double min_vol, sr_err *err)
 {
@@ -430,7 +454,9 @@ static sr_status unite_images(const sr_mesh *scan, const double xf[12], sr_recon
         if (us == SR_E_INVALID && owned) {
             /* zero-area triangles a previous union left: removed, tried again */
             sr_repair_report ra = {0};
-            if (sr_mesh_repair(&acc, &ra, NULL) == SR_OK && ra.changed)
+            int changed = sr_mesh_repair(&acc, &ra, NULL) == SR_OK && ra.changed;
+            changed |= fold_slivers(&acc) > 0; /* needles CGAL would not collapse */
+            if (changed)
                 us = sr_boolean_union_local_split(&acc, "scan", xf, &sec->patch,
                                                   "section's image", 0, &acc, &patch, &info,
                                                   &uerr);
@@ -512,8 +538,11 @@ static sr_status unite_images(const sr_mesh *scan, const double xf[12], sr_recon
         sr_repair_report rr = {0};
         if (sr_mesh_repair(&acc, &rr, NULL) == SR_OK)
             degenerate = rr.degenerate_removed;
-        for (size_t i = 0; i < r->section_count; i++)
+        degenerate += fold_slivers(&acc);
+        for (size_t i = 0; i < r->section_count; i++) {
             sr_mesh_repair(&r->sections[i].patch, &rr, NULL);
+            fold_slivers(&r->sections[i].patch);
+        }
     }
     note_repairs(r, degenerate, mended, 0, &voids);
     r->restored = acc;

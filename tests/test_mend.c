@@ -437,6 +437,62 @@ static void fold_beyond_the_cap_is_left_and_said(void **state)
     sr_mesh_release(&before);
 }
 
+/* A box whose edge from vertex a to b is split by a vertex w a micrometre from a: the
+ * two triangles at the edge become four, two of them needles. Collapsing edges under
+ * 5 um folds the needles away (12 triangles again, closed, the volume to the half
+ * micrometre the corner moved); an edge
+ * limit under the micrometre changes nothing. */
+static void needles_fold_away_and_longer_edges_stay(void **state)
+{
+    (void)state;
+    double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 30};
+    sr_mesh box, m;
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    /* the edge of triangle 0 from its first vertex to its second */
+    uint32_t a = box.tri[0], b = box.tri[1];
+    assert_int_equal(sr_mesh_alloc(&m, box.vertex_count + 1, box.tri_count + 2), SR_OK);
+    memcpy(m.xyz, box.xyz, 3 * box.vertex_count * sizeof *m.xyz);
+    uint32_t w = (uint32_t)box.vertex_count;
+    double len = 0;
+    for (int k = 0; k < 3; k++)
+        len += pow(box.xyz[3 * b + k] - box.xyz[3 * a + k], 2);
+    len = sqrt(len);
+    for (int k = 0; k < 3; k++)
+        m.xyz[3 * w + k] = box.xyz[3 * a + k] + 1e-3 / len * (box.xyz[3 * b + k] - box.xyz[3 * a + k]);
+    size_t t = 0;
+    for (size_t f = 0; f < box.tri_count; f++) {
+        const uint32_t *v = box.tri + 3 * f;
+        int split = -1;
+        for (int e = 0; e < 3; e++)
+            if ((v[e] == a && v[(e + 1) % 3] == b) || (v[e] == b && v[(e + 1) % 3] == a))
+                split = e;
+        if (split < 0) {
+            memcpy(m.tri + 3 * t++, v, 3 * sizeof *v);
+            continue;
+        }
+        uint32_t p = v[split], q = v[(split + 1) % 3], r = v[(split + 2) % 3];
+        uint32_t one[3] = {p, w, r}, two[3] = {w, q, r};
+        memcpy(m.tri + 3 * t++, one, sizeof one);
+        memcpy(m.tri + 3 * t++, two, sizeof two);
+    }
+    assert_int_equal(t, box.tri_count + 2);
+    assert_true(sr_mesh_is_closed(&m));
+    double vol = sr_mesh_volume(&box);
+    size_t n = 9;
+    assert_int_equal(sr_mesh_collapse_short_edges(&m, 1e-4, &n, NULL), SR_OK);
+    assert_int_equal(n, 0);
+    assert_int_equal(m.tri_count, box.tri_count + 2);
+    assert_int_equal(sr_mesh_collapse_short_edges(&m, 5e-3, &n, NULL), SR_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(m.tri_count, box.tri_count);
+    assert_int_equal(m.vertex_count, box.vertex_count);
+    assert_true(sr_mesh_is_closed(&m));
+    /* the corner moved half a micrometre along the edge */
+    assert_near(sr_mesh_volume(&m), vol, 0.1);
+    sr_mesh_release(&box);
+    sr_mesh_release(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -447,6 +503,7 @@ int main(void)
         cmocka_unit_test(open_sheet_is_mended_and_keeps_its_border),
         cmocka_unit_test(fold_at_the_border_is_refused_and_mesh_untouched),
         cmocka_unit_test(non_manifold_input_is_refused),
+        cmocka_unit_test(needles_fold_away_and_longer_edges_stay),
         cmocka_unit_test(folded_scan_unites_with_a_patch_over_the_fold),
         cmocka_unit_test(fold_of_noise_size_is_unfolded_within_the_cap),
         cmocka_unit_test(fold_beyond_the_cap_is_left_and_said),

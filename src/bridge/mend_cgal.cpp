@@ -833,6 +833,63 @@ sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err
     return SR_OK;
 }
 
+/* sr_mesh_collapse_short_edges proper: see mend.h. */
+sr_status collapse_short(sr_mesh *m, double min_edge, size_t *collapsed, sr_err *err)
+{
+    Mesh sm;
+    if (!build(m, sm))
+        return sr_err_set(err, SR_E_INVALID, "cannot collapse edges: not an oriented manifold");
+    size_t n = 0;
+    double min2 = min_edge * min_edge;
+    for (int pass = 0; pass < 8; pass++) {
+        size_t before = n;
+        std::vector<Mesh::Edge_index> short_edges;
+        for (Mesh::Edge_index e : sm.edges()) {
+            Halfedge_index h = sm.halfedge(e);
+            if (CGAL::squared_distance(sm.point(sm.source(h)), sm.point(sm.target(h))) < min2)
+                short_edges.push_back(e);
+        }
+        for (Mesh::Edge_index e : short_edges) {
+            if (sm.is_removed(e))
+                continue;
+            Halfedge_index h = sm.halfedge(e);
+            Point a = sm.point(sm.source(h)), b = sm.point(sm.target(h));
+            if (!(CGAL::squared_distance(a, b) < min2) || sm.is_border(e) ||
+                !CGAL::Euler::does_satisfy_link_condition(e, sm))
+                continue;
+            Vertex_index v = CGAL::Euler::collapse_edge(e, sm);
+            sm.point(v) = CGAL::midpoint(a, b);
+            n++;
+        }
+        if (n == before)
+            break;
+    }
+    *collapsed = n;
+    if (n == 0)
+        return SR_OK;
+    sm.collect_garbage();
+    sr_mesh out;
+    sr_mesh_init(&out);
+    if (sr_mesh_alloc(&out, sm.number_of_vertices(), sm.number_of_faces()) != SR_OK)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory collapsing edges");
+    for (Vertex_index v : sm.vertices()) {
+        const Point &p = sm.point(v);
+        out.xyz[3 * v.idx()] = p.x();
+        out.xyz[3 * v.idx() + 1] = p.y();
+        out.xyz[3 * v.idx() + 2] = p.z();
+    }
+    size_t t = 0;
+    for (Face_index f : sm.faces()) {
+        int k = 0;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+            out.tri[3 * t + k++] = static_cast<uint32_t>(v.idx());
+        t++;
+    }
+    sr_mesh_release(m);
+    *m = out;
+    return SR_OK;
+}
+
 } // namespace
 
 extern "C" {
@@ -870,6 +927,26 @@ sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *re
         return sr_err_set(err, SR_E_INTERNAL, "unfolding a mesh: %s", e.what());
     } catch (...) {
         return sr_err_set(err, SR_E_INTERNAL, "unfolding a mesh: unknown exception");
+    }
+}
+
+sr_status sr_mesh_collapse_short_edges(sr_mesh *mesh, double min_edge_mm, size_t *collapsed,
+                                       sr_err *err)
+{
+    size_t local = 0;
+    if (!collapsed)
+        collapsed = &local;
+    *collapsed = 0;
+    if (!(min_edge_mm > 0))
+        return SR_OK;
+    try {
+        return collapse_short(mesh, min_edge_mm, collapsed, err);
+    } catch (const std::bad_alloc &) {
+        return sr_err_set(err, SR_E_NOMEM, "out of memory collapsing edges");
+    } catch (const std::exception &e) {
+        return sr_err_set(err, SR_E_INTERNAL, "collapsing edges: %s", e.what());
+    } catch (...) {
+        return sr_err_set(err, SR_E_INTERNAL, "collapsing edges: unknown exception");
     }
 }
 
