@@ -115,9 +115,10 @@ $(GEN_SQL): $(SQL_SRC) Makefile
 $(GEN_SQL:.c=.o): $(GEN_SQL)
 	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
 
+# made afresh: `ar rcs` into the old archive would keep the objects of deleted sources
 $(LIB): $(LIB_OBJ)
 	@$(if $(Q),echo "  AR    $@")
-	$(Q)ar rcs $@ $^
+	$(Q)rm -f $@ && ar rcs $@ $^
 
 $(BIN): $(CLI_OBJ) $(LIB)
 	@$(if $(Q),echo "  LINK  $@")
