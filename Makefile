@@ -61,8 +61,10 @@ BENCH_SRC   := $(wildcard tests/bench/*.c)
 FIX_SRC     := $(wildcard fixtures/*.c)
 
 GEN_SQL := $(BUILD)/gen/sql_embedded.c
+REPORT_ASSETS := src/report/report.css src/report/report.js
+GEN_REPORT := $(BUILD)/gen/report_assets.c
 CGAL_OBJ := $(CGAL_SRC:%.cpp=build/cgal/%.o)
-LIB_OBJ := $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(CGAL_OBJ) $(GEN_SQL:.c=.o)
+LIB_OBJ := $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(CGAL_OBJ) $(GEN_SQL:.c=.o) $(GEN_REPORT:.c=.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libsymrec.a
 BIN     := $(BUILD)/symrec
@@ -113,6 +115,23 @@ $(GEN_SQL): $(SQL_SRC) Makefile
 	  echo '  { 0, 0 }'; echo '};'; } > $@
 
 $(GEN_SQL:.c=.o): $(GEN_SQL)
+	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
+
+# The report's stylesheet and script are compiled in the same way (report_assets.h):
+# each file without its opening comment (up to the first line " */"), the stylesheet's
+# lines joined into one, the script's kept as lines.
+$(GEN_REPORT): $(REPORT_ASSETS) Makefile
+	@mkdir -p $(dir $@)
+	$(Q){ echo '/* generated from src/report/report.css and report.js by the Makefile; do not edit */'; \
+	  echo '#include "report/report_assets.h"'; \
+	  echo 'const char sr_report_css[] ='; \
+	  sed -e '1,/^ \*\/$$/d' -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/"/' src/report/report.css; \
+	  echo '    "";'; \
+	  echo 'const char sr_report_js[] ='; \
+	  sed -e '1,/^ \*\/$$/d' -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/\\n"/' src/report/report.js; \
+	  echo '    "";'; } > $@
+
+$(GEN_REPORT:.c=.o): $(GEN_REPORT)
 	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
 
 # made afresh: `ar rcs` into the old archive would keep the objects of deleted sources
