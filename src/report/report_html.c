@@ -24,6 +24,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/json_scan.h"
 #include "base/symmetry.h"
 #include "report/report_assets.h"
 
@@ -88,54 +89,39 @@ static void fact(sb *b, const char *label, const char *value)
     sb_put(b, "</td></tr>\n");
 }
 
+/* One timing member as a table row; a value that is not a number spoils the table. */
+typedef struct timing_acc {
+    sb rows;
+    bool bad;
+} timing_acc;
+
+static void timing_member(const char *k, size_t klen, const char *val, const char *end,
+                          void *user)
+{
+    timing_acc *acc = user;
+    char *stop;
+    double v = strtod(val, &stop);
+    if (stop == val || stop != end) {
+        acc->bad = true;
+        return;
+    }
+    char key[128];
+    snprintf(key, sizeof key, "%.*s", (int)(klen < 127 ? klen : 127), k);
+    sb_put(&acc->rows, "<tr><th>");
+    sb_html(&acc->rows, key);
+    sb_printf(&acc->rows, "</th><td class=\"n\">%.3f</td></tr>\n", v);
+}
+
 /* The timings object ({"phase": seconds, ...}) as table rows; false when it is not a
  * flat object of numbers (then the caller shows the text). */
 static bool timing_rows(sb *b, const char *json)
 {
-    const char *p = json;
-    while (*p == ' ' || *p == '\n' || *p == '\t' || *p == '\r')
-        p++;
-    if (*p++ != '{')
-        return false;
-    sb rows = {0};
-    for (;;) {
-        while (*p == ' ' || *p == '\n' || *p == '\t' || *p == '\r' || *p == ',')
-            p++;
-        if (*p == '}')
-            break;
-        if (*p != '"')
-            goto bad;
-        const char *k = ++p;
-        while (*p && *p != '"')
-            p += (*p == '\\' && p[1]) ? 2 : 1;
-        if (*p != '"')
-            goto bad;
-        size_t klen = (size_t)(p - k);
-        p++;
-        while (*p == ' ')
-            p++;
-        if (*p++ != ':')
-            goto bad;
-        char *end;
-        double v = strtod(p, &end);
-        if (end == p)
-            goto bad;
-        p = end;
-        char key[128];
-        snprintf(key, sizeof key, "%.*s", (int)(klen < 127 ? klen : 127), k);
-        sb_put(&rows, "<tr><th>");
-        sb_html(&rows, key);
-        sb_printf(&rows, "</th><td class=\"n\">%.3f</td></tr>\n", v);
-    }
-    if (rows.failed)
-        goto bad;
-    if (rows.p)
-        sb_put(b, rows.p);
-    free(rows.p);
-    return true;
-bad:
-    free(rows.p);
-    return false;
+    timing_acc acc = {{0}, false};
+    bool ok = sr_json_for_members(json, timing_member, &acc) && !acc.bad && !acc.rows.failed;
+    if (ok && acc.rows.p)
+        sb_put(b, acc.rows.p);
+    free(acc.rows.p);
+    return ok;
 }
 
 /* Counter-clockwise end of an axial arc in [0, 360], as `run show` prints it. */
