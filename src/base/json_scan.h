@@ -23,8 +23,8 @@ const char *sr_json_value_end(const char *p);
 
 /* Called for each member of an object: the raw key (without its quotes, escapes as
  * written, key_len bytes) and the value's span [val, end). */
-typedef void (*sr_json_member_fn)(const char *key, size_t key_len, const char *val,
-                                  const char *end, void *user);
+typedef void (*sr_json_member_fn)(const char *key, size_t key_len, const char *val, const char *end,
+                                  void *user);
 
 /* Calls fn for each member of the JSON object `text` (leading whitespace allowed), in
  * order, until the object ends or the text stops making sense. True when the walk

@@ -83,7 +83,7 @@ std::string first_line(const std::string &s)
     size_t b = s.find_first_of("\r\n", a);
     std::string l = s.substr(a, b == std::string::npos ? std::string::npos : b - a);
     if (l.size() > 160)
-        l = l.substr(0, 157) + "...";
+        l.replace(157, std::string::npos, "...");
     return l;
 }
 

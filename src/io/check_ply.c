@@ -248,7 +248,7 @@ static int ply_next(ply_body *b, ply_type t, double *out)
     size_t n = ply_type_size[t];
     if (b->size - b->pos < n)
         return 0;
-    unsigned char c[8];
+    unsigned char c[8] = {0};   /* u32 below reads four bytes of any type */
     for (size_t i = 0; i < n; i++)
         c[i] = b->data[b->pos + (b->format == PLY_LE ? i : n - 1 - i)];
     b->pos += n;
