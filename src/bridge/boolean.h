@@ -1,6 +1,6 @@
 /*
  * boolean.h: robust 3D booleans and surface distances, the pure-C face of
- * src/bridge/*_cgal.cpp as boolean_cgal.hpp lists them (CGAL 5.5 Polygon Mesh
+ * the CGAL files of src/bridge/ that boolean_cgal.hpp lists (CGAL 5.5 Polygon Mesh
  * Processing: corefinement, AABB trees). CGAL's PMP package is GPL-3.0-or-later, so a symrec binary linking it is
  * distributed under the GPL (see README).
  *
