@@ -3,7 +3,8 @@
 # packages this project needs, only when missing), demo (the README's main job),
 # test (unit + CLI tests under ASan/UBSan), valgrind (CLI and CGAL-bridge tests under Valgrind),
 # check (deps + test + valgrind: what CI runs), bench (make bench: speed and accuracy
-# ratios measured in one run), clean.
+# ratios measured in one run), clean; habits: format (clang-format on the files named
+# or changed), compdb (compile_commands.json), lint (cppcheck on src/ and cli/).
 
 config ?= debug
 # the build steps of demo, test, valgrind and bench compile on every CPU
@@ -17,6 +18,8 @@ DEB_PACKAGES := pkg-config libsqlite3-dev sqlite3 libopenmesh-dev libtinygltf-de
 # for the accuracy checks on generated parts (../shared/partgen draws them with OpenSCAD;
 # ../shared/eval/meshcompare scores them with numpy and scipy)
 DEB_CHECK_PACKAGES := openscad python3-numpy python3-scipy
+# for `make lint` and `make format`
+DEB_LINT_PACKAGES := cppcheck clang-format
 
 CC  ?= cc
 CXX ?= g++
@@ -61,8 +64,10 @@ BENCH_SRC   := $(wildcard tests/bench/*.c)
 FIX_SRC     := $(wildcard fixtures/*.c)
 
 GEN_SQL := $(BUILD)/gen/sql_embedded.c
+REPORT_ASSETS := src/report/report.css src/report/report.js
+GEN_REPORT := $(BUILD)/gen/report_assets.c
 CGAL_OBJ := $(CGAL_SRC:%.cpp=build/cgal/%.o)
-LIB_OBJ := $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(CGAL_OBJ) $(GEN_SQL:.c=.o)
+LIB_OBJ := $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(CGAL_OBJ) $(GEN_SQL:.c=.o) $(GEN_REPORT:.c=.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libsymrec.a
 BIN     := $(BUILD)/symrec
@@ -70,13 +75,14 @@ TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 BENCH   := $(BUILD)/bench/symrec_bench
 
 .PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built \
-        partgen-check quick layers
+        partgen-check quick layers format compdb lint
 # keep test objects: they are intermediates of the test binaries, not throwaways
 .SECONDARY:
 all: $(LIB) $(BIN)
 
 deps:
-	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)); do \
+	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)) \
+	  $(if $(filter lint format,$(MAKECMDGOALS)),$(DEB_LINT_PACKAGES)); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -115,9 +121,27 @@ $(GEN_SQL): $(SQL_SRC) Makefile
 $(GEN_SQL:.c=.o): $(GEN_SQL)
 	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
 
+# The report's stylesheet and script are compiled in the same way (report_assets.h):
+# each file without its opening comment (up to the first line " */"), the stylesheet's
+# lines joined into one, the script's kept as lines.
+$(GEN_REPORT): $(REPORT_ASSETS) Makefile
+	@mkdir -p $(dir $@)
+	$(Q){ echo '/* generated from src/report/report.css and report.js by the Makefile; do not edit */'; \
+	  echo '#include "report/report_assets.h"'; \
+	  echo 'const char sr_report_css[] ='; \
+	  sed -e '1,/^ \*\/$$/d' -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/"/' src/report/report.css; \
+	  echo '    "";'; \
+	  echo 'const char sr_report_js[] ='; \
+	  sed -e '1,/^ \*\/$$/d' -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/\\n"/' src/report/report.js; \
+	  echo '    "";'; } > $@
+
+$(GEN_REPORT:.c=.o): $(GEN_REPORT)
+	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
+
+# made afresh: `ar rcs` into the old archive would keep the objects of deleted sources
 $(LIB): $(LIB_OBJ)
 	@$(if $(Q),echo "  AR    $@")
-	$(Q)ar rcs $@ $^
+	$(Q)rm -f $@ && ar rcs $@ $^
 
 $(BIN): $(CLI_OBJ) $(LIB)
 	@$(if $(Q),echo "  LINK  $@")
@@ -202,6 +226,40 @@ bench: deps
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 
 bench-built: $(BENCH)
+
+# clang-format (.clang-format) on the files named, `make format FILES="src/a.c src/a.h"`;
+# without FILES, on the C/C++ files that differ from HEAD (changed, staged or new). Never
+# the whole tree: a reformat of everything would bury the history.
+FORMAT_EXT := '*.c' '*.h' '*.cpp' '*.hpp'
+format: deps
+	$(Q)files="$(FILES)"; \
+	if [ -z "$$files" ]; then \
+	  files=$$( { git diff --name-only --diff-filter=d HEAD -- $(FORMAT_EXT); \
+	              git ls-files --others --exclude-standard -- $(FORMAT_EXT); } | sort -u); \
+	fi; \
+	if [ -n "$$files" ]; then echo "  FORMAT $$files" | tr '\n' ' '; echo; clang-format -i $$files; fi
+
+# compile_commands.json for editors and tools, from the commands make would run for
+# config=$(config) (make -n -B: nothing is compiled).
+compdb:
+	$(Q)$(MAKE) --no-print-directory -n -B config=$(config) all tests-built 2>/dev/null | \
+	  awk -v dir="$(CURDIR)" 'BEGIN { print "["; n = 0 } \
+	    ($$1 == "$(CC)" || $$1 == "$(CXX)") && / -c / { \
+	      for (i = 1; i <= NF; i++) if ($$i == "-c") file = $$(i + 1); \
+	      gsub(/\\/, "\\\\"); gsub(/"/, "\\\""); \
+	      printf "%s  {\"directory\": \"%s\", \"file\": \"%s\", \"command\": \"%s\"}", \
+	        (n++ ? ",\n" : ""), dir, file, $$0 } \
+	    END { print "\n]" }' > compile_commands.json
+	@echo "compile_commands.json: $$(grep -c '"file"' compile_commands.json) files" >&2
+
+# Static analysis of the library and the CLI; clean means no finding outside the
+# reasoned list in .cppcheck-suppressions. Needs the generated sources' folder for
+# includes only.
+LINT_FLAGS := --quiet --error-exitcode=1 --std=c11 --enable=warning,performance,portability \
+              --inline-suppr --suppressions-list=.cppcheck-suppressions \
+              --template='{file}:{line}: {severity} [{id}] {message}' -j$(NPROC)
+lint: deps
+	$(Q)cppcheck $(LINT_FLAGS) -Isrc -Icli -I$(BUILD)/gen src cli
 
 clean:
 	rm -rf build

@@ -99,7 +99,7 @@ static int run_words(const cli_ctx *ctx, cli_fn fn, const char *const *words)
     char *argv[24];
     int argc = 0;
     fprintf(stdout, "\n$ symrec --db %s", ctx->db_path);
-    for (; words[argc] && argc < 23; argc++) {
+    for (; argc < 23 && words[argc]; argc++) {
         argv[argc] = (char *)words[argc];
         fprintf(stdout, " %s", words[argc]);
     }

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/json_scan.h"
 #include "catalog/catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
@@ -59,49 +60,8 @@ static const char usage_show[] =
     "             \"process\", \"rules\" (names), \"reason\" and \"details\"\n";
 
 /* ---- JSON text stored by other modules (timings, features, details) ----
- * The catalogue checks these with json_valid; the scanner below is still bounded by
- * the terminating NUL, so a damaged text gives a short or null value, never a crash. */
-
-static const char *skip_space(const char *p)
-{
-    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')
-        p++;
-    return p;
-}
-
-/* The end of the JSON value starting at p (after it), or NULL if none. */
-static const char *value_end(const char *p)
-{
-    int depth = 0;
-    bool in_str = false;
-    const char *q = p;
-    for (; *q; q++) {
-        char c = *q;
-        if (in_str) {
-            if (c == '\\' && q[1])
-                q++;
-            else if (c == '"') {
-                in_str = false;
-                if (depth == 0)
-                    return q + 1;
-            }
-            continue;
-        }
-        if (c == '"') {
-            in_str = true;
-        } else if (c == '{' || c == '[') {
-            depth++;
-        } else if (c == '}' || c == ']') {
-            if (depth == 0)
-                return q == p ? NULL : q;
-            if (--depth == 0)
-                return q + 1;
-        } else if (depth == 0 && (c == ',' || c == ' ' || c == '\n' || c == '\t' || c == '\r')) {
-            return q == p ? NULL : q;
-        }
-    }
-    return depth == 0 && !in_str && q != p ? q : NULL;
-}
+ * Read with base/json_scan.h: bounded by the terminating NUL, so a damaged text gives
+ * a short or null value, never a crash. */
 
 /* Writes the JSON text [p, end) without the whitespace outside strings. */
 static void write_compact(FILE *f, const char *p, const char *end)
@@ -127,8 +87,8 @@ static void write_compact(FILE *f, const char *p, const char *end)
 /* Writes a stored JSON text as the next value (null when NULL or unreadable). */
 static void json_raw(json_out *j, const char *text)
 {
-    const char *p = text ? skip_space(text) : NULL;
-    const char *end = p ? value_end(p) : NULL;
+    const char *p = text ? sr_json_skip_space(text) : NULL;
+    const char *end = p ? sr_json_value_end(p) : NULL;
     if (!end) {
         json_null(j);
         return;
@@ -142,38 +102,6 @@ static void json_raw(json_out *j, const char *text)
         j->need_comma[j->depth] = true;
     }
     write_compact(j->f, p, end);
-}
-
-/* Calls fn for each member of the JSON object `text` with the raw key (without its
- * quotes, escapes as written) and the value's span. */
-typedef void (*member_fn)(const char *key, size_t key_len, const char *val, const char *end,
-                          void *user);
-
-static void for_members(const char *text, member_fn fn, void *user)
-{
-    if (!text)
-        return;
-    const char *p = skip_space(text);
-    if (*p != '{')
-        return;
-    p = skip_space(p + 1);
-    while (*p == '"') {
-        const char *kend = value_end(p);
-        if (!kend)
-            return;
-        const char *colon = skip_space(kend);
-        if (*colon != ':')
-            return;
-        const char *v = skip_space(colon + 1);
-        const char *vend = value_end(v);
-        if (!vend)
-            return;
-        fn(p + 1, (size_t)(kend - p - 2), v, vend, user);
-        p = skip_space(vend);
-        if (*p != ',')
-            return;
-        p = skip_space(p + 1);
-    }
 }
 
 /* ---- run list ---- */
@@ -364,7 +292,7 @@ void json_run_features(json_out *j, const sr_run_section *s)
     json_number(j, s->area_mm2);
     json_key(j, "class");
     json_string(j, s->damage_class);
-    for_members(s->features_json, feature_member, j);
+    sr_json_for_members(s->features_json, feature_member, j);
     json_object_end(j);
 }
 
@@ -609,7 +537,7 @@ static bool print_text(const sr_run *r, bool layers)
     if (r->timings_json) {
         int n = 0;
         printf("  timings:     ");
-        for_members(r->timings_json, timing_member, &n);
+        sr_json_for_members(r->timings_json, timing_member, &n);
         printf("\n");
     }
     if (r->restored.tri_count > 0)

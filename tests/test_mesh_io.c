@@ -1,6 +1,6 @@
 /*
- * test_mesh_io.c: reading and writing mesh files (src/bridge/mesh_io.cpp and the byte
- * checks of src/io/file_check.c). Every input file is written by the test itself into a
+ * test_mesh_io.c: reading and writing mesh files (src/bridge/mesh_io_api.cpp and the
+ * byte checks of src/io/). Every input file is written by the test itself into a
  * fresh temporary directory: a closed octahedron with unround coordinates goes through
  * every format and must come back with the same vertices, triangles and volume; then
  * one case per kind of bad input, each asserting the status and the message.

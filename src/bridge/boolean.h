@@ -1,7 +1,7 @@
 /*
  * boolean.h: robust 3D booleans and surface distances, the pure-C face of
- * src/bridge/boolean_cgal.cpp (CGAL 5.5 Polygon Mesh Processing: corefinement, AABB
- * trees). CGAL's PMP package is GPL-3.0-or-later, so a symrec binary linking it is
+ * the CGAL files of src/bridge/ that boolean_cgal.hpp lists (CGAL 5.5 Polygon Mesh
+ * Processing: corefinement, AABB trees). CGAL's PMP package is GPL-3.0-or-later, so a symrec binary linking it is
  * distributed under the GPL (see README).
  *
  * Inputs must be closed, consistently oriented and free of self-intersections where the

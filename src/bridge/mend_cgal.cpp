@@ -22,7 +22,7 @@
  * two translation units build in parallel. CGAL_ALWAYS_ROUND_TO_NEAREST for Valgrind as
  * there (see its comment). Every extern "C" entry catches all exceptions.
  */
-#define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* before any CGAL header; see boolean_cgal.cpp */
+#define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* before any CGAL header; see boolean_cgal.hpp */
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_face_base_2.h>

@@ -1,7 +1,8 @@
 /*
  * mesh_io.h: reading and writing mesh files, the pure-C face of the C++ bridge
- * (src/bridge/mesh_io.cpp). OpenMesh reads and writes STL (ASCII and binary), OBJ, PLY
- * and OFF; tinygltf reads and writes glTF and GLB. Nothing C++ crosses this header.
+ * (src/bridge/mesh_io_api.cpp and the files mesh_io_int.hpp lists). OpenMesh reads and
+ * writes STL (ASCII and binary), OBJ, PLY and OFF; tinygltf reads and writes glTF and
+ * GLB. Nothing C++ crosses this header.
  *
  * Every file is checked before it is handed to a library (the faults listed in
  * shared/DEPENDENCY-NOTES.md: lying STL counts, truncated PLY headers, huge OFF

@@ -6,7 +6,7 @@
  * the arrangement vertices. GPL-3.0-or-later like the rest of CGAL's packages used here.
  * Every extern "C" entry catches all exceptions.
  */
-#define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* Valgrind-safe interval filters, see boolean_cgal.cpp */
+#define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* Valgrind-safe interval filters, see boolean_cgal.hpp */
 
 #include <CGAL/Arr_consolidated_curve_data_traits_2.h>
 #include <CGAL/Arr_segment_traits_2.h>

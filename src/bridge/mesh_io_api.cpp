@@ -1,0 +1,206 @@
+/*
+ * mesh_io_api.cpp: the C interface of mesh_io.h: formats by extension, sr_mesh_read and
+ * sr_mesh_write dispatched by format to the readers and writers of the other bridge
+ * files, the check that a mesh is fit for writing, and the exception barrier: every
+ * extern "C" entry point catches all exceptions.
+ */
+#include "bridge/mesh_io_int.hpp"
+
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <strings.h>
+
+namespace sr_meshio {
+
+/* Mesh fit for writing: triangles, finite coordinates, indices in range. */
+sr_status check_for_write(const char *path, const sr_mesh *mesh, const char *what, sr_err *err)
+{
+    if (!mesh || mesh->tri_count == 0 || mesh->vertex_count == 0)
+        return wfail(err, SR_E_INVALID, path, "%s has no triangles", what);
+    if (mesh->vertex_count > SR_MESH_MAX_COUNT || mesh->tri_count > SR_MESH_MAX_COUNT)
+        return wfail(err, SR_E_RANGE, path, "%s is too large", what);
+    sr_mesh_report r;
+    if (sr_mesh_validate(mesh, what, &r, nullptr) != SR_OK) {
+        if (r.nonfinite_vertices)
+            return wfail(err, SR_E_INVALID, path,
+                         "%s has %zu vertices with NaN or infinite coordinates", what,
+                         r.nonfinite_vertices);
+        return wfail(err, SR_E_INVALID, path, "%s has %zu triangles with an index out of range",
+                     what, r.bad_indices);
+    }
+    return SR_OK;
+}
+
+namespace {
+
+sr_status mesh_read(const char *path, sr_mesh *out, sr_err *err)
+{
+    if (!path || !out)
+        return sr_err_set(err, SR_E_INVALID, "no file name given");
+    sr_format fmt = sr_format_from_path(path);
+    if (fmt == SR_FMT_UNKNOWN)
+        return rfail(err, SR_E_UNSUPPORTED, path,
+                     "unknown extension (known: .stl .obj .ply .off .gltf .glb)");
+    MeshGuard g;
+    sr_status st;
+    if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB) {
+        st = read_gltf_merged(path, fmt, &g.m, err);
+    } else {
+        Bytes file;
+        st = read_file(path, MESH_FILE_MAX, file, err);
+        if (st == SR_OK)
+            st = read_openmesh(path, fmt, file, &g.m, err);
+    }
+    if (st != SR_OK)
+        return st;
+    st = sr_mesh_validate(&g.m, path, nullptr, err);
+    if (st != SR_OK)
+        return st;
+    *out = g.m;
+    g.m = sr_mesh{};
+    return SR_OK;
+}
+
+sr_status mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts *opts, sr_err *err)
+{
+    if (!path)
+        return sr_err_set(err, SR_E_INVALID, "no file name given");
+    sr_format fmt = sr_format_from_path(path);
+    if (fmt == SR_FMT_UNKNOWN)
+        return wfail(err, SR_E_UNSUPPORTED, path,
+                     "unknown extension (known: .stl .obj .ply .off .gltf .glb)");
+    sr_status st = check_for_write(path, mesh, "mesh", err);
+    if (st != SR_OK)
+        return st;
+    bool ascii = opts && opts->ascii;
+    if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB) {
+        sr_scene_mesh one = {nullptr, mesh, {0.8f, 0.8f, 0.8f, 1.0f}};
+        return scene_write(path, &one, 1, nullptr, err);
+    }
+    std::string bytes;
+    if (fmt == SR_FMT_STL) {
+        st = encode_stl(path, *mesh, ascii, &bytes, err);
+        if (st != SR_OK)
+            return st;
+    } else {
+        bytes = encode_text(*mesh, fmt, ascii);
+    }
+    return write_file_atomic(path, bytes.data(), bytes.size(), err);
+}
+
+} // namespace
+
+} // namespace sr_meshio
+
+using namespace sr_meshio;
+
+/* ---- the C interface ------------------------------------------------------------------------ */
+
+/* The end of every entry point: no exception crosses into C. */
+#define CATCH_ALL(err, verb, path)                                                             \
+    catch (const std::bad_alloc &)                                                             \
+    {                                                                                          \
+        return sr_err_set(err, SR_E_NOMEM, "cannot %s '%s': out of memory", verb,              \
+                          path ? path : "");                                                   \
+    }                                                                                          \
+    catch (const std::exception &ex)                                                           \
+    {                                                                                          \
+        return sr_err_set(err, SR_E_INTERNAL, "cannot %s '%s': unexpected exception: %s", verb, \
+                          path ? path : "", ex.what());                                        \
+    }                                                                                          \
+    catch (...)                                                                                \
+    {                                                                                          \
+        return sr_err_set(err, SR_E_INTERNAL, "cannot %s '%s': unexpected exception", verb,    \
+                          path ? path : "");                                                   \
+    }
+
+extern "C" sr_format sr_format_from_path(const char *path)
+{
+    if (!path)
+        return SR_FMT_UNKNOWN;
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    if (!dot || dot == base)
+        return SR_FMT_UNKNOWN;
+    static const struct {
+        const char *ext;
+        sr_format fmt;
+    } table[] = {{"stl", SR_FMT_STL}, {"obj", SR_FMT_OBJ},   {"ply", SR_FMT_PLY},
+                 {"off", SR_FMT_OFF}, {"gltf", SR_FMT_GLTF}, {"glb", SR_FMT_GLB}};
+    for (const auto &t : table)
+        if (strcasecmp(dot + 1, t.ext) == 0)
+            return t.fmt;
+    return SR_FMT_UNKNOWN;
+}
+
+extern "C" const char *sr_format_name(sr_format format)
+{
+    switch (format) {
+    case SR_FMT_STL: return "stl";
+    case SR_FMT_OBJ: return "obj";
+    case SR_FMT_PLY: return "ply";
+    case SR_FMT_OFF: return "off";
+    case SR_FMT_GLTF: return "gltf";
+    case SR_FMT_GLB: return "glb";
+    default: return "unknown";
+    }
+}
+
+extern "C" sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err)
+{
+    try {
+        return mesh_read(path, out, err);
+    }
+    CATCH_ALL(err, "read", path)
+}
+
+extern "C" sr_status sr_mesh_write(const char *path, const sr_mesh *mesh,
+                                   const sr_write_opts *opts, sr_err *err)
+{
+    try {
+        return mesh_write(path, mesh, opts, err);
+    }
+    CATCH_ALL(err, "write", path)
+}
+
+extern "C" sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
+                                    const char *extras_json, sr_err *err)
+{
+    try {
+        if (!path)
+            return sr_err_set(err, SR_E_INVALID, "no file name given");
+        return scene_write(path, meshes, count, extras_json, err);
+    }
+    CATCH_ALL(err, "write", path)
+}
+
+extern "C" sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err)
+{
+    try {
+        if (!path || !out)
+            return sr_err_set(err, SR_E_INVALID, "no file name given");
+        return scene_read(path, out, err);
+    }
+    CATCH_ALL(err, "read", path)
+}
+
+extern "C" void sr_scene_release(sr_scene *scene)
+{
+    if (!scene)
+        return;
+    for (size_t i = 0; i < scene->count; i++) {
+        if (scene->meshes)
+            sr_mesh_release(&scene->meshes[i]);
+        if (scene->names)
+            free(scene->names[i]);
+    }
+    free(scene->meshes);
+    free(scene->names);
+    free(scene->rgba);
+    free(scene->extras_json);
+    memset(scene, 0, sizeof *scene);
+}

@@ -1,0 +1,134 @@
+/*
+ * mesh_io_int.hpp: the private interface between the C++ files that implement
+ * mesh_io.h. Not installed, not used outside src/bridge/.
+ *
+ *   io_bytes.cpp     messages, reading a whole file, the atomic write
+ *   openmesh_io.cpp  STL, OBJ, PLY and OFF read through OpenMesh; STL written by it
+ *   read_gltf.cpp    a glTF/GLB loaded into a tinygltf model, guarded and pre-checked
+ *   gltf_meshes.cpp  the loaded model's triangles: merged, or as a scene of meshes
+ *   write_text.cpp   OBJ, OFF and PLY written by us in full double precision
+ *   write_glb.cpp    glTF and GLB written through tinygltf
+ *   mesh_io_api.cpp  the extern "C" entry points, dispatch by format, the exception
+ *                    barrier
+ *
+ * Every function here returns a status and, on failure, sets err to one line naming the
+ * file ("cannot read 'x.stl': ..."); out-parameters are written only on success. None
+ * of them catches exceptions: mesh_io_api.cpp's entry points do.
+ */
+#ifndef SR_MESH_IO_INT_HPP
+#define SR_MESH_IO_INT_HPP
+
+extern "C" {
+#include "bridge/mesh_io.h"
+#include "io/file_check.h"
+}
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace sr_meshio {
+
+/* Largest mesh file read into memory; tinygltf takes an unsigned int length. */
+const size_t MESH_FILE_MAX = (size_t)1 << 32;
+const size_t GLTF_FILE_MAX = (size_t)UINT32_MAX;
+/* Largest external glTF buffer file. */
+const size_t GLTF_BUFFER_MAX = (size_t)1 << 31;
+/* Deepest JSON nesting and node hierarchy accepted in a glTF. */
+const size_t JSON_DEPTH_MAX = 64;
+const int NODE_DEPTH_MAX = 64;
+
+/* ---- messages (io_bytes.cpp) ---- */
+
+/* err := "cannot read 'path': <fmt...>" (rfail) or "cannot write ..." (wfail); returns st. */
+sr_status rfail(sr_err *err, sr_status st, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+sr_status wfail(sr_err *err, sr_status st, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+/* errno as a lower-case phrase. */
+std::string errno_text(int e);
+
+/* First line of a library's message, shortened. */
+std::string first_line(const std::string &s);
+
+/* ---- whole files (io_bytes.cpp) ---- */
+
+/* A file's bytes, owned (malloc'ed, NUL appended after size). */
+struct Bytes {
+    unsigned char *data = nullptr;
+    size_t size = 0;
+    Bytes() = default;
+    Bytes(const Bytes &) = delete;
+    Bytes &operator=(const Bytes &) = delete;
+    ~Bytes() { free(data); }
+};
+
+/* Reads a whole regular, non-empty file of at most `limit` bytes (NUL appended). */
+sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err);
+
+/* The folder part of path: "." when it has none, "/" for a file in the root. */
+std::string dir_of(const std::string &path);
+
+/* Writes bytes to path atomically: a new temporary file in the same folder, fsync,
+ * rename over path, fsync of the folder. On failure nothing is left behind. */
+sr_status write_file_atomic(const char *path, const void *bytes, size_t size, sr_err *err);
+
+/* ---- meshes ---- */
+
+/* An sr_mesh released when it goes out of scope unless moved out (m reset to {}). */
+struct MeshGuard {
+    sr_mesh m = {};
+    MeshGuard() = default;
+    MeshGuard(MeshGuard &&o) noexcept : m(o.m) { o.m = sr_mesh{}; }
+    MeshGuard(const MeshGuard &) = delete;
+    MeshGuard &operator=(const MeshGuard &) = delete;
+    ~MeshGuard() { sr_mesh_release(&m); }
+};
+
+inline uint32_t rd_le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* Mesh fit for writing: triangles, finite coordinates, indices in range
+ * (mesh_io_api.cpp). `what` names it in messages ("mesh", "mesh 2"). */
+sr_status check_for_write(const char *path, const sr_mesh *mesh, const char *what, sr_err *err);
+
+/* ---- readers ---- */
+
+/* STL, OBJ, PLY or OFF (fmt) from the file's bytes, checked before and after OpenMesh
+ * parses them (openmesh_io.cpp). file's bytes may be rewritten in place (names, mtllib). */
+sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *out,
+                        sr_err *err);
+
+/* A .gltf or .glb file (fmt) loaded into model (read_gltf.cpp). */
+sr_status gltf_load(const char *path, sr_format fmt, tinygltf::Model &model, sr_err *err);
+
+/* A glTF/GLB file's mesh instances, placed and merged into one mesh (gltf_meshes.cpp). */
+sr_status read_gltf_merged(const char *path, sr_format fmt, sr_mesh *out, sr_err *err);
+
+/* A glTF/GLB file's meshes apart, with names and colours (gltf_meshes.cpp). */
+sr_status scene_read(const char *path, sr_scene *out, sr_err *err);
+
+/* ---- writers ---- */
+
+/* Binary or ASCII STL of m, through OpenMesh, into *out (openmesh_io.cpp). */
+sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string *out,
+                     sr_err *err);
+
+/* OBJ, OFF or PLY (fmt; PLY binary unless ascii) of m (write_text.cpp). */
+std::string encode_text(const sr_mesh &m, sr_format fmt, bool ascii);
+
+/* Several meshes to a .gltf or .glb file, written atomically (write_glb.cpp). */
+sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
+                      const char *extras_json, sr_err *err);
+
+} // namespace sr_meshio
+
+#endif

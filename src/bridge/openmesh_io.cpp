@@ -1,0 +1,481 @@
+/*
+ * openmesh_io.cpp: everything of the mesh bridge that touches OpenMesh 9: reading STL, OBJ,
+ * PLY and OFF, and writing STL (see mesh_io_int.hpp). OpenMesh accepts bad input
+ * silently (shared/DEPENDENCY-NOTES.md), so every read here is:
+ *   1. the file read into memory by us (io_bytes.cpp);
+ *   2. checked by src/io/ (pure C): sizes, counts, NaN/Inf, indices, PLY header; these
+ *      checks also return what the file holds;
+ *   3. parsed by OpenMesh from that memory (never by path: no second open, and its OBJ
+ *      reader gets no chance to open an mtllib), into a Collector that records vertices
+ *      and faces as delivered, with no topology to lose faces to;
+ *   4. compared with step 2: same vertex count, same faces, same coordinates (to float
+ *      rounding). Any disagreement is an error naming how much was lost.
+ * OpenMesh 9 reads and writes every format in float precision, so the coordinates of
+ * OBJ/OFF/PLY come from step 2 (double, as written, checked against OpenMesh's floats)
+ * and those formats are written by write_text.cpp; STL, a float format, is written here.
+ *
+ * OpenMesh prints to omerr/omlog (connected to std::cerr/std::clog): during each call
+ * those two streams write into a buffer of ours instead, which becomes the detail of an
+ * error; nothing reaches the console. That swap and OpenMesh's global reader registry
+ * are guarded by one mutex.
+ */
+#include "bridge/mesh_io_int.hpp"
+
+/* OpenMesh's property vectors trip GCC 12's -Wmaybe-uninitialized inside libstdc++. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/IO/importer/ImporterT.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#pragma GCC diagnostic pop
+
+#include <algorithm>
+#include <cfloat>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <mutex>
+#include <new>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace sr_meshio {
+
+namespace {
+
+struct Traits : OpenMesh::DefaultTraits {
+    typedef OpenMesh::Vec3d Point;
+    typedef OpenMesh::Vec3d Normal;
+};
+typedef OpenMesh::TriMesh_ArrayKernelT<Traits> OmMesh;
+
+std::mutex om_mutex;
+
+/* Holds the OpenMesh lock and captures everything OpenMesh prints meanwhile. omerr and
+ * omlog are connected to std::cerr and std::clog (omout to std::cout), whose buffers are
+ * swapped for ours during the session. (Reconnecting the mostreams instead would leak:
+ * OpenMesh's disconnect forgets a target without deleting it.) */
+class OmSession {
+public:
+    OmSession() : lock_(om_mutex)
+    {
+        static std::once_flag once;
+        std::call_once(once, [] {
+            omout().disable();   /* std::cout is the CLI's; nothing of OpenMesh goes there */
+            omlog().enable();
+        });
+        cerr_ = std::cerr.rdbuf(text_.rdbuf());
+        clog_ = std::clog.rdbuf(text_.rdbuf());
+    }
+    ~OmSession()
+    {
+        omerr().flush();   /* a last line without '\n' lands here, not on the console later */
+        omlog().flush();
+        std::cerr.rdbuf(cerr_);
+        std::clog.rdbuf(clog_);
+    }
+    OmSession(const OmSession &) = delete;
+    OmSession &operator=(const OmSession &) = delete;
+    std::string text() const { return text_.str(); }
+
+private:
+    std::lock_guard<std::mutex> lock_;
+    std::ostringstream text_;
+    std::streambuf *cerr_ = nullptr, *clog_ = nullptr;
+};
+
+/* An istream source over memory we own (no copy). */
+class MemBuf : public std::streambuf {
+public:
+    MemBuf(const unsigned char *p, size_t n)
+    {
+        char *b = (char *)p;
+        setg(b, b, b + n);
+    }
+
+protected:
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir,
+                     std::ios_base::openmode which) override
+    {
+        if (!(which & std::ios_base::in))
+            return pos_type(off_type(-1));
+        off_type base = dir == std::ios_base::beg   ? 0
+                        : dir == std::ios_base::cur ? off_type(gptr() - eback())
+                                                    : off_type(egptr() - eback());
+        off_type pos = base + off;
+        if (pos < 0 || pos > off_type(egptr() - eback()))
+            return pos_type(off_type(-1));
+        setg(eback(), eback() + pos, egptr());
+        return pos_type(pos);
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode which) override
+    {
+        return seekoff(off_type(pos), std::ios_base::beg, which);
+    }
+};
+
+/* Receives what an OpenMesh reader delivers: vertices and polygons as they come, no
+ * topology (which would drop non-manifold faces), nothing else kept. */
+class Collector : public OpenMesh::IO::BaseImporter {
+public:
+    typedef OpenMesh::VertexHandle VH;
+    typedef OpenMesh::FaceHandle FH;
+    typedef OpenMesh::HalfedgeHandle HH;
+    typedef OpenMesh::EdgeHandle EH;
+
+    std::vector<double> xyz;
+    std::vector<uint32_t> face_size, face_index;
+    size_t bad_faces = 0;           /* faces with an invalid vertex handle */
+
+    VH add_vertex(const OpenMesh::Vec3f &p) override { return push(p[0], p[1], p[2]); }
+    VH add_vertex(const OpenMesh::Vec3d &p) override { return push(p[0], p[1], p[2]); }
+    VH add_vertex() override { return push(0, 0, 0); }
+    void set_point(VH vh, const OpenMesh::Vec3f &p) override
+    {
+        if (vh.is_valid() && (size_t)vh.idx() < n_vertices())
+            for (int k = 0; k < 3; k++)
+                xyz[3 * (size_t)vh.idx() + k] = p[k];
+    }
+    FH add_face(const VHandles &v) override
+    {
+        for (const VH &h : v)
+            if (!h.is_valid() || (size_t)h.idx() >= n_vertices()) {
+                bad_faces++;
+                return FH();
+            }
+        face_size.push_back((uint32_t)v.size());
+        for (const VH &h : v)
+            face_index.push_back((uint32_t)h.idx());
+        return FH((int)face_size.size() - 1);
+    }
+    size_t n_vertices() const override { return xyz.size() / 3; }
+    size_t n_faces() const override { return face_size.size(); }
+    size_t n_edges() const override { return 0; }
+
+    /* Everything else a reader may hand over is not needed. */
+    HH add_edge(VH, VH) override { return HH(); }
+    FH add_face(HH) override { return FH(); }
+    void add_face_texcoords(FH, VH, const std::vector<OpenMesh::Vec2f> &) override {}
+    void add_face_texcoords(FH, VH, const std::vector<OpenMesh::Vec3f> &) override {}
+    void set_face_texindex(FH, int) override {}
+    void set_halfedge(VH, HH) override {}
+    void set_normal(VH, const OpenMesh::Vec3f &) override {}
+    void set_normal(VH, const OpenMesh::Vec3d &) override {}
+    void set_color(VH, const OpenMesh::Vec3uc &) override {}
+    void set_color(VH, const OpenMesh::Vec4uc &) override {}
+    void set_color(VH, const OpenMesh::Vec3f &) override {}
+    void set_color(VH, const OpenMesh::Vec4f &) override {}
+    void set_texcoord(VH, const OpenMesh::Vec2f &) override {}
+    void set_status(VH, const OpenMesh::Attributes::StatusInfo &) override {}
+    void set_next(HH, HH) override {}
+    void set_face(HH, FH) override {}
+    void request_face_texcoords2D() override {}
+    void set_texcoord(HH, const OpenMesh::Vec2f &) override {}
+    void set_texcoord(VH, const OpenMesh::Vec3f &) override {}
+    void set_texcoord(HH, const OpenMesh::Vec3f &) override {}
+    void set_status(HH, const OpenMesh::Attributes::StatusInfo &) override {}
+    void set_color(EH, const OpenMesh::Vec3uc &) override {}
+    void set_color(EH, const OpenMesh::Vec4uc &) override {}
+    void set_color(EH, const OpenMesh::Vec3f &) override {}
+    void set_color(EH, const OpenMesh::Vec4f &) override {}
+    void set_status(EH, const OpenMesh::Attributes::StatusInfo &) override {}
+    void set_normal(FH, const OpenMesh::Vec3f &) override {}
+    void set_normal(FH, const OpenMesh::Vec3d &) override {}
+    void set_color(FH, const OpenMesh::Vec3uc &) override {}
+    void set_color(FH, const OpenMesh::Vec4uc &) override {}
+    void set_color(FH, const OpenMesh::Vec3f &) override {}
+    void set_color(FH, const OpenMesh::Vec4f &) override {}
+    void set_status(FH, const OpenMesh::Attributes::StatusInfo &) override {}
+    void add_texture_information(int, std::string) override {}
+
+private:
+    VH push(double x, double y, double z)
+    {
+        if (n_vertices() >= (size_t)INT_MAX)
+            throw std::bad_alloc();   /* OpenMesh handles are int */
+        xyz.push_back(x);
+        xyz.push_back(y);
+        xyz.push_back(z);
+        return VH((int)n_vertices() - 1);
+    }
+};
+
+struct Facts {
+    sr_file_facts f = {};
+    Facts() = default;
+    Facts(const Facts &) = delete;
+    Facts &operator=(const Facts &) = delete;
+    ~Facts() { sr_file_facts_release(&f); }
+};
+
+/* Float reading of a double agrees with it: OpenMesh parses into float, and may round
+ * a decimal string to float directly (one ulp from rounding via double). */
+bool float_agrees(double om, double exact)
+{
+    if (om == exact || om == (double)(float)exact)
+        return true;
+    double tol = std::max(std::fabs(exact), (double)FLT_MIN) * 2.4e-7;
+    return std::fabs(om - exact) <= tol;
+}
+
+bool same_corner(const double *a, const double *b)
+{
+    return std::fabs(a[0] - b[0]) <= FLT_MIN && std::fabs(a[1] - b[1]) <= FLT_MIN &&
+           std::fabs(a[2] - b[2]) <= FLT_MIN;
+}
+
+bool repeats_vertex(const uint32_t *idx, size_t k)
+{
+    for (size_t i = 0; i < k; i++)
+        for (size_t j = i + 1; j < k; j++)
+            if (idx[i] == idx[j])
+                return true;
+    return false;
+}
+
+/* STL: OpenMesh welds corners and drops degenerate facets itself. Its faces must be the
+ * file's non-degenerate facets, in order, corner for corner. The result keeps only the
+ * vertices those faces use. */
+sr_status stl_result(const char *path, const sr_file_facts &f, const Collector &c, sr_mesh *out,
+                     sr_err *err)
+{
+    size_t expect = f.tri_count - f.degenerate_tris;
+    size_t got = c.n_faces();
+    if (got != expect) {
+        if (got < expect)
+            return rfail(err, SR_E_FORMAT, path,
+                         "OpenMesh lost %zu of %zu triangles (%zu degenerate ones dropped as "
+                         "expected)", expect - got, f.tri_count, f.degenerate_tris);
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh read %zu triangles, the file holds %zu",
+                     got, expect);
+    }
+    for (size_t i = 0; i < got; i++)
+        if (c.face_size[i] != 3)
+            return rfail(err, SR_E_FORMAT, path, "OpenMesh made a %u-gon of triangle %zu",
+                         c.face_size[i], i);
+    size_t facet = 0;
+    for (size_t i = 0; i < got; i++, facet++) {
+        while (facet < f.tri_count) {
+            const double *q = f.xyz + 9 * facet;
+            if (!(same_corner(q, q + 3) || same_corner(q, q + 6) || same_corner(q + 3, q + 6)))
+                break;
+            facet++;
+        }
+        for (int k = 0; k < 3; k++)
+            if (facet >= f.tri_count || !same_corner(&c.xyz[3 * (size_t)c.face_index[3 * i + k]],
+                                                     f.xyz + 9 * facet + 3 * k))
+                return rfail(err, SR_E_FORMAT, path,
+                             "OpenMesh read triangle %zu differently from the file", facet);
+    }
+    /* Keep used vertices only, in order of first use. */
+    std::vector<uint32_t> remap(c.n_vertices(), UINT32_MAX);
+    size_t nv = 0;
+    for (uint32_t v : c.face_index)
+        if (remap[v] == UINT32_MAX)
+            remap[v] = (uint32_t)nv++;
+    MeshGuard g;
+    if (sr_mesh_alloc(&g.m, nv, got) != SR_OK)
+        return rfail(err, SR_E_NOMEM, path, "out of memory for %zu triangles", got);
+    for (size_t v = 0; v < c.n_vertices(); v++)
+        if (remap[v] != UINT32_MAX)
+            for (int k = 0; k < 3; k++)
+                g.m.xyz[3 * remap[v] + k] = c.xyz[3 * v + k];
+    for (size_t i = 0; i < 3 * got; i++)
+        g.m.tri[i] = remap[c.face_index[i]];
+    *out = g.m;
+    g.m = sr_mesh{};
+    return SR_OK;
+}
+
+/* OBJ/OFF/PLY: OpenMesh must deliver every vertex (to float precision) and every face
+ * (all corners) of the file. The result has the file's vertices in double precision and
+ * its faces fanned into triangles, faces that repeat a vertex dropped. */
+sr_status indexed_result(const char *path, const sr_file_facts &f, const Collector &c,
+                         sr_mesh *out, sr_err *err)
+{
+    if (c.bad_faces)
+        return rfail(err, SR_E_INVALID, path, "OpenMesh found %zu faces with a bad vertex index",
+                     c.bad_faces);
+    if (c.n_vertices() != f.vertex_count)
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh read %zu vertices, the file holds %zu",
+                     c.n_vertices(), f.vertex_count);
+    for (size_t i = 0; i < 3 * f.vertex_count; i++)
+        if (!float_agrees(c.xyz[i], f.xyz[i]))
+            return rfail(err, SR_E_FORMAT, path,
+                         "OpenMesh read vertex %zu as %.9g, the file says %.17g", i / 3,
+                         c.xyz[i], f.xyz[i]);
+    /* Readers may skip a face that repeats a vertex (OpenMesh's OBJ reader does, its
+     * OFF and PLY readers deliver it); every other face must arrive, in order. */
+    size_t j = 0, at = 0, at_c = 0, lost = 0, first_lost = 0;
+    for (size_t i = 0; i < f.face_count; i++) {
+        uint32_t k = f.face_size[i];
+        const uint32_t *idx = f.face_index + at;
+        at += k;
+        if (j < c.n_faces() && c.face_size[j] == k &&
+            memcmp(&c.face_index[at_c], idx, k * sizeof(uint32_t)) == 0) {
+            at_c += c.face_size[j++];
+        } else if (!repeats_vertex(idx, k)) {
+            if (!lost++)
+                first_lost = i;
+        }
+    }
+    if (j != c.n_faces())
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh read face %zu differently from the file",
+                     first_lost);
+    if (lost)
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh lost %zu of %zu faces (first: face %zu)",
+                     lost, f.face_count, first_lost);
+    size_t tris = f.tri_count - f.degenerate_tris;
+    MeshGuard g;
+    if (sr_mesh_alloc(&g.m, f.vertex_count, tris) != SR_OK)
+        return rfail(err, SR_E_NOMEM, path, "out of memory for %zu triangles", tris);
+    if (f.vertex_count)
+        memcpy(g.m.xyz, f.xyz, f.vertex_count * 3 * sizeof(double));
+    size_t t = 0;
+    at = 0;
+    for (size_t i = 0; i < f.face_count; i++) {
+        const uint32_t *idx = f.face_index + at;
+        uint32_t k = f.face_size[i];
+        at += k;
+        if (repeats_vertex(idx, k))
+            continue;
+        for (uint32_t j = 1; j + 1 < k; j++) {
+            g.m.tri[3 * t] = idx[0];
+            g.m.tri[3 * t + 1] = idx[j];
+            g.m.tri[3 * t + 2] = idx[j + 1];
+            t++;
+        }
+    }
+    *out = g.m;
+    g.m = sr_mesh{};
+    return SR_OK;
+}
+
+} // namespace
+
+sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *out,
+                        sr_err *err)
+{
+    Facts facts;
+    sr_status st;
+    const char *ext;
+    switch (fmt) {
+    case SR_FMT_STL:
+        st = sr_file_check_stl(file.data, file.size, path, &facts.f, err);
+        ext = ".stl";
+        if (st == SR_OK && !facts.f.binary)
+            sr_file_stl_blank_names(file.data, file.size);
+        break;
+    case SR_FMT_OBJ:
+        st = sr_file_check_obj(file.data, file.size, path, &facts.f, err);
+        ext = ".obj";
+        if (st == SR_OK)
+            sr_file_obj_drop_mtllib(file.data, file.size);
+        break;
+    case SR_FMT_OFF:
+        st = sr_file_check_off(file.data, file.size, path, &facts.f, err);
+        ext = ".off";
+        break;
+    case SR_FMT_PLY:
+        st = sr_file_check_ply(file.data, file.size, path, &facts.f, err);
+        ext = ".ply";
+        break;
+    default:
+        return rfail(err, SR_E_INTERNAL, path, "not an OpenMesh format");
+    }
+    if (st != SR_OK)
+        return st;
+    if (facts.f.tri_count == facts.f.degenerate_tris)
+        return rfail(err, SR_E_INVALID, path, "contains no triangles%s",
+                     facts.f.tri_count ? " (all degenerate)" : "");
+
+    Collector c;
+    bool ok;
+    std::string log;
+    {
+        OmSession session;
+        MemBuf mb(file.data, file.size);
+        std::istream in(&mb);
+        OpenMesh::IO::Options opt;
+        if (fmt == SR_FMT_STL && facts.f.binary)
+            opt += OpenMesh::IO::Options::Binary;
+        ok = OpenMesh::IO::IOManager().read(in, ext, c, opt);
+        log = session.text();
+    }
+    if (!ok)
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh could not read it (%s)",
+                     first_line(log).c_str());
+    if (fmt == SR_FMT_STL)
+        return stl_result(path, facts.f, c, out, err);
+    return indexed_result(path, facts.f, c, out, err);
+}
+
+/* STL through OpenMesh, into memory. Triangles that repeat a vertex cannot be stored
+ * (and no reader would keep them); non-manifold ones are kept by duplicating vertices,
+ * as OpenMesh's importer does. */
+sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string *out, sr_err *err)
+{
+    size_t expect = 0;
+    for (size_t t = 0; t < m.tri_count; t++)
+        expect += !repeats_vertex(m.tri + 3 * t, 3);
+    if (expect == 0)
+        return wfail(err, SR_E_INVALID, path, "mesh has no non-degenerate triangles");
+    for (size_t i = 0; i < 3 * m.vertex_count; i++)
+        if (!std::isfinite((float)m.xyz[i]))
+            return wfail(err, SR_E_RANGE, path, "vertex %zu is beyond float range for STL", i / 3);
+    OmMesh om;
+    std::ostringstream os;
+    bool ok;
+    size_t faces;
+    std::string log;
+    {
+        OmSession session;
+        OpenMesh::IO::ImporterT<OmMesh> imp(om);
+        imp.reserve((unsigned)m.vertex_count, (unsigned)(3 * m.tri_count), (unsigned)m.tri_count);
+        std::vector<OpenMesh::VertexHandle> vh(m.vertex_count);
+        for (size_t v = 0; v < m.vertex_count; v++)
+            vh[v] =
+                imp.add_vertex(OpenMesh::Vec3d(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]));
+        OpenMesh::IO::BaseImporter::VHandles f(3);
+        for (size_t t = 0; t < m.tri_count; t++) {
+            if (repeats_vertex(m.tri + 3 * t, 3))
+                continue;
+            for (int k = 0; k < 3; k++)
+                f[(size_t)k] = vh[m.tri[3 * t + (size_t)k]];
+            imp.add_face(f);
+        }
+        faces = om.n_faces();
+        OpenMesh::IO::Options opt = ascii ? OpenMesh::IO::Options::Default
+                                          : OpenMesh::IO::Options::Binary;
+        ok = faces == expect && OpenMesh::IO::write_mesh(om, os, ".stl", opt, 17);
+        log = session.text();
+    }
+    if (faces != expect)
+        return wfail(err, SR_E_INTERNAL, path, "OpenMesh kept %zu of %zu triangles", faces, expect);
+    if (!ok)
+        return wfail(err, SR_E_INTERNAL, path, "OpenMesh could not write STL (%s)",
+                     first_line(log).c_str());
+    *out = os.str();
+    if (!ascii) {
+        if (out->size() != 84 + 50 * expect ||
+            rd_le32((const unsigned char *)out->data() + 80) != expect)
+            return wfail(err, SR_E_INTERNAL, path,
+                         "OpenMesh wrote %zu bytes of binary STL, %zu triangles need %zu",
+                         out->size(), expect, 84 + 50 * expect);
+    } else {
+        size_t n = 0;
+        for (size_t at = out->find("endfacet"); at != std::string::npos;
+             at = out->find("endfacet", at + 8))
+            n++;
+        if (n != expect)
+            return wfail(err, SR_E_INTERNAL, path, "OpenMesh wrote %zu of %zu facets", n, expect);
+    }
+    return SR_OK;
+}
+
+} // namespace sr_meshio

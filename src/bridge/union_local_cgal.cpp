@@ -1,0 +1,735 @@
+/*
+ * union_local_cgal.cpp: the local union (sr_boolean_union_local and its _mending and
+ * _split forms, boolean.h) runs the whole-mesh union's corefinement on a scan's
+ * neighbourhood of a patch only (neighbourhood_cgal.cpp selects it), takes CGAL's own
+ * classification of the corefined patches (its output builder's "classify patches"
+ * mode, through a visitor), assembles the union of the neighbourhood from it and
+ * splices it into the untouched rest of the scan; it falls back to the whole-mesh union
+ * (boolean_cgal.cpp) whenever the result would not close up.
+ */
+#include "bridge/boolean_cgal.hpp"
+
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <vector>
+
+namespace sr_bool {
+
+namespace {
+
+/* ---- the local union ----------------------------------------------------------------
+ * a ∪ b for a large closed a (a scan) and a small closed b (a patch): only a's
+ * neighbourhood of b goes through CGAL. N = a's triangles whose bounding box meets b's
+ * box grown by the margin, plus, at a vertex where N's triangles would form more than one
+ * fan, every triangle of that vertex (a halfedge mesh cannot hold such a vertex). Every
+ * triangle of a that b can cut is in N, so no intersection lies on N's border.
+ * corefine_and_compute_union runs on N (open) and b in place: CGAL's output builder
+ * classifies the patches of an open operand by the orientation around the intersection
+ * edges exactly as for a closed one, and the intersection-free patches of N against b
+ * (closed) by a point-in-volume test; only b's intersection-free components would be
+ * misjudged (kept as outside), so each component of b must meet N's surface. After it,
+ * N's border (directed edges, in a's vertex numbers) must be what it was: then the
+ * untouched triangles of a and the new N close up into one surface. Whenever a condition
+ * fails the whole-mesh union runs instead (info->fallback says why). */
+
+/* Patch flags of one corefined operand, as CGAL's output builder works them out. */
+struct Patch_flags {
+    std::vector<std::size_t> patch;          /* per face index: its patch */
+    boost::dynamic_bitset<> inside;          /* patch inside the other operand */
+    boost::dynamic_bitset<> coplanar;        /* patch on the other operand's surface */
+    boost::dynamic_bitset<> coplanar_union;  /* ... kept once by a union */
+    boost::dynamic_bitset<> not_set;         /* patch with no intersection edge */
+    bool have = false;
+};
+
+/* A corefinement visitor that asks CGAL's output builder for its classification of the
+ * patches (the parts of each surface between intersection edges) instead of a boolean's
+ * output: the builder does this when no output is requested and the visitor declares
+ * Has_extra_functions (CGAL 5.5, Face_graph_output_builder.h). It is the builder's own
+ * exact, orientation-around-the-edge classification, also valid where an operand is
+ * open (its boolean output path is not: CGAL 5.5's consistency check for open operands
+ * rejects every patch it finds inside). */
+struct Classify_visitor : public PMP::Corefinement::Default_visitor<Mesh> {
+    typedef int Has_extra_functions;
+    Patch_flags *flags; /* [0] first operand, [1] second */
+    const Mesh *first;
+    std::vector<uint32_t> *node_vertex; /* [0], [1]: per intersection node, the
+                                         * operand's vertex at it (no_vertex if none) */
+
+    void record(std::size_t node, Vertex_index v, const Mesh &tm)
+    {
+        std::vector<uint32_t> &m = node_vertex[&tm == first ? 0 : 1];
+        if (m.size() <= node)
+            m.resize(node + 1, no_vertex);
+        m[node] = static_cast<uint32_t>(v.idx());
+    }
+
+    /* a vertex made for a node (an edge or a face of this operand was cut there) */
+    void new_vertex_added(std::size_t node, Vertex_index v, const Mesh &tm)
+    {
+        record(node, v, tm);
+    }
+
+    /* an operand's own vertex at a node: an end of the cutting edge h1, or the vertex
+     * of the other operand the edge passes through */
+    void intersection_point_detected(std::size_t node, int sdim, Mesh::Halfedge_index h1,
+                                     Mesh::Halfedge_index h2, const Mesh &tm1,
+                                     const Mesh &tm2, bool is_target_coplanar,
+                                     bool is_source_coplanar)
+    {
+        if (is_target_coplanar)
+            record(node, tm1.target(h1), tm1);
+        if (is_source_coplanar)
+            record(node, tm1.source(h1), tm1);
+        if (sdim == PMP::Corefinement::ON_VERTEX)
+            record(node, tm2.target(h2), tm2);
+    }
+
+    template <class Fim>
+    void export_flags(Fim fim, const std::vector<std::size_t> &ids,
+                      const boost::dynamic_bitset<> &inside,
+                      const boost::dynamic_bitset<> &coplanar,
+                      const boost::dynamic_bitset<> &coplanar_union,
+                      const boost::dynamic_bitset<> &not_set, Mesh &tm)
+    {
+        Patch_flags &f = flags[&tm == first ? 0 : 1];
+        f.patch.assign(tm.num_faces(), 0);
+        for (Mesh::Face_index fd : tm.faces())
+            f.patch[fd.idx()] = ids[get(fim, fd)];
+        f.inside = inside;
+        f.coplanar = coplanar;
+        f.coplanar_union = coplanar_union;
+        f.not_set = not_set;
+        f.have = true;
+    }
+
+    template <class H>
+    void register_halfedge_pair(H, H, bool, bool, bool, bool, bool = false, bool = false,
+                                bool = false, bool = false)
+    {
+    }
+};
+
+/* The local result as arrays: vertex ids below base are a's vertices, the others index
+ * `fresh` (new points) as id - base. */
+struct Local_result {
+    std::vector<uint32_t> tri;
+    std::vector<double> fresh;
+};
+
+/* Appends a new point to the local result, mapped back to a's frame (back NULL: as it
+ * is). */
+void push_point(Local_result &res, const Point &p, const double *back)
+{
+    double q[3] = {p.x(), p.y(), p.z()};
+    if (back)
+        sr_xform_apply(back, q, q);
+    res.fresh.push_back(q[0]);
+    res.fresh.push_back(q[1]);
+    res.fresh.push_back(q[2]);
+}
+
+/* Writes the local result into *dst, which holds a's arrays (its own copy, or a's very
+ * arrays when the union is in place) with room for the growth: N's triangles out, the
+ * local result in, vertices no triangle uses any more dropped. Cannot fail. */
+void splice_local(sr_mesh *dst, const std::vector<uint8_t> &in, const Local_result &res)
+{
+    size_t nv = dst->vertex_count, w = 0;
+    for (size_t t = 0; t < dst->tri_count; t++)
+        if (in[t]) {
+            continue;
+        } else {
+            if (w != t)
+                memmove(dst->tri + 3 * w, dst->tri + 3 * t, 3 * sizeof(uint32_t));
+            w++;
+        }
+    if (!res.fresh.empty())
+        memcpy(dst->xyz + 3 * nv, res.fresh.data(), res.fresh.size() * sizeof(double));
+    size_t next = nv + res.fresh.size() / 3;
+    memcpy(dst->tri + 3 * w, res.tri.data(), res.tri.size() * sizeof(uint32_t));
+    w += res.tri.size() / 3;
+    std::vector<uint32_t> remap(next, no_vertex);
+    for (size_t i = 0; i < 3 * w; i++)
+        remap[dst->tri[i]] = 0;
+    size_t kept = 0;
+    for (size_t v = 0; v < next; v++)
+        if (remap[v] != no_vertex) {
+            if (kept != v)
+                memmove(dst->xyz + 3 * kept, dst->xyz + 3 * v, 3 * sizeof(double));
+            remap[v] = static_cast<uint32_t>(kept++);
+        }
+    for (size_t i = 0; i < 3 * w; i++)
+        dst->tri[i] = remap[dst->tri[i]];
+    dst->vertex_count = kept;
+    dst->tri_count = w;
+}
+
+/* Hands each patch of tm with no intersection edge (f.not_set), once, to decide(pid,
+ * point) with a point of it (its first face's centroid); decide marks the patch and
+ * returns false to give up, which this returns. */
+template <class Decide>
+bool classify_free_patches(const Mesh &tm, const Patch_flags &f, Decide decide)
+{
+    boost::dynamic_bitset<> done(f.not_set.size());
+    for (Mesh::Face_index fd : tm.faces()) {
+        std::size_t pid = f.patch[fd.idx()];
+        if (!f.not_set.test(pid) || done.test(pid))
+            continue;
+        done.set(pid);
+        Mesh::Halfedge_index h = tm.halfedge(fd);
+        if (!decide(pid, CGAL::centroid(tm.point(tm.source(h)), tm.point(tm.target(h)),
+                                        tm.point(tm.target(tm.next(h))))))
+            return false;
+    }
+    return true;
+}
+
+/* Unites the corefined N (sm) and b (mb) from the patch flags: N's patches outside b
+ * (and its coplanar patches a union keeps), b's patches outside a, joined at the
+ * intersection nodes. Patches with no intersection edge are placed by a point of them:
+ * b's against the whole of a (inside_by_rays: N alone cannot tell), N's against b.
+ * False (why set) when that cannot be told (a ray through an edge of a; a patch of N
+ * on b's surface). */
+bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
+                    const double *xf, const double *back, Mesh &sm,
+                    Mesh::Property_map<Vertex_index, uint32_t> orig, Mesh &mb,
+                    Patch_flags flags[2], const std::vector<uint32_t> node_vertex[2],
+                    Local_result &res, std::vector<uint32_t> *diff, char *why,
+                    size_t why_size)
+{
+    Patch_flags &f1 = flags[0], &f2 = flags[1];
+    if (f2.not_set.any() &&
+        !classify_free_patches(mb, f2, [&](std::size_t pid, const Point &p) {
+            int side = inside_by_rays(a, xf, p);
+            if (side < 0) {
+                snprintf(why, why_size, "a part of '%s' meets no triangle of '%s'", b_what,
+                         a_what);
+                return false;
+            }
+            if (side == 1)
+                f2.inside.set(pid);
+            return true;
+        }))
+        return false;
+    if (f1.not_set.any()) {
+        CGAL::Side_of_triangle_mesh<Mesh, K> side(mb);
+        if (!classify_free_patches(sm, f1, [&](std::size_t pid, const Point &p) {
+                if (f1.coplanar.test(pid)) {
+                    f1.coplanar_union.set(pid);
+                    return true;
+                }
+                CGAL::Bounded_side bs = side(p);
+                if (bs == CGAL::ON_BOUNDARY) {
+                    snprintf(why, why_size,
+                             "a part of '%s' touches '%s' away from the intersection", a_what,
+                             b_what);
+                    return false;
+                }
+                if (bs == CGAL::ON_BOUNDED_SIDE)
+                    f1.inside.set(pid);
+                return true;
+            }))
+            return false;
+    }
+    boost::dynamic_bitset<> use1 = ~f1.inside - f1.coplanar;
+    if (f1.coplanar.any())
+        use1 |= f1.coplanar_union;
+    boost::dynamic_bitset<> use2 = ~f2.inside - f2.coplanar;
+
+    const uint32_t base = static_cast<uint32_t>(a->vertex_count);
+    std::vector<uint32_t> id1(sm.num_vertices(), no_vertex), id2(mb.num_vertices(), no_vertex);
+    auto id_of_n = [&](Vertex_index v) {
+        uint32_t &id = id1[v.idx()];
+        if (id == no_vertex) {
+            if (orig[v] != no_vertex) {
+                id = orig[v];
+            } else {
+                id = base + static_cast<uint32_t>(res.fresh.size() / 3);
+                push_point(res, sm.point(v), back);
+            }
+        }
+        return id;
+    };
+    /* b's vertices at intersection nodes are N's vertices at the same nodes (by node,
+     * not by position: distinct nodes may round to the same point) */
+    for (std::size_t node = 0; node < node_vertex[1].size(); node++) {
+        uint32_t vb = node_vertex[1][node];
+        if (vb != no_vertex && node < node_vertex[0].size() && node_vertex[0][node] != no_vertex)
+            id2[vb] = id_of_n(Vertex_index(node_vertex[0][node]));
+    }
+    for (Mesh::Face_index fd : sm.faces()) {
+        if (!use1.test(f1.patch[fd.idx()]))
+            continue;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(fd)))
+            res.tri.push_back(id_of_n(v));
+    }
+    for (Mesh::Face_index fd : mb.faces()) {
+        if (!use2.test(f2.patch[fd.idx()]))
+            continue;
+        for (Vertex_index v : mb.vertices_around_face(mb.halfedge(fd))) {
+            uint32_t &id = id2[v.idx()];
+            if (id == no_vertex) {
+                id = base + static_cast<uint32_t>(res.fresh.size() / 3);
+                push_point(res, mb.point(v), back);
+            }
+            res.tri.push_back(id);
+            if (diff)
+                diff->push_back(id);
+        }
+    }
+    if (!diff)
+        return true;
+    /* b \ a: b's patches outside a (above) and, turned over, N's patches inside b and
+     * those on b's surface facing it (coplanar, not kept by the union: the two touch
+     * there from opposite sides, so b's face bounds the difference) */
+    boost::dynamic_bitset<> turn = f1.inside - f1.coplanar;
+    if (f1.coplanar.any())
+        turn |= f1.coplanar - f1.coplanar_union;
+    for (Mesh::Face_index fd : sm.faces()) {
+        if (!turn.test(f1.patch[fd.idx()]))
+            continue;
+        uint32_t ids[3];
+        int k = 0;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(fd)))
+            if (k < 3)
+                ids[k++] = id_of_n(v);
+        diff->push_back(ids[0]);
+        diff->push_back(ids[2]);
+        diff->push_back(ids[1]);
+    }
+    return true;
+}
+
+/* The difference's triangles (ids as in Local_result) as a compact mesh in a's frame. */
+sr_status diff_to_mesh(const sr_mesh *a, const Local_result &res,
+                       const std::vector<uint32_t> &diff, sr_mesh *out)
+{
+    const uint32_t base = static_cast<uint32_t>(a->vertex_count);
+    std::vector<uint32_t> remap;
+    std::vector<uint32_t> ids = diff;
+    std::vector<std::pair<uint32_t, uint32_t>> order;
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    sr_mesh m;
+    sr_mesh_init(&m);
+    if (sr_mesh_alloc(&m, ids.size() ? ids.size() : 1, diff.size() / 3 ? diff.size() / 3 : 1) != SR_OK)
+        return SR_E_NOMEM;
+    m.vertex_count = ids.size();
+    m.tri_count = diff.size() / 3;
+    for (size_t i = 0; i < ids.size(); i++) {
+        const double *p = ids[i] < base ? a->xyz + 3 * static_cast<size_t>(ids[i])
+                                        : res.fresh.data() + 3 * static_cast<size_t>(ids[i] - base);
+        memcpy(m.xyz + 3 * i, p, 3 * sizeof(double));
+    }
+    for (size_t t = 0; t < diff.size(); t++)
+        m.tri[t] = static_cast<uint32_t>(std::lower_bound(ids.begin(), ids.end(), diff[t]) -
+                                         ids.begin());
+    *out = m;
+    return SR_OK;
+}
+
+/* True when the local result closes up with the rest of a: its open edges are exactly
+ * N's border (border_before: a's directed edges of N with no N triangle across), and
+ * elsewhere every edge has two triangles running it both ways and every vertex one
+ * fan. */
+bool local_result_fits(const Local_result &res, const std::vector<uint64_t> &border_before,
+                       size_t base)
+{
+    size_t nt = res.tri.size() / 3;
+    if (nt == 0)
+        return false;
+    std::vector<uint64_t> he;
+    he.reserve(3 * nt);
+    for (size_t t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            he.push_back(he_key(res.tri[3 * t + k], res.tri[3 * t + (k + 1) % 3]));
+    std::sort(he.begin(), he.end());
+    if (std::adjacent_find(he.begin(), he.end()) != he.end())
+        return false; /* an edge run twice the same way: not oriented or not manifold */ /* an edge run twice the same way: not oriented or not manifold */
+    std::vector<uint64_t> open;
+    for (uint64_t k : he) {
+        uint32_t x = static_cast<uint32_t>(k >> 32), y = static_cast<uint32_t>(k);
+        if (!std::binary_search(he.begin(), he.end(), he_key(y, x))) {
+            if (x >= base || y >= base)
+                return false;
+            open.push_back(k);
+        }
+    }
+    if (open != border_before) /* both sorted */
+        return false;
+    /* fans: the local result's own check (edges are fine by now) */
+    sr_mesh m;
+    m.tri = const_cast<uint32_t *>(res.tri.data());
+    m.tri_count = nt;
+    m.xyz = nullptr;
+    m.vertex_count = 0;
+    sr_mesh_edges e;
+    if (sr_mesh_edge_stats(&m, &e) != SR_OK)
+        return false;
+    return e.nonmanifold_edges == 0 && e.misoriented_edges == 0 && e.nonmanifold_vertices == 0;
+}
+
+/* The neighbourhood as a halfedge mesh with property "v:orig" (a's vertex number), from
+ * its arrays: only vertices some triangle uses. False when a triangle is refused. */
+bool build_neighbourhood(const sr_mesh &loc, const std::vector<uint32_t> &loc_orig, Mesh &sm)
+{
+    auto orig = sm.add_property_map<Vertex_index, uint32_t>("v:orig", no_vertex).first;
+    std::vector<uint32_t> id(loc.vertex_count, no_vertex);
+    for (size_t i = 0; i < 3 * loc.tri_count; i++) {
+        uint32_t v = loc.tri[i];
+        if (id[v] == no_vertex) {
+            const double *p = loc.xyz + 3 * v;
+            Vertex_index lv = sm.add_vertex(Point(p[0], p[1], p[2]));
+            orig[lv] = loc_orig[v];
+            id[v] = static_cast<uint32_t>(lv.idx());
+        }
+    }
+    for (size_t t = 0; t < loc.tri_count; t++) {
+        const uint32_t *f = loc.tri + 3 * t;
+        if (sm.add_face(Vertex_index(id[f[0]]), Vertex_index(id[f[1]]),
+                        Vertex_index(id[f[2]])) == Mesh::null_face())
+            return false;
+    }
+    return true;
+}
+
+/* The local union proper. SR_OK with *done = false when a condition for it fails
+ * (why in `why`): the caller runs the whole-mesh union. */
+sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
+                      const sr_mesh *b, const char *b_what, double margin, bool mend,
+                      sr_mesh *out, sr_mesh *b_minus_a, bool *done, char *why,
+                      size_t why_size, size_t *n_tris, size_t *mended_tris,
+                      double *grow_used, bool *mend_rim, sr_err *err)
+{
+    *done = false;
+    /* a: every check of check_operand that needs no halfedge mesh, on all of a */
+    sr_mesh_edges edges;
+    sr_status st = check_arrays(a, a_what, &edges, err);
+    if (st != SR_OK)
+        return st;
+    if (edges.nonmanifold_vertices)
+        return sr_err_set(err, SR_E_INVALID,
+                          "'%s' has a non-manifold vertex (%zu vertices whose triangles "
+                          "form more than one fan)",
+                          a_what, edges.nonmanifold_vertices);
+    /* b: all of check_operand (it is small) */
+    double box_a[6], box_b[6];
+    for (size_t v = 0; v < a->vertex_count; v++) {
+        double q[3];
+        frame_point(a, v, xf, q);
+        for (int k = 0; k < 3; k++) {
+            box_a[k] = v == 0 || q[k] < box_a[k] ? q[k] : box_a[k];
+            box_a[3 + k] = v == 0 || q[k] > box_a[3 + k] ? q[k] : box_a[3 + k];
+        }
+    }
+    sr_mesh_bbox(b, box_b, box_b + 3);
+    Mesh mb;
+    st = check_operand(b, b_what, box_a, mb, err);
+    if (st != SR_OK)
+        return st;
+
+    /* N and its halfedge mesh; orig = a's vertex number, no_vertex for new ones */
+    double diag = std::sqrt((box_b[3] - box_b[0]) * (box_b[3] - box_b[0]) +
+                            (box_b[4] - box_b[1]) * (box_b[4] - box_b[1]) +
+                            (box_b[5] - box_b[2]) * (box_b[5] - box_b[2]));
+    double grow = margin > 0 ? margin : 0.01 * diag;
+    *grow_used = grow;
+    double box[6];
+    for (int k = 0; k < 3; k++) {
+        box[k] = box_b[k] - grow;
+        box[3 + k] = box_b[3 + k] + grow;
+    }
+    std::vector<uint8_t> in;
+    size_t n = 0;
+    if (!select_neighbourhood(a, xf, box, in, &n)) {
+        snprintf(why, why_size, "the neighbourhood's fans could not be mended");
+        return SR_OK;
+    }
+    *n_tris = n;
+    /* N as arrays in b's frame (loc_orig: a's vertex number of each), then as a
+     * halfedge mesh */
+    sr_mesh loc = {nullptr, nullptr, 0, 0};
+    std::vector<double> loc_xyz;
+    std::vector<uint32_t> loc_tri, loc_orig;
+    {
+        std::vector<uint32_t> local(a->vertex_count, no_vertex);
+        loc_tri.reserve(3 * n);
+        for (size_t t = 0; t < a->tri_count; t++)
+            if (in[t])
+                for (int k = 0; k < 3; k++) {
+                    uint32_t v = a->tri[3 * t + k];
+                    if (local[v] == no_vertex) {
+                        double p[3];
+                        frame_point(a, v, xf, p);
+                        local[v] = static_cast<uint32_t>(loc_orig.size());
+                        loc_orig.push_back(v);
+                        loc_xyz.insert(loc_xyz.end(), p, p + 3);
+                    }
+                    loc_tri.push_back(local[v]);
+                }
+    }
+    loc.xyz = loc_xyz.data();
+    loc.vertex_count = loc_orig.size();
+    loc.tri = loc_tri.data();
+    loc.tri_count = n;
+    Mesh sm;
+    if (!build_neighbourhood(loc, loc_orig, sm)) {
+        snprintf(why, why_size, "the neighbourhood is not a halfedge mesh");
+        return SR_OK;
+    }
+    if (self_intersects_near(sm, box_b)) {
+        if (!mend)
+            return sr_err_set(err, SR_E_INVALID,
+                              "'%s' intersects itself where the other mesh is", a_what);
+        /* mend N on a malloc'd copy of its triangles (the mender frees and replaces
+         * the array it is given) */
+        sr_mend_report mr;
+        sr_err merr = {{0}};
+        loc.tri = static_cast<uint32_t *>(malloc(loc_tri.size() * sizeof(uint32_t)));
+        if (!loc.tri)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        memcpy(loc.tri, loc_tri.data(), loc_tri.size() * sizeof(uint32_t));
+        sr_status ms = sr_mesh_mend_crossings(&loc, box_b, &mr, &merr);
+        std::vector<uint32_t> mended;
+        if (ms == SR_OK)
+            mended.assign(loc.tri, loc.tri + 3 * loc.tri_count);
+        free(loc.tri);
+        if (ms == SR_E_NOMEM)
+            return sr_err_set(err, ms, "union of '%s' and '%s': out of memory", a_what,
+                              b_what);
+        if (ms != SR_OK) {
+            *mend_rim = mr.reached_border != 0;
+            return sr_err_set(err, SR_E_INVALID,
+                              "'%s' intersects itself where the other mesh is, and %s",
+                              a_what, merr.msg);
+        }
+        loc_tri.swap(mended);
+        loc.tri = loc_tri.data();
+        *mended_tris = mr.removed_tris;
+        sm = Mesh();
+        if (!build_neighbourhood(loc, loc_orig, sm)) {
+            snprintf(why, why_size, "the mended neighbourhood is not a halfedge mesh");
+            return SR_OK;
+        }
+    }
+    Mesh::Property_map<Vertex_index, uint32_t> orig =
+        sm.property_map<Vertex_index, uint32_t>("v:orig").first;
+    /* N's border before: a's directed edges of N with no N triangle across */
+    std::vector<uint64_t> border_before;
+    for (Mesh::Halfedge_index h : sm.halfedges())
+        if (sm.is_border(h)) {
+            Mesh::Halfedge_index o = sm.opposite(h);
+            border_before.push_back(he_key(orig[sm.source(o)], orig[sm.target(o)]));
+        }
+    std::sort(border_before.begin(), border_before.end());
+
+    Patch_flags flags[2];
+    std::vector<uint32_t> node_vertex[2];
+    Classify_visitor vis;
+    vis.flags = flags;
+    vis.first = &sm;
+    vis.node_vertex = node_vertex;
+    const std::array<boost::optional<Mesh *>, 4> no_output = {{boost::none, boost::none,
+                                                               boost::none, boost::none}};
+    PMP::corefine_and_compute_boolean_operations(sm, mb, no_output,
+                                                 CGAL::parameters::visitor(vis));
+    if (!flags[0].have || !flags[1].have) { /* no intersection at all */
+        snprintf(why, why_size, "'%s' meets no triangle of '%s'", b_what, a_what);
+        return SR_OK;
+    }
+    Local_result res;
+    double back[12];
+    if (xf)
+        sr_xform_rigid_inverse(back, xf);
+    std::vector<uint32_t> diff;
+    if (!assemble_local(a, a_what, b_what, xf, xf ? back : nullptr, sm, orig, mb, flags,
+                        node_vertex, res, b_minus_a ? &diff : nullptr, why, why_size))
+        return SR_OK;
+    if (!local_result_fits(res, border_before, a->vertex_count)) {
+        snprintf(why, why_size, "the united neighbourhood does not close up with the rest");
+        return SR_OK;
+    }
+    size_t nt = a->tri_count - n + res.tri.size() / 3, nv = a->vertex_count + res.fresh.size() / 3;
+    if (nt > SR_MESH_MAX_COUNT || nv > SR_MESH_MAX_COUNT)
+        return sr_err_set(err, SR_E_RANGE, "union of '%s' and '%s': result too large "
+                          "(%zu triangles)", a_what, b_what, nt);
+    size_t tri_room = nt > a->tri_count ? nt : a->tri_count;
+
+    /* the arrays: a's own (in place) or a copy, with room to grow; nothing of *out is
+     * changed before every allocation has succeeded */
+#ifdef __GLIBC__
+    /* what the checks and the neighbourhood used (the edge statistics' lists alone are
+     * 14 MB for a million triangles) goes back to the system first: glibc keeps freed
+     * blocks of that size in its heap, and the result would come on top of them */
+    malloc_trim(0);
+#endif
+    sr_mesh dst;
+    if (out == a) {
+        double *xyz = static_cast<double *>(realloc(out->xyz, nv * 3 * sizeof(double)));
+        if (!xyz)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        out->xyz = xyz;
+        uint32_t *tri = static_cast<uint32_t *>(realloc(out->tri, tri_room * 3 * sizeof(uint32_t)));
+        if (!tri)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        out->tri = tri;
+        dst = *out;
+    } else {
+        if (sr_mesh_alloc(&dst, nv, tri_room) != SR_OK)
+            return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory",
+                              a_what, b_what);
+        memcpy(dst.xyz, a->xyz, a->vertex_count * 3 * sizeof(double));
+        memcpy(dst.tri, a->tri, a->tri_count * 3 * sizeof(uint32_t));
+        dst.vertex_count = a->vertex_count;
+        dst.tri_count = a->tri_count;
+    }
+    sr_mesh dm;
+    sr_mesh_init(&dm);
+    if (b_minus_a && diff_to_mesh(a, res, diff, &dm) != SR_OK) {
+        if (out != a)
+            sr_mesh_release(&dst);
+        return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory", a_what,
+                          b_what);
+    }
+    splice_local(&dst, in, res);
+    if (out == b)
+        sr_mesh_release(out);
+    *out = dst;
+    if (b_minus_a)
+        *b_minus_a = dm;
+    *done = true;
+    return SR_OK;
+}
+
+sr_status union_local_entry(const sr_mesh *a, const char *a_what, const double *a_to_b,
+                            const sr_mesh *b, const char *b_what, double margin_mm, bool mend,
+                            sr_mesh *out, sr_mesh *b_minus_a, sr_local_union_info *info,
+                            sr_err *err)
+{
+    sr_local_union_info local_info;
+    if (!info)
+        info = &local_info;
+    memset(info, 0, sizeof *info);
+    if (!a_what)
+        a_what = "first mesh";
+    if (!b_what)
+        b_what = "second mesh";
+    if (!(margin_mm >= 0) || !std::isfinite(margin_mm))
+        return sr_err_set(err, SR_E_RANGE, "bad union margin %g mm: expected 0 or more",
+                          margin_mm);
+    try {
+        bool done = false;
+        size_t n = 0;
+        size_t mended = 0;
+        double grow = 0;
+        bool rim = false;
+        sr_status st = union_local(a, a_what, a_to_b, b, b_what, margin_mm, mend, out,
+                                   b_minus_a, &done, info->fallback, sizeof info->fallback, &n, &mended, &grow,
+                                   &rim, err);
+        /* crossings reaching the neighbourhood's rim (a fold along an edge that runs out
+         * of it, long triangles): a wider neighbourhood (x4), then all of a */
+        for (int wider = 0; wider < 2 && st == SR_E_INVALID && rim; wider++) {
+            rim = false;
+            st = union_local(a, a_what, a_to_b, b, b_what, wider == 0 ? 4.0 * grow : 1e30,
+                             mend, out, b_minus_a, &done, info->fallback, sizeof info->fallback, &n,
+                             &mended, &grow, &rim, err);
+        }
+        info->neighbourhood_tris = n;
+        info->mended_tris = mended;
+        if (st != SR_OK || done) {
+            info->local = done ? 1 : 0;
+            return st;
+        }
+    } catch (...) {
+        /* CGAL threw on the neighbourhood: the whole-mesh union decides */
+        snprintf(info->fallback, sizeof info->fallback,
+                 "the union of the neighbourhood failed");
+    }
+    /* the whole-mesh union (in b's frame, the result brought back to a's); a refusal
+     * says why the local one was not used */
+    sr_mesh moved, res, dif;
+    sr_mesh_init(&dif);
+    sr_status st;
+    if (sr_mesh_copy(&moved, a) != SR_OK)
+        return sr_err_set(err, SR_E_NOMEM, "union of '%s' and '%s': out of memory", a_what,
+                          b_what);
+    if (a_to_b)
+        sr_mesh_transform(&moved, a_to_b);
+    st = boolean_entry(SR_BOOLEAN_UNION, &moved, a_what, b, b_what, &res, err);
+    if (st == SR_OK && b_minus_a) {
+        st = boolean_entry(SR_BOOLEAN_DIFFERENCE, b, b_what, &moved, a_what, &dif, err);
+        if (st != SR_OK)
+            sr_mesh_release(&res);
+    }
+    sr_mesh_release(&moved);
+    if (st != SR_OK && st != SR_E_NOMEM && err && info->fallback[0]) {
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        sr_err_set(err, st, "%s (the whole-mesh union ran: %s)", msg, info->fallback);
+    }
+    if (st != SR_OK)
+        return st;
+    if (a_to_b) {
+        double back[12];
+        sr_xform_rigid_inverse(back, a_to_b);
+        sr_mesh_transform(&res, back);
+        sr_mesh_transform(&dif, back);
+    }
+    if (out == a || out == b)
+        sr_mesh_release(out);
+    *out = res;
+    if (b_minus_a)
+        *b_minus_a = dif;
+    return SR_OK;
+}
+
+} // namespace
+
+} // namespace sr_bool
+
+using namespace sr_bool;
+
+extern "C" {
+
+sr_status sr_boolean_union_local(const sr_mesh *a, const char *a_what, const double *a_to_b,
+                                 const sr_mesh *b, const char *b_what, double margin_mm,
+                                 sr_mesh *out, sr_local_union_info *info, sr_err *err)
+{
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, false, out, nullptr,
+                             info, err);
+}
+
+sr_status sr_boolean_union_local_mending(const sr_mesh *a, const char *a_what,
+                                         const double *a_to_b, const sr_mesh *b,
+                                         const char *b_what, double margin_mm, sr_mesh *out,
+                                         sr_local_union_info *info, sr_err *err)
+{
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, true, out, nullptr,
+                             info, err);
+}
+
+sr_status sr_boolean_union_local_split(const sr_mesh *a, const char *a_what,
+                                       const double *a_to_b, const sr_mesh *b,
+                                       const char *b_what, double margin_mm, sr_mesh *out,
+                                       sr_mesh *b_minus_a, sr_local_union_info *info,
+                                       sr_err *err)
+{
+    return union_local_entry(a, a_what, a_to_b, b, b_what, margin_mm, true, out, b_minus_a,
+                             info, err);
+}
+
+} // extern "C"

@@ -1,0 +1,220 @@
+/*
+ * check_stl.c: checks of a binary or ASCII STL (see file_check.h), and the blanking of an
+ * ASCII STL's name lines before OpenMesh reads it.
+ *
+ * Binary: the size must match the header's triangle count exactly and every coordinate be
+ * finite in float. ASCII: facet structure walked line by line, three vertices a loop.
+ * Both return each facet's corners and count the facets a reader drops as degenerate.
+ *
+ * The shared tokenizer, numbers and messages are in check_common.c (check_int.h).
+ */
+#include "io/check_int.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static float lef32(const unsigned char *p)
+{
+    uint32_t u = fc_le32(p);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+/* OpenMesh's STL reader merges corners whose coordinates differ by at most FLT_MIN. */
+static int same_point(const double *a, const double *b)
+{
+    return fabs(a[0] - b[0]) <= FLT_MIN && fabs(a[1] - b[1]) <= FLT_MIN &&
+           fabs(a[2] - b[2]) <= FLT_MIN;
+}
+
+static int degenerate_facet(const double *c)
+{
+    return same_point(c, c + 3) || same_point(c, c + 6) || same_point(c + 3, c + 6);
+}
+
+static sr_status check_stl_binary(const unsigned char *data, size_t size, const char *name,
+                                  sr_file_facts *out, sr_err *err)
+{
+    if (size < 84)
+        return fc_fail(err, SR_E_FORMAT, name,
+                       "too short for a binary STL (%zu bytes, the header alone takes 84)", size);
+    uint32_t n = fc_le32(data + 80);
+    unsigned long long expect = 84ull + 50ull * n;
+    size_t holds = (size - 84) / 50;
+    if (size < expect)
+        return fc_fail(err, SR_E_FORMAT, name,
+                       "truncated binary STL (header says %u triangles, file holds %zu)", n, holds);
+    if (size > expect) {
+        if ((size - 84) % 50 == 0)
+            return fc_fail(err, SR_E_FORMAT, name,
+                           "binary STL header says %u triangles, file holds %zu", n, holds);
+        return fc_fail(err, SR_E_FORMAT, name,
+                       "binary STL has %llu trailing bytes after its %u triangles",
+                       (unsigned long long)size - expect, n);
+    }
+    sr_file_facts f = {0};
+    f.binary = 1;
+    f.face_count = f.tri_count = n;
+    f.vertex_count = 3 * (size_t)n;
+    if (n) {
+        f.xyz = malloc((size_t)n * 9 * sizeof *f.xyz);
+        if (!f.xyz)
+            return fc_fail(err, SR_E_NOMEM, name, "out of memory for %u triangles", n);
+    }
+    for (size_t t = 0; t < n; t++) {
+        const unsigned char *rec = data + 84 + 50 * t + 12;   /* skip the normal */
+        double *c = f.xyz + 9 * t;
+        for (int k = 0; k < 9; k++) {
+            float v = lef32(rec + 4 * k);
+            if (!isfinite(v)) {
+                sr_file_facts_release(&f);
+                return fc_fail(err, SR_E_INVALID, name,
+                               "binary STL triangle %zu has %s coordinate", t,
+                               fc_nonfinite_word(v));
+            }
+            c[k] = v;
+        }
+        if (degenerate_facet(c))
+            f.degenerate_tris++;
+    }
+    *out = f;
+    return SR_OK;
+}
+
+static sr_status check_stl_ascii(const unsigned char *data, size_t size, const char *name,
+                                 sr_file_facts *out, sr_err *err)
+{
+    sr_file_facts f = {0};
+    size_t cap = 0;
+    sr_status st = SR_OK;
+    fc_line_reader r = {(const char *)data, (const char *)data + size, 0};
+    const char *s, *e, *ts, *te;
+    char tok[40];
+    while (fc_next_line(&r, &s, &e)) {
+        const char *p = s;
+        if (!fc_next_token(&p, e, &ts, &te, 0))
+            continue;
+        if (fc_token_is(ts, te, "vertex")) {
+            st = fc_fail(err, SR_E_FORMAT, name, "line %zu: 'vertex' outside an 'outer loop'",
+                         r.number);
+            goto out;
+        }
+        if (!fc_token_is(ts, te, "outer")) {
+            /* facet/endloop/endfacet stay visible to the reader: no stray "outer" there. */
+            int kept = fc_token_is(ts, te, "facet") || fc_token_is(ts, te, "endloop") ||
+                       fc_token_is(ts, te, "endfacet");
+            for (const char *q = s; kept && q + 5 <= e; q++)
+                if (memcmp(q, "outer", 5) == 0 || memcmp(q, "OUTER", 5) == 0) {
+                    st = fc_fail(err, SR_E_FORMAT, name, "line %zu: stray 'outer'", r.number);
+                    goto out;
+                }
+            continue;
+        }
+        if (!fc_next_token(&p, e, &ts, &te, 0) || !fc_token_is(ts, te, "loop") ||
+            fc_next_token(&p, e, &ts, &te, 0)) {
+            st = fc_fail(err, SR_E_FORMAT, name, "line %zu: expected 'outer loop'", r.number);
+            goto out;
+        }
+        size_t facet = f.face_count;
+        if (!fc_grow((void **)&f.xyz, &cap, 9 * (facet + 1), sizeof *f.xyz)) {
+            st = fc_fail(err, SR_E_NOMEM, name, "out of memory at facet %zu", facet);
+            goto out;
+        }
+        double *c = f.xyz + 9 * facet;
+        for (int k = 0; k < 3; k++) {
+            if (!fc_next_line(&r, &s, &e)) {
+                st = fc_fail(err, SR_E_FORMAT, name, "facet %zu is cut off after %d vertices",
+                             facet, k);
+                goto out;
+            }
+            p = s;
+            if (!fc_next_token(&p, e, &ts, &te, 0) || !fc_token_is(ts, te, "vertex")) {
+                st = fc_fail(err, SR_E_FORMAT, name,
+                             "line %zu: expected 'vertex x y z' in facet %zu", r.number, facet);
+                goto out;
+            }
+            for (int j = 0; j < 3; j++) {
+                double v;
+                if (!fc_next_token(&p, e, &ts, &te, 0) || !fc_parse_real(ts, te, &v)) {
+                    st = fc_fail(err, SR_E_FORMAT, name, "line %zu: 'vertex' needs three numbers",
+                                 r.number);
+                    goto out;
+                }
+                if (!isfinite(v)) {
+                    st = fc_fail(err, SR_E_INVALID, name, "facet %zu has %s coordinate (line %zu)",
+                                 facet, fc_nonfinite_word(v), r.number);
+                    goto out;
+                }
+                float fv = (float)v;
+                if (!isfinite(fv)) {
+                    st = fc_fail(err, SR_E_INVALID, name,
+                                 "facet %zu has coordinate %s beyond float range (line %zu)", facet,
+                                 fc_token_str(ts, te, tok), r.number);
+                    goto out;
+                }
+                c[3 * k + j] = fv;
+            }
+            if (fc_next_token(&p, e, &ts, &te, 0)) {
+                st = fc_fail(err, SR_E_FORMAT, name, "line %zu: 'vertex' needs three numbers",
+                             r.number);
+                goto out;
+            }
+        }
+        if (degenerate_facet(c))
+            f.degenerate_tris++;
+        f.face_count++;
+    }
+    f.tri_count = f.face_count;
+    f.vertex_count = 3 * f.face_count;
+    *out = f;
+    return SR_OK;
+out:
+    sr_file_facts_release(&f);
+    return st;
+}
+
+sr_status sr_file_check_stl(const unsigned char *data, size_t size, const char *name,
+                            sr_file_facts *out, sr_err *err)
+{
+    size_t i = 0;
+    while (i < size && (fc_blank(data[i]) || data[i] == '\n'))
+        i++;
+    int solid = size - i >= 5 && strncasecmp((const char *)data + i, "solid", 5) == 0 &&
+                (size - i == 5 || fc_blank(data[i + 5]) || data[i + 5] == '\n');
+    if (!solid)
+        return check_stl_binary(data, size, name, out, err);
+    /* "solid" can start the 80-byte header of a binary file too. */
+    if (size >= 84) {
+        uint32_t n = fc_le32(data + 80);
+        if (n > 0 && size == 84ull + 50ull * n)
+            return check_stl_binary(data, size, name, out, err);
+    }
+    if (fc_first_binary_byte(data, size) < size)
+        return check_stl_binary(data, size, name, out, err);
+    return check_stl_ascii(data, size, name, out, err);
+}
+
+void sr_file_stl_blank_names(unsigned char *data, size_t size)
+{
+    fc_line_reader r = {(const char *)data, (const char *)data + size, 0};
+    const char *s, *e, *ts, *te;
+    while (fc_next_line(&r, &s, &e)) {
+        const char *p = s;
+        if (!fc_next_token(&p, e, &ts, &te, 0))
+            continue;
+        if (fc_token_is(ts, te, "outer")) {
+            for (const char *q = ts; q < te; q++)   /* OpenMesh knows "outer" and "OUTER" */
+                data[q - (const char *)data] = (unsigned char)(*q | 0x20);
+            continue;
+        }
+        if (fc_token_is(ts, te, "facet") || fc_token_is(ts, te, "vertex") ||
+            fc_token_is(ts, te, "endloop") || fc_token_is(ts, te, "endfacet"))
+            continue;
+        for (const char *q = s; q < e; q++)
+            if (*q != '\r')
+                data[q - (const char *)data] = ' ';
+    }
+}

@@ -1,0 +1,65 @@
+/*
+ * report_int.h: the private interface between the files that implement report_html.h.
+ * Not installed, not used outside src/report/.
+ *
+ *   report_html.c   the page: head, tables, data block, script; sr_report_html
+ *   report_text.c   the growing text the page is written into, HTML- and JSON-escaped
+ *   report_plans.c  the build plan of each section, its table and its data
+ *   decimate.c      meshes reduced to the display budget (sr_report_decimate)
+ *   report.css, report.js  the stylesheet and script, compiled in (report_assets.h)
+ */
+#ifndef SR_REPORT_INT_H
+#define SR_REPORT_INT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "plan/plan.h"
+#include "report/report_html.h"
+
+/* ---- growing text (report_text.c) ---- */
+
+/* A heap string grown as text is appended; zeroed is empty. Out of memory is sticky:
+ * `failed` is set, later appends do nothing, so a writer checks once at the end. The
+ * caller frees p. */
+typedef struct sb {
+    char *p;
+    size_t len, cap;
+    bool failed;
+} sb;
+
+void sb_put(sb *b, const char *s);
+void sb_printf(sb *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Text as HTML character data or attribute value (NULL writes nothing). */
+void sb_html(sb *b, const char *s);
+/* A JSON string for the data block: quotes, backslashes and control characters
+ * escaped, and '<', '>', '&' as \u escapes so the text cannot close the script. */
+void sb_jstr(sb *b, const char *s);
+/* A number for the data block by printf format fmt (null when not finite). */
+void sb_jnum(sb *b, double v, const char *fmt);
+
+/* ---- build plans (report_plans.c) ---- */
+
+/* The plan of one section, or why there is none. */
+typedef struct report_plan {
+    const sr_run_section *section;
+    bool replace;               /* advised 'replace': no plan */
+    bool built;                 /* plan holds a plan */
+    char why[512];              /* no plan, not replace: the plan module's message */
+    const char *process;        /* the advised process ("" = none) */
+    sr_plan plan;
+} report_plan;
+
+/* One entry per section of r (*out NULL when r has none), planned with opts (NULL:
+ * the defaults), none for a section advised 'replace'. SR_E_NOMEM only; a plan that
+ * cannot be made says why. Release with rp_plans_release. */
+sr_status rp_plans_build(const sr_run *r, const sr_plan_opts *opts, report_plan **out,
+                         sr_err *err);
+/* Frees the n entries of p and p; accepts NULL. */
+void rp_plans_release(report_plan *p, size_t n);
+/* The "Build plans" section of the page: one row per section of r. */
+void rp_plan_table(sb *b, const sr_run *r, const report_plan *p);
+/* The data block's "plans" member (",\"plans\":[...]"), one entry per section. */
+void rp_put_plans(sb *b, const sr_run *r, const report_plan *p);
+
+#endif
