@@ -395,6 +395,39 @@ static void glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth(voi
     sr_mesh_release(&scan);
 }
 
+/* The rack's first +x tooth (z = 0) broken off whole along a fracture tilted 8 degrees
+ * from the core's face: only the image from the middle's side carries it (weak
+ * evidence, no strong core), and the fracture round it, which no image carries and
+ * which lies along no axis of the frame, says it is a loss: it comes back to its
+ * volume. (Before, weak evidence was built only next to strong: nothing came back.)
+ * The intact rack's phantom teeth beyond each side's last are bounded by the core's
+ * face and stay empty (the test above). */
+static void glide_rack_restores_its_first_tooth_broken_off(void **state)
+{
+    (void)state;
+    sr_mesh intact, chip, scan;
+    rack(&intact);
+    box(&chip, 5.3, -1, -3, 12, 11, 3);
+    double t = 8 * M_PI / 180, c = cos(t), sn = sin(t);
+    /* about the y axis through (5.3, ., 0): the fracture from x 5.02 to 5.58 */
+    double tilt[12] = {c, 0, sn, 5.3 - 5.3 * c, 0, 1, 0, 0, -sn, 0, c, 5.3 * sn};
+    sr_mesh_transform(&chip, tilt);
+    minus(&intact, &chip, &scan);
+    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
+    assert_true(want > 50 && want < 160);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_GLIDE, 0, 6.0};
+    reconstruct_aligned(&scan, sym, &r);
+    print_message("first tooth broken off: %zu section(s), %.1f of %.1f mm^3\n",
+                  r.section_count, r.patch_volume_mm3, want);
+    assert_int_equal(r.section_count, 1);
+    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.01 * want);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&chip);
+    sr_mesh_release(&scan);
+}
+
 /* The vote spread over two threads gives what one gives, to the bit (every voxel's
  * label); the reconstructions from either give the same sections and volumes. (The
  * patches' triangulations are not compared: CGAL's booleans may number and split the
@@ -449,6 +482,7 @@ int main(void)
         cmocka_unit_test(seam_on_the_axis_gets_a_pin_only_where_the_loss_reaches_it),
         cmocka_unit_test(end_chip_across_the_axis_leaves_no_seam),
         cmocka_unit_test(glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth),
+        cmocka_unit_test(glide_rack_restores_its_first_tooth_broken_off),
         cmocka_unit_test(one_thread_and_two_give_the_same_result),
     };
     /* SYMREC_TEST_FILTER=pattern runs only the matching cases (cmocka glob) */

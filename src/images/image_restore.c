@@ -518,6 +518,75 @@ static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label,
     return spread < 0.8;
 }
 
+/* Glide, a section of weak evidence alone (image_vote.h): an end of the pattern where
+ * the other side's pattern runs on (a phantom tooth: not to be built), or a feature of
+ * the ends broken off (a first tooth). The scan's surface facing the section (its
+ * triangles whose outside, a voxel along the normal, lies in it) tells them apart: the
+ * design's faces there either lie along the frame (the plain core's face: within
+ * FRAME_DEG of x, y or z) or have an image on the scan's surface (the next tooth's
+ * flank); a fracture's do neither. True when FRACTURE_SHARE of that area is fracture.
+ * (Tried first on voxels alone: the core's face at a sawtooth rack's end has no image
+ * on the surface, so phantoms were built at both ends.) */
+#define FRAME_DEG 3.0
+#define FRACTURE_SHARE 0.5
+static int surface_at(const sr_voxels *g, const double p[3], const double n[3])
+{
+    double in[3], out[3];
+    for (int k = 0; k < 3; k++) {
+        in[k] = p[k] - 0.75 * g->h * n[k];
+        out[k] = p[k] + 1.25 * g->h * n[k];
+    }
+    long vi = sr_voxels_locate(g, in), vo = sr_voxels_locate(g, out);
+    return vi >= 0 && vo >= 0 && (g->v[vi] & 1) && !(g->v[vo] & 1);
+}
+
+static int fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
+                            const sr_symmetry *sym)
+{
+    sr_image *im = NULL;
+    size_t n_im = 0;
+    if (sr_images_of(sym, &im, &n_im, NULL) != SR_OK)
+        return 1;
+    double cs = cos(FRAME_DEG * M_PI / 180);
+    double total = 0, fracture = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
+                     *c = m->xyz + 3 * m->tri[3 * t + 2];
+        double nv[3];
+        sr_mesh_tri_normal(m, t, nv);
+        double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+        if (!(len > 0))
+            continue;
+        double p[3];
+        for (int k = 0; k < 3; k++) {
+            nv[k] /= len;
+            p[k] = (a[k] + b[k] + c[k]) / 3;
+        }
+        double q[3] = {p[0] + nv[0] * g->h, p[1] + nv[1] * g->h, p[2] + nv[2] * g->h};
+        long vi = sr_voxels_locate(g, q);
+        if (vi < 0 || label[vi] != s)
+            continue;
+        double area = 0.5 * len;
+        total += area;
+        if (fabs(nv[0]) > cs || fabs(nv[1]) > cs || fabs(nv[2]) > cs)
+            continue; /* along the frame: the design's */
+        int twin = 0;
+        for (size_t k = 0; k < n_im && !twin; k++) {
+            const double *x = im[k].xf;
+            double pp[3], nn[3];
+            for (int r = 0; r < 3; r++) {
+                pp[r] = x[4 * r] * p[0] + x[4 * r + 1] * p[1] + x[4 * r + 2] * p[2] + x[4 * r + 3];
+                nn[r] = x[4 * r] * nv[0] + x[4 * r + 1] * nv[1] + x[4 * r + 2] * nv[2];
+            }
+            twin = surface_at(g, pp, nn);
+        }
+        if (!twin)
+            fracture += area;
+    }
+    free(im);
+    return total > 0 && fracture >= FRACTURE_SHARE * total;
+}
+
 sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh *out,
                                size_t *mended, sr_err *err)
 {
@@ -794,6 +863,15 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
                     if (vr.label[v] == (int)s)
                         vr.label[v] = -1; /* not missing; -1 so no label reuses it */
             }
+    /* glide: a core of weak evidence alone is built only where a fracture bounds it */
+    for (size_t s = 1; vr.weak_only && s <= vr.sections; s++)
+        if (vr.weak_only[s - 1] && !fracture_bounded(aligned, &g, vr.label, (int)s,
+                                                     &opts->symmetry)) {
+            size_t total = g.nx * g.ny * g.nz;
+            for (size_t v = 0; v < total; v++)
+                if (vr.label[v] == (int)s)
+                    vr.label[v] = -1;
+        }
     info->misfit = vr.misfit;
     merge_near_sections(&g, &vr);
     info->vote_s = now_s() - t0;

@@ -122,6 +122,7 @@ void sr_vote_result_release(sr_vote_result *r)
         return;
     free(r->label);
     free(r->voxels);
+    free(r->weak_only);
     memset(r, 0, sizeof *r);
 }
 
@@ -268,7 +269,10 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         }
     }
     free(stack);
-    /* a core with no strong voxel is only an end of a pattern: dropped */
+    /* a core with no strong voxel is only an end of a pattern (dropped), or, on a glide,
+     * a feature of the ends broken off: kept as a section said to be weak only, for
+     * the caller to tell by the scan's surface round it (image_restore.c) */
+    uint8_t *weak = NULL; /* glide: per core, 1 when it has a strong voxel */
     if (ncomp) {
         uint8_t *strong = calloc(ncomp + 1, 1);
         if (!strong) {
@@ -280,10 +284,14 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         for (size_t v = 0; v < total; v++)
             if (label[v] > 0 && (m[v] & 8))
                 strong[label[v]] = 1;
-        for (size_t v = 0; v < total; v++)
-            if (label[v] > 0 && !strong[label[v]])
-                label[v] = 0;
-        free(strong);
+        if (sym->kind == SR_SYM_GLIDE)
+            weak = strong; /* kept, and said to be weak only (after the remap below) */
+        else {
+            for (size_t v = 0; v < total; v++)
+                if (label[v] > 0 && !strong[label[v]])
+                    label[v] = 0;
+            free(strong);
+        }
     }
     /* grown back inside the missing set, GROW_BACK steps (26-connected): one undoes
      * the erosion, the rest take back the thin edges of a chip the erosion cut off */
@@ -319,6 +327,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     if (!cs || !remap) {
         free(cs);
         free(remap);
+        free(weak);
         free(m);
         free(label);
         return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
@@ -334,13 +343,21 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         if (cs[c].count >= min_voxels && cs[c].count > 0)
             remap[cs[c].label] = (int)++kept;
     size_t *counts = calloc(kept ? kept : 1, sizeof *counts);
-    if (!counts) {
+    uint8_t *weak_only = calloc(kept ? kept : 1, 1);
+    if (!counts || !weak_only) {
+        free(counts);
+        free(weak_only);
+        free(weak);
         free(cs);
         free(remap);
         free(m);
         free(label);
         return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
     }
+    for (size_t c = 1; weak && c <= ncomp; c++)
+        if (remap[c] > 0)
+            weak_only[remap[c] - 1] = !weak[c];
+    free(weak);
     for (size_t v = 0; v < total; v++) {
         if (label[v] > 0)
             label[v] = remap[label[v]];
@@ -353,5 +370,6 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     out->label = label;
     out->sections = kept;
     out->voxels = counts;
+    out->weak_only = weak_only;
     return SR_OK;
 }

@@ -19,6 +19,7 @@
 #define SR_IMAGE_VOTE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "images/voxels.h"
 #include "base/status.h"
@@ -46,6 +47,9 @@ typedef struct sr_vote_result {
     int *label;          /* per voxel: 0 = not missing, k >= 1 = section k */
     size_t sections;     /* labels 1..sections, largest first */
     size_t *voxels;      /* per section (index k - 1): its voxel count */
+    uint8_t *weak_only;  /* per section: 1 = a glide core of weak evidence alone (the
+                          * image from the middle's side): an end of the pattern or a
+                          * feature of the ends broken off; the caller decides */
     double misfit;       /* the scan's share (of its voxels) an image lacks, median
                           * over the images: the damage's share on a part that has the
                           * symmetry, far more on one that has not */
