@@ -411,7 +411,9 @@ static void image_figures(const sr_layer_grid *grid, const double xf[12], sr_sec
 /* Where images met each other or the scan to rounding, the union leaves fins of
  * needles inside the solid (joined to the surface by edges of a micrometre): their
  * short edges are collapsed (sr_mesh_collapse_short_edges), kept only when the mesh
- * stays closed with its volume. Returns the edges collapsed. */
+ * stays closed with its volume and crosses itself nowhere (a collapse folded a
+ * neighbour over on three of the shared parts' patches). Returns the edges
+ * collapsed. */
 #define SLIVER_EDGE_MM 0.005
 static size_t fold_slivers(sr_mesh *m)
 {
@@ -421,9 +423,12 @@ static size_t fold_slivers(sr_mesh *m)
         return 0;
     double v0 = sr_mesh_volume(m);
     sr_status cst = sr_mesh_collapse_short_edges(&copy, SLIVER_EDGE_MM, &n, NULL);
+    int crosses = 0;
+    /* a collapse can fold a neighbour over: such a mesh is not kept */
     if (cst != SR_OK || n == 0 ||
         !sr_mesh_is_closed(&copy) ||
-        !(fabs(sr_mesh_volume(&copy) - v0) <= 1e-6 * fabs(v0) + 1e-3)) {
+        !(fabs(sr_mesh_volume(&copy) - v0) <= 1e-6 * fabs(v0) + 1e-3) ||
+        sr_mesh_self_intersects(&copy, &crosses, NULL) != SR_OK || crosses) {
         sr_mesh_release(&copy);
         return 0;
     }
