@@ -85,6 +85,13 @@ static const char usage[] =
     "is reported as a poor fit: the part may not have that symmetry.\n"
     "Lengths in mm, areas mm², volumes mm³, angles degrees.\n";
 
+/* An axial run's alignment has no plane normal: the misfit's place is a radius. */
+static int misfit_axial(const sr_recon_result *r)
+{
+    const double *n = r->alignment.plane_normal;
+    return n[0] == 0 && n[1] == 0 && n[2] == 0;
+}
+
 /* Below this fit score the symmetry kind probably does not suit the part. */
 #define POOR_FIT_SCORE 0.5
 
@@ -135,12 +142,22 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                r->order_found.base_mm);
     printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
            r->grid.dz);
-    if (r->method == SR_METHOD_IMAGE && r->image.poor_fit)
+    if (r->method == SR_METHOD_IMAGE && r->image.poor_fit) {
         printf("  poor fit:   %.1f%% of the scan is not in its images under this symmetry, "
                "the sections explain %.1f%%: the part does not fit it%s\n",
                100.0 * r->image.misfit,
                r->scan_volume_mm3 > 0 ? 100.0 * r->patch_volume_mm3 / r->scan_volume_mm3 : 0,
-               r->order >= 2 ? " (try --order auto)" : "");
+               r->order >= 2 && !r->order_auto ? " (try --order auto)"
+               : r->order_auto && r->order >= 2
+                   ? " (the order found is the outer profile's: a region inside may have "
+                     "another)"
+                   : "");
+        if (r->image.misfit_located)
+            printf("              mostly %s %.1f..%.1f mm, z %.1f..%.1f mm (aligned frame)\n",
+                   misfit_axial(r) ? "at radius" : "from the plane",
+                   r->image.misfit_where[0], r->image.misfit_where[1],
+                   r->image.misfit_where[2], r->image.misfit_where[3]);
+    }
     if (r->method == SR_METHOD_IMAGE && r->image.continued)
         printf("  continued:  %zu section(s) broken through the plane, carried on along z "
                "from the layers below/above (no image holds them)\n",
@@ -223,6 +240,19 @@ static void print_json(const sr_recon_result *r, const sr_run *run, const char *
         json_number(&j, r->image.misfit);
         json_key(&j, "poor_fit");
         json_bool(&j, r->image.poor_fit);
+        if (r->image.misfit_located) {
+            json_key(&j, "misfit_where");
+            json_object_begin(&j);
+            json_key(&j, misfit_axial(r) ? "radius_from_mm" : "from_plane_from_mm");
+            json_number(&j, r->image.misfit_where[0]);
+            json_key(&j, misfit_axial(r) ? "radius_to_mm" : "from_plane_to_mm");
+            json_number(&j, r->image.misfit_where[1]);
+            json_key(&j, "z_from_mm");
+            json_number(&j, r->image.misfit_where[2]);
+            json_key(&j, "z_to_mm");
+            json_number(&j, r->image.misfit_where[3]);
+            json_object_end(&j);
+        }
         json_key(&j, "continued_across_plane");
         json_int(&j, (int64_t)r->image.continued);
         json_key(&j, "vote_s");

@@ -183,6 +183,38 @@ static void cyclic_wrong_order_fills_nothing_and_right_order_restores(void **sta
     sr_mesh_release(&scan);
 }
 
+/* A 26-tooth star (radii 24..30) with 5 lightening holes of radius 3 at radius 15: its
+ * teeth are 26-fold, its web 5-fold. Read with order 26 the holes are kept (no turn of
+ * one lands on another whole), and the misfit is said to lie where the holes are. */
+static void a_web_of_another_order_is_kept_and_located(void **state)
+{
+    (void)state;
+    sr_mesh gear, hole, part;
+    star(&gear, 26);
+    for (int k = 0; k < 5; k++) {
+        assert_int_equal(sr_shape_cylinder(3, -1, 11, 32, &hole, NULL), SR_OK);
+        double a = 2 * M_PI * k / 5;
+        for (size_t v = 0; v < hole.vertex_count; v++) {
+            hole.xyz[3 * v] += 15 * cos(a);
+            hole.xyz[3 * v + 1] += 15 * sin(a);
+        }
+        minus(&gear, &hole, &part);
+        sr_mesh_release(&gear);
+        sr_mesh_release(&hole);
+        gear = part;
+    }
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_AXIAL, 26, 0};
+    reconstruct_aligned(&gear, sym, &r);
+    assert_int_equal(r.section_count, 0);
+    assert_true(r.image.poor_fit);
+    assert_true(r.image.misfit_located);
+    assert_true(r.image.misfit_where[0] >= 11 && r.image.misfit_where[0] <= 15);
+    assert_true(r.image.misfit_where[1] >= 15 && r.image.misfit_where[1] <= 19);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&gear);
+}
+
 /* A disc with one axial bolt hole, continuous axial symmetry: the turns of the hole are
  * material, but its walls all run along the axis, so it is a hole of the design, kept
  * (and reported), not a section. */
@@ -478,6 +510,7 @@ int main(void)
         cmocka_unit_test(mirror_chip_is_restored_exactly),
         cmocka_unit_test(intact_block_has_no_section),
         cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
+        cmocka_unit_test(a_web_of_another_order_is_kept_and_located),
         cmocka_unit_test(axial_bolt_hole_is_kept),
         cmocka_unit_test(seam_on_the_axis_gets_a_pin_only_where_the_loss_reaches_it),
         cmocka_unit_test(end_chip_across_the_axis_leaves_no_seam),

@@ -873,6 +873,8 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
                     vr.label[v] = -1;
         }
     info->misfit = vr.misfit;
+    info->misfit_located = vr.misfit_located;
+    memcpy(info->misfit_where, vr.misfit_where, sizeof info->misfit_where);
     merge_near_sections(&g, &vr);
     info->vote_s = now_s() - t0;
     double t1 = now_s();

@@ -53,6 +53,9 @@ typedef struct sr_image_info {
     size_t features_kept;       /* axial: candidate sections read as holes, slots or
                                  * keyways of the design (kept, not filled) */
     double misfit;              /* image_vote.h: share of the scan its images lack */
+    int misfit_located;         /* 1: misfit_where is set */
+    double misfit_where[4];     /* where it lies (image_vote.h): from-to distance from the
+                                 * axis or plane, from-to z, mm, aligned frame */
     int poor_fit;               /* 1: misfit beyond what the sections found explain
                                  * (reconstruct.c): the part does not fit the symmetry */
     size_t continued;           /* mirror/glide: sections through the plane carried on

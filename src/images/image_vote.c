@@ -136,6 +136,54 @@ static int cmp_comp(const void *a, const void *b)
     return x->count < y->count ? 1 : x->count > y->count ? -1 : (x->label > y->label) - (x->label < y->label);
 }
 
+static int cmp_dbl(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Where the scan's voxels that image g lacks lie (out->misfit_where): the central 80 %
+ * of their distance from the axis (axial) or the plane (planar), and of their z. */
+static void misfit_where(const sr_voxels *scan, const sr_image *g, const sr_symmetry *sym,
+                         double z_lo, double z_hi, sr_vote_result *out)
+{
+    size_t nx = scan->nx, ny = scan->ny, total = nx * ny * scan->nz, cap = 4096, n = 0;
+    double *d = malloc(cap * sizeof *d), *z = malloc(cap * sizeof *z);
+    int axial = sym->kind == SR_SYM_AXIAL;
+    for (size_t v = 0; d && z && v < total; v += 7) {
+        if (!(scan->v[v] & 1))
+            continue;
+        double c[3] = {scan->origin[0] + (double)(v % nx) * scan->h,
+                       scan->origin[1] + (double)((v / nx) % ny) * scan->h,
+                       scan->origin[2] + (double)(v / (nx * ny)) * scan->h};
+        if (sr_image_material(scan, g, c, z_lo, z_hi, sym->kind == SR_SYM_GLIDE) != 0)
+            continue;
+        if (n == cap) {
+            double *d2 = realloc(d, 2 * cap * sizeof *d), *z2 = d2 ? realloc(z, 2 * cap * sizeof *z) : NULL;
+            if (d2)
+                d = d2;
+            if (!z2)
+                break;
+            z = z2;
+            cap *= 2;
+        }
+        d[n] = axial ? hypot(c[0], c[1]) : fabs(c[0]);
+        z[n] = c[2];
+        n++;
+    }
+    if (d && z && n >= 10) {
+        qsort(d, n, sizeof *d, cmp_dbl);
+        qsort(z, n, sizeof *z, cmp_dbl);
+        out->misfit_where[0] = d[n / 10];
+        out->misfit_where[1] = d[n - 1 - n / 10];
+        out->misfit_where[2] = z[n / 10];
+        out->misfit_where[3] = z[n - 1 - n / 10];
+        out->misfit_located = 1;
+    }
+    free(d);
+    free(z);
+}
+
 sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo,
                           double z_hi, size_t min_voxels, int threads, sr_vote_result *out,
                           sr_err *err)
@@ -193,13 +241,20 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         }
         for (size_t q = 0; q < n; q++)
             share[q] = seen[q] ? (double)miss[q] / (double)seen[q] : 1.0;
-        for (size_t a = 1; a < n; a++) /* n is small */
-            for (size_t b = a; b > 0 && share[b - 1] > share[b]; b--) {
-                double t = share[b];
-                share[b] = share[b - 1];
-                share[b - 1] = t;
-            }
-        out->misfit = share[n / 2];
+        size_t *rank = malloc(n * sizeof *rank);
+        if (rank) {
+            for (size_t q = 0; q < n; q++)
+                rank[q] = q;
+            for (size_t a = 1; a < n; a++) /* n is small */
+                for (size_t b = a; b > 0 && share[rank[b - 1]] > share[rank[b]]; b--) {
+                    size_t t = rank[b];
+                    rank[b] = rank[b - 1];
+                    rank[b - 1] = t;
+                }
+            out->misfit = share[rank[n / 2]];
+            misfit_where(scan, &im[rank[n / 2]], sym, z_lo, z_hi, out);
+            free(rank);
+        }
     }
     free(miss);
     free(seen);

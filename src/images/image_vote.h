@@ -50,6 +50,10 @@ typedef struct sr_vote_result {
     uint8_t *weak_only;  /* per section: 1 = a glide core of weak evidence alone (the
                           * image from the middle's side): an end of the pattern or a
                           * feature of the ends broken off; the caller decides */
+    int misfit_located;  /* 1: misfit_where holds where the median image's misfit lies */
+    double misfit_where[4]; /* the central 80 % of those voxels: distance from the axis
+                             * (axial) or the plane (planar) from, to; z from, to (mm,
+                             * aligned frame) */
     double misfit;       /* the scan's share (of its voxels) an image lacks, median
                           * over the images: the damage's share on a part that has the
                           * symmetry, far more on one that has not */
