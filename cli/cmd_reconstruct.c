@@ -24,6 +24,7 @@
 #include "json_out.h"
 #include "reconstruct.h"
 #include "catalog/catalog_record.h"
+#include "run/params_default.h"
 #include "run/run_build.h"
 
 static const char usage[] =
@@ -87,12 +88,6 @@ static const char usage[] =
 
 /* Below this fit score the symmetry kind probably does not suit the part. */
 #define POOR_FIT_SCORE 0.5
-
-/* The seeded 'default' set (sql/001_init.sql), for --mesh runs without a catalogue. */
-static const sr_params builtin_default = {
-    "default", 320, 240, 0.95, 0.95, 0.05, 0.1, 1.0,
-    "built-in copy of the seeded 'default' set",
-};
 
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
                         const sr_params *p, int64_t run_id)
@@ -517,7 +512,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_err_clear(&err);
     sr_status st = SR_OK;
     sr_catalog *cat = NULL;
-    sr_params params = builtin_default;
+    sr_params params; /* --mesh without --params: the core's copy of 'default' */
+    sr_params_default(&params);
     char source[4200];
     sr_instance_info inst;
     memset(&inst, 0, sizeof inst);

@@ -31,8 +31,8 @@ typedef struct sr_analysis {
 
 typedef struct sr_analyse_opts {
     sr_symmetry symmetry;
-    double gamma_axis;          /* (0,1]; 0 = 0.95 */
-    double gamma_plane;         /* (0,1]; 0 = 0.95 */
+    double gamma_axis;          /* (0,1]; 0 = the 'default' set's (0.95) */
+    double gamma_plane;         /* (0,1]; 0 = the 'default' set's (0.95) */
     double min_depth_mm;        /* >= 0 */
     int search_plane;           /* planar: search phi around pi/2 (else fixed at pi/2) */
 } sr_analyse_opts;
