@@ -81,7 +81,8 @@ static const char usage[] =
     "from the catalogue's rules and the part's material; a --mesh run has no part, so\n"
     "no material, and takes the rules of the --db catalogue (read only) when the file\n"
     "exists, else the built-in seeded rules.\n"
-    "The parameter set's min_volume_mm3 is recorded but not applied yet.\n"
+    "Sections smaller than the parameter set's min_volume_mm3 are dropped (0 = the\n"
+    "'default' set's 1 mm³).\n"
     "A fit score below 0.5 (the share of the surface the symmetry maps onto itself)\n"
     "is reported as a poor fit: the part may not have that symmetry.\n"
     "Lengths in mm, areas mm², volumes mm³, angles degrees.\n";
@@ -561,6 +562,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     ro.gamma_plane = params.gamma_plane;
     ro.delta_d = params.delta_d;
     ro.min_depth_mm = params.min_depth_mm;
+    ro.min_volume_mm3 = params.min_volume_mm3;
 
     cli_note("reconstructing %s (%zu triangles)...", source, scan.tri_count);
     char started[32];
