@@ -733,8 +733,10 @@ static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
         return sr_err_set(err, st, "out of memory copying the restored part");
     sr_mesh_transform(&rest, r->alignment.xform);
     sr_layer_grid rg;
-    sr_slice_opts so = {r->grid.layers, r->grid.sectors, r->grid.z_init,
-                        r->grid.z_init + (double)r->grid.layers * r->grid.dz};
+    sr_slice_opts so = {.layers = r->grid.layers,
+                        .sectors = r->grid.sectors,
+                        .z_min = r->grid.z_init,
+                        .z_max = r->grid.z_init + (double)r->grid.layers * r->grid.dz};
     st = sr_slice_accurate(&rest, &so, &rg, err);
     sr_mesh_release(&rest);
     if (st != SR_OK)
@@ -842,7 +844,10 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         sym.shift_mm = r.alignment.glide_shift_mm;
     r.method = opts->method;
     if (opts->method == SR_METHOD_PAPER) {
-        sr_analyse_opts an = {sym, opts->gamma_axis, opts->gamma_plane, opts->min_depth_mm, 1};
+        sr_analyse_opts an = {.symmetry = sym,
+                              .gamma_axis = opts->gamma_axis,
+                              .gamma_plane = opts->gamma_plane,
+                              .min_depth_mm = opts->min_depth_mm};
         st = sr_analyse(&r.grid, &an, &r.analysis, err);
         if (st != SR_OK)
             goto fail;

@@ -68,7 +68,7 @@ static void planar(const sr_layer_grid *g, const sr_analyse_opts *o, sr_analysis
     long base = (long)(n / 2);
     long best = base;
     double diff_min = INFINITY;
-    if (o->search_plane) {
+    if (!o->fixed_plane) {
         long span = (long)(n / 36) + 1; /* +-10 deg around the aligned plane */
         for (long t = base - span; t <= base + span; t++) {
             double d = plane_diff(g, t);
