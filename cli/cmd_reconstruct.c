@@ -24,6 +24,7 @@
 #include "json_out.h"
 #include "reconstruct.h"
 #include "catalog/catalog_record.h"
+#include "run/params_default.h"
 #include "run/run_build.h"
 
 static const char usage[] =
@@ -80,7 +81,8 @@ static const char usage[] =
     "from the catalogue's rules and the part's material; a --mesh run has no part, so\n"
     "no material, and takes the rules of the --db catalogue (read only) when the file\n"
     "exists, else the built-in seeded rules.\n"
-    "The parameter set's min_volume_mm3 is recorded but not applied yet.\n"
+    "Sections smaller than the parameter set's min_volume_mm3 are dropped (0 = the\n"
+    "'default' set's 1 mm³).\n"
     "A fit score below 0.5 (the share of the surface the symmetry maps onto itself)\n"
     "is reported as a poor fit: the part may not have that symmetry.\n"
     "Lengths in mm, areas mm², volumes mm³, angles degrees.\n";
@@ -94,12 +96,6 @@ static int misfit_axial(const sr_recon_result *r)
 
 /* Below this fit score the symmetry kind probably does not suit the part. */
 #define POOR_FIT_SCORE 0.5
-
-/* The seeded 'default' set (sql/001_init.sql), for --mesh runs without a catalogue. */
-static const sr_params builtin_default = {
-    "default", 320, 240, 0.95, 0.95, 0.05, 0.1, 1.0,
-    "built-in copy of the seeded 'default' set",
-};
 
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
                         const sr_params *p, int64_t run_id)
@@ -547,7 +543,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_err_clear(&err);
     sr_status st = SR_OK;
     sr_catalog *cat = NULL;
-    sr_params params = builtin_default;
+    sr_params params; /* --mesh without --params: the core's copy of 'default' */
+    sr_params_default(&params);
     char source[4200];
     sr_instance_info inst;
     memset(&inst, 0, sizeof inst);
@@ -595,6 +592,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     ro.gamma_plane = params.gamma_plane;
     ro.delta_d = params.delta_d;
     ro.min_depth_mm = params.min_depth_mm;
+    ro.min_volume_mm3 = params.min_volume_mm3;
 
     cli_note("reconstructing %s (%zu triangles)...", source, scan.tri_count);
     char started[32];

@@ -17,6 +17,30 @@
 #include "mesh/mesh_shells.h"
 #include "robust/region_sections.h"
 #include "mesh/shapes.h"
+#include "run/params_default.h"
+
+/* opts with every "0 = default" field that comes from the parameter table
+ * (run/params_default.h) filled in, so no stage below falls back on a copy of its own.
+ * min_depth_mm stays: 0 there means none, not the 'default' set's 0.1 mm. */
+static sr_recon_opts with_defaults(const sr_recon_opts *opts)
+{
+    sr_params d;
+    sr_params_default(&d);
+    sr_recon_opts o = *opts;
+    if (o.layers == 0)
+        o.layers = (size_t)d.layers;
+    if (o.sectors == 0)
+        o.sectors = (size_t)d.sectors;
+    if (o.gamma_axis == 0)
+        o.gamma_axis = d.gamma_axis;
+    if (o.gamma_plane == 0)
+        o.gamma_plane = d.gamma_plane;
+    if (o.delta_d == 0)
+        o.delta_d = d.delta_d;
+    if (!(o.min_volume_mm3 > 0))
+        o.min_volume_mm3 = d.min_volume_mm3;
+    return o;
+}
 
 static double now_s(void)
 {
@@ -314,8 +338,10 @@ static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *
     }
     if (!any)
         return SR_OK;
-    sr_region_opts ro = {*sym, r->open_mm, opts->min_depth_mm,
-                         opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, 0};
+    sr_region_opts ro = {.symmetry = *sym,
+                         .open_mm = r->open_mm,
+                         .min_depth_mm = opts->min_depth_mm,
+                         .min_volume_mm3 = opts->min_volume_mm3};
     sr_analysis an = {0};
     sr_section *ls = NULL;
     size_t ln = 0;
@@ -688,8 +714,7 @@ static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
         return sr_err_set(err, st, "out of memory copying the scan");
     r->timings.align_s = now_s() - t;
     t = now_s();
-    sr_slice_opts so = {opts->layers ? opts->layers : 320, opts->sectors ? opts->sectors : 240,
-                        0, 0};
+    sr_slice_opts so = {.layers = opts->layers, .sectors = opts->sectors};
     st = sr_slice_accurate(aligned, &so, &r->grid, err);
     if (st != SR_OK)
         return st;
@@ -708,8 +733,10 @@ static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
         return sr_err_set(err, st, "out of memory copying the restored part");
     sr_mesh_transform(&rest, r->alignment.xform);
     sr_layer_grid rg;
-    sr_slice_opts so = {r->grid.layers, r->grid.sectors, r->grid.z_init,
-                        r->grid.z_init + (double)r->grid.layers * r->grid.dz};
+    sr_slice_opts so = {.layers = r->grid.layers,
+                        .sectors = r->grid.sectors,
+                        .z_min = r->grid.z_init,
+                        .z_max = r->grid.z_init + (double)r->grid.layers * r->grid.dz};
     st = sr_slice_accurate(&rest, &so, &rg, err);
     sr_mesh_release(&rest);
     if (st != SR_OK)
@@ -743,9 +770,11 @@ static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
     return SR_OK;
 }
 
-sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts,
-                         sr_recon_result *out, sr_err *err)
+sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, sr_recon_result *out,
+                         sr_err *err)
 {
+    const sr_recon_opts resolved = with_defaults(opts_in);
+    const sr_recon_opts *opts = &resolved;
     sr_status st = sr_mesh_validate(scan_in, "scan", NULL, err);
     if (st != SR_OK)
         return st;
@@ -815,7 +844,10 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts,
         sym.shift_mm = r.alignment.glide_shift_mm;
     r.method = opts->method;
     if (opts->method == SR_METHOD_PAPER) {
-        sr_analyse_opts an = {sym, opts->gamma_axis, opts->gamma_plane, opts->min_depth_mm, 1};
+        sr_analyse_opts an = {.symmetry = sym,
+                              .gamma_axis = opts->gamma_axis,
+                              .gamma_plane = opts->gamma_plane,
+                              .min_depth_mm = opts->min_depth_mm};
         st = sr_analyse(&r.grid, &an, &r.analysis, err);
         if (st != SR_OK)
             goto fail;
@@ -846,8 +878,10 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts,
          * a surface and its image; slivers up to 3 sigma each side are filtered */
         r.noise_mm = r.alignment.fit_rms_mm / sqrt(2.0);
         r.open_mm = opts->open_mm > 0 ? opts->open_mm : fmax(0.05, 3.0 * r.noise_mm);
-        sr_region_opts ro = {sym, r.open_mm, opts->min_depth_mm,
-                             opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, 0};
+        sr_region_opts ro = {.symmetry = sym,
+                             .open_mm = r.open_mm,
+                             .min_depth_mm = opts->min_depth_mm,
+                             .min_volume_mm3 = opts->min_volume_mm3};
         st = sr_region_reconstruct(&aligned, &r.grid, &ro, &r.analysis, &r.sections,
                                    &r.section_count, err);
         if (st != SR_OK)
@@ -866,8 +900,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts,
     if (opts->skip_union && opts->method == SR_METHOD_IMAGE) {
         /* the exact patches come from the split union; the restored part is then the
          * scan and the patches as separate shells, as asked */
-        st = unite_images(scan, r.alignment.xform, &r,
-                          opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0, err);
+        st = unite_images(scan, r.alignment.xform, &r, opts->min_volume_mm3, err);
         if (st != SR_OK)
             goto fail;
         sr_mesh_release(&r.restored);
@@ -892,7 +925,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts,
             paper_union_patches(&r.grid, &r.analysis, r.sections, r.section_count,
                                 &upatches) != SR_OK)
             upatches = NULL; /* the reported patches are united instead */
-        double min_vol = opts->min_volume_mm3 > 0 ? opts->min_volume_mm3 : 1.0;
+        double min_vol = opts->min_volume_mm3;
         if (opts->method == SR_METHOD_IMAGE)
             st = unite_images(scan, r.alignment.xform, &r, min_vol, err);
         else

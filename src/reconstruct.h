@@ -34,18 +34,22 @@ const char *sr_recon_method_name(sr_recon_method m);
 sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_method *out,
                                 sr_err *err);
 
+/* Valid when zeroed but for the symmetry. A 0 marked "default set" takes the value of
+ * the 'default' parameter set from the core's table (run/params_default.h: 320 layers,
+ * 240 sectors, gamma 0.95, delta_d 0.05, 1 mm^3), resolved by sr_reconstruct. */
 typedef struct sr_recon_opts {
     sr_symmetry symmetry;       /* axial: order SR_ORDER_AUTO finds it (order_detect.h) */
     sr_recon_method method;     /* default (0) image */
     double open_mm;             /* robust: noise filter radius; 0 = from the scan's noise */
-    double min_volume_mm3;      /* robust: smallest section kept; 0 = 1 mm^3 */
-    size_t layers;              /* 0 = 320 */
-    size_t sectors;             /* 0 = 240 */
-    double gamma_axis;          /* 0 = 0.95 */
-    double gamma_plane;         /* 0 = 0.95 */
-    double delta_d;             /* 0 = 0.05 */
+    double min_volume_mm3;      /* smallest section kept, every method; 0 = default set */
+    size_t layers;              /* 0 = default set */
+    size_t sectors;             /* 0 = default set */
+    double gamma_axis;          /* 0 = default set */
+    double gamma_plane;         /* 0 = default set */
+    double delta_d;             /* 0 = default set */
     double pitch_mm;            /* image: voxel pitch; 0 = from the part's size */
-    double min_depth_mm;        /* depth below which a cell is not damage; 0 = none */
+    double min_depth_mm;        /* depth below which a cell is not damage; 0 = none (not
+                                 * the default set's 0.1 mm: the CLI passes that) */
     int have_alignment;         /* 1: use `alignment` instead of searching (override) */
     sr_alignment alignment;
     int skip_union;             /* 1: restored = scan + patches as separate shells */

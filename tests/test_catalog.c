@@ -22,6 +22,7 @@
 
 #include "catalog/catalog.h"
 #include "catalog/catalog_int.h"
+#include "run/params_default.h"
 #include "support/assert_near.h"
 
 /* ---- fixture: a fresh temporary directory per test ---- */
@@ -1171,6 +1172,29 @@ static void params_are_seeded_from_the_paper(void **state)
     sr_catalog_close(cat);
 }
 
+/* The seeded 'default' row (sql/001_init.sql) and the core's table (params_default.h)
+ * are two copies of one set: field by field equal, so neither can drift alone. */
+static void seeded_default_set_equals_the_core_table(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    sr_params seeded, core;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_params_get(cat, "default", &seeded, &err), SR_OK);
+    sr_params_default(&core);
+    assert_string_equal(seeded.name, core.name);
+    assert_int_equal(seeded.layers, core.layers);
+    assert_int_equal(seeded.sectors, core.sectors);
+    assert_true(seeded.gamma_axis == core.gamma_axis);
+    assert_true(seeded.gamma_plane == core.gamma_plane);
+    assert_true(seeded.delta_d == core.delta_d);
+    assert_true(seeded.min_depth_mm == core.min_depth_mm);
+    assert_true(seeded.min_volume_mm3 == core.min_volume_mm3);
+    /* notes differ on purpose: the row says where the values come from */
+    assert_int_equal(sr_params_check(&core, NULL), SR_OK);
+    sr_catalog_close(cat);
+}
+
 typedef struct names {
     int count;
     char name[8][64];
@@ -1471,6 +1495,7 @@ int main(void)
         T(instance_refuses_bad_received_date),
         T(instance_symmetry_overrides_part),
         T(params_are_seeded_from_the_paper),
+        T(seeded_default_set_equals_the_core_table),
         T(params_put_inserts_and_replaces),
         T(params_check_names_every_bad_field),
         T(two_handles_write_while_reading),

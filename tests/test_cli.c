@@ -2426,6 +2426,41 @@ static void reconstruct_params_and_overrides_are_recorded(void **state)
     result_free(&r);
 }
 
+/* Sections of `reconstruct 1 --params NAME --no-union --no-record --json`. */
+static size_t sections_with(const env *e, const char *params)
+{
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", params, "--no-union", "--no-record",
+        "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    size_t n = jget(&v, "sections")->count;
+    jv_release(&v);
+    result_free(&r);
+    return n;
+}
+
+/* The set's min_volume_mm3 and min_depth_mm reach the reconstruction: the chipped
+ * shaft's sections, found with 'coarse', are all dropped by a set otherwise alike whose
+ * smallest section is larger than the part (or deeper than its radius). */
+static void reconstruct_applies_the_sets_min_volume_and_min_depth(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN(&r, "--db", e->db, "params", "set", "huge", "--layers", "80", "--sectors", "60",
+        "--min-volume", "1e9");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "params", "set", "deep", "--layers", "80", "--sectors", "60",
+        "--min-depth", "1e5");
+    expect_ok(&r);
+    result_free(&r);
+    assert_true(sections_with(e, "coarse") >= 1);
+    assert_int_equal(sections_with(e, "huge"), 0);
+    assert_int_equal(sections_with(e, "deep"), 0);
+}
+
 static void a_failed_reconstruct_records_nothing(void **state)
 {
     const env *e = *state;
@@ -3184,6 +3219,7 @@ int main(void)
         T(reconstruct_prints_run_recorded_and_no_record_records_none),
         T(reconstruct_of_a_mesh_file_prints_features_and_advice),
         T(reconstruct_params_and_overrides_are_recorded),
+        T(reconstruct_applies_the_sets_min_volume_and_min_depth),
         T(reconstruct_order_auto_finds_and_records_the_order),
         T(a_failed_reconstruct_records_nothing),
         T(reconstruct_refuses_bad_input),

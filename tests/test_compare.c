@@ -48,7 +48,7 @@ static void unit_cubes_offset_by_0_1_deviate_by_0_1_with_equal_volumes(void **st
     assert_int_equal(r.a_to_b.samples, a.vertex_count + a.tri_count);
 
     /* denser sampling: more samples, the same maximum (it is reached on a face) */
-    sr_compare_opts o = {2000};
+    sr_compare_opts o = {.samples = 2000};
     assert_int_equal(sr_compare_meshes(&a, "a", &b, "b", &o, &r, &err), SR_OK);
     assert_true(r.a_to_b.samples >= 2000 && r.b_to_a.samples >= 2000);
     assert_near(r.a_to_b.max_mm, 0.1, 1e-12);
@@ -64,7 +64,7 @@ static void a_cube_against_itself_is_zero_everywhere(void **state)
     cube(0, 1, &a);
     sr_compare_result r;
     sr_err err = {{0}};
-    sr_compare_opts o = {500};
+    sr_compare_opts o = {.samples = 500};
     assert_int_equal(sr_compare_meshes(&a, NULL, &a, NULL, &o, &r, &err), SR_OK);
     assert_near(r.volume_diff_mm3, 0, 0);
     assert_near(r.volume_diff_pct, 0, 0);
@@ -115,7 +115,7 @@ static void denser_sampling_finds_a_maximum_between_the_vertices(void **state)
     sr_err err = {{0}};
     assert_int_equal(sr_compare_meshes(&plate, "plate", &pyr, "pyramid", NULL, &sparse, &err),
                      SR_OK);
-    sr_compare_opts o = {20000};
+    sr_compare_opts o = {.samples = 20000};
     assert_int_equal(sr_compare_meshes(&plate, "plate", &pyr, "pyramid", &o, &dense, &err),
                      SR_OK);
     assert_int_equal(sparse.closed_a, 0);
@@ -168,7 +168,7 @@ static void too_many_samples_are_refused(void **state)
     cube(0, 1, &a);
     sr_compare_result r;
     sr_err err = {{0}};
-    sr_compare_opts o = {SR_COMPARE_MAX_SAMPLES + 1};
+    sr_compare_opts o = {.samples = SR_COMPARE_MAX_SAMPLES + 1};
     assert_int_equal(sr_compare_meshes(&a, "a", &a, "a", &o, &r, &err), SR_E_RANGE);
     assert_msg_has(err, "bad samples");
     sr_mesh_release(&a);

@@ -111,7 +111,7 @@ static layers *cut_and_vote(const sr_mesh *m)
         assert_int_equal(sr_poly2_boolean(SR_POLY_UNION, &cs.raw[l], NULL, &s->d[l], NULL),
                          SR_OK);
     sr_contour_stack_release(&cs);
-    sr_vote_opts vo = {{.kind = SR_SYM_MIRROR}, 0, 0, OPEN_MM};
+    sr_vote_opts vo = {.symmetry = {.kind = SR_SYM_MIRROR}, .open_mm = OPEN_MM};
     assert_int_equal(sr_vote_restore(s->d, NULL, NULL, LAYERS, &vo, s->res, s->mis, NULL),
                      SR_OK);
     return s;
@@ -129,7 +129,8 @@ static void layers_free(layers *s)
 
 static sr_continuity_opts mirror_opts(void)
 {
-    sr_continuity_opts o = {{.kind = SR_SYM_MIRROR}, OPEN_MM, 0.9, 0, 0, 0};
+    sr_continuity_opts o = {
+        .symmetry = {.kind = SR_SYM_MIRROR}, .open_mm = OPEN_MM, .near_mm = 0.9};
     return o;
 }
 
@@ -245,12 +246,39 @@ static void refuses_a_glide_without_a_shift(void **state)
     assert_refused(o, "glide shift must be > 0 mm");
 }
 
-static void refuses_a_zero_near_distance(void **state)
+/* near_mm 0 is the default, 3 layer spacings + 0.6 mm: here 0.9 mm as mirror_opts */
+static void takes_a_zero_near_distance_as_three_layers_and_0_6_mm(void **state)
+{
+    (void)state;
+    sr_mesh m = {0};
+    blocks(1, &m);
+    layers *given = cut_and_vote(&m), *zero = cut_and_vote(&m);
+    sr_continuity_opts o = mirror_opts();
+    size_t carried_given = 0, carried_zero = 0;
+    assert_int_equal(sr_continuity_extend(&m, given->z, LAYERS, given->res, given->mis, &o,
+                                          &carried_given, NULL),
+                     SR_OK);
+    o.near_mm = 0;
+    assert_int_equal(
+        sr_continuity_extend(&m, zero->z, LAYERS, zero->res, zero->mis, &o, &carried_zero, NULL),
+        SR_OK);
+    assert_true(carried_given > 0);
+    assert_int_equal(carried_zero, carried_given);
+    for (size_t l = 0; l < LAYERS; l++) {
+        assert_near(sr_poly2_area(&zero->res[l]), sr_poly2_area(&given->res[l]), 1e-9);
+        assert_near(sr_poly2_area(&zero->mis[l]), sr_poly2_area(&given->mis[l]), 1e-9);
+    }
+    layers_free(given);
+    layers_free(zero);
+    sr_mesh_release(&m);
+}
+
+static void refuses_a_negative_near_distance(void **state)
 {
     (void)state;
     sr_continuity_opts o = mirror_opts();
-    o.near_mm = 0;
-    assert_refused(o, "bad option (open 0.05, near 0");
+    o.near_mm = -1;
+    assert_refused(o, "bad option (open 0.05, near -1");
 }
 
 static void refuses_a_flat_angle_of_90_degrees(void **state)
@@ -269,7 +297,8 @@ int main(void)
         cmocka_unit_test(keeps_a_hole_across_the_plane_open),
         cmocka_unit_test(refuses_an_axial_symmetry),
         cmocka_unit_test(refuses_a_glide_without_a_shift),
-        cmocka_unit_test(refuses_a_zero_near_distance),
+        cmocka_unit_test(takes_a_zero_near_distance_as_three_layers_and_0_6_mm),
+        cmocka_unit_test(refuses_a_negative_near_distance),
         cmocka_unit_test(refuses_a_flat_angle_of_90_degrees),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

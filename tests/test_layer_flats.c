@@ -34,7 +34,7 @@ static double step_radius(double theta, size_t ring, void *user)
 static void stepped_shaft(sr_mesh *m)
 {
     static const double z[4] = {0, 5, 5, 10};
-    sr_revolve_opts o = {SEGMENTS, 4, z, step_radius, NULL, NULL};
+    sr_revolve_opts o = {.segments = SEGMENTS, .ring_count = 4, .ring_z = z, .outer = step_radius};
     assert_int_equal(sr_shape_revolve(&o, m, NULL), SR_OK);
 }
 
@@ -48,13 +48,14 @@ static void planes_away_from_flat_faces_read_none(void **state)
     double lo[3] = {-3, -2, 0}, hi[3] = {3, 2, 10};
     assert_int_equal(sr_shape_box(lo, hi, &m, NULL), SR_OK);
     /* planes 0.5 .. 9.5: the end faces are 0.5 away, the side walls cross every plane */
-    sr_layer_flats_opts o = {0, 1.0, 10, MARGIN, NULL, 0};
+    sr_layer_flats_opts o = {.z_init = 0, .dz = 1.0, .layers = 10, .margin_mm = MARGIN};
     double a[10];
     assert_int_equal(sr_layer_flats_area(&m, &o, a, NULL), SR_OK);
     for (size_t l = 0; l < 10; l++)
         assert_true(a[l] == 0);
     /* the end faces do count once a plane comes within the margin of them */
-    sr_layer_flats_opts near = {-0.35, 0.5, 21, MARGIN, NULL, 0}; /* planes -0.1 .. 9.9 */
+    /* planes -0.1 .. 9.9 */
+    sr_layer_flats_opts near = {.z_init = -0.35, .dz = 0.5, .layers = 21, .margin_mm = MARGIN};
     double b[21];
     assert_int_equal(sr_layer_flats_area(&m, &near, b, NULL), SR_OK);
     assert_near(b[0], 24.0, 1e-9);
@@ -70,7 +71,7 @@ static void a_plane_on_a_shoulder_reads_its_area(void **state)
     (void)state;
     sr_mesh m = {0};
     stepped_shaft(&m);
-    sr_layer_flats_opts o = {0, 10.0 / 9, 9, MARGIN, NULL, 0};
+    sr_layer_flats_opts o = {.z_init = 0, .dz = 10.0 / 9, .layers = 9, .margin_mm = MARGIN};
     double a[9];
     assert_int_equal(sr_layer_flats_area(&m, &o, a, NULL), SR_OK);
     assert_near(a[4], ngon(10) - ngon(6), 1e-9);
@@ -93,7 +94,7 @@ static void a_plane_on_a_noisy_shoulder_reads_its_area(void **state)
             s = s * 1103515245u + 12345u;
             m.xyz[3 * v + 2] += 0.03 * ((double)(s >> 16 & 0x7fff) / 16383.5 - 1.0);
         }
-    sr_layer_flats_opts o = {0, 10.0 / 9, 9, MARGIN, NULL, 0};
+    sr_layer_flats_opts o = {.z_init = 0, .dz = 10.0 / 9, .layers = 9, .margin_mm = MARGIN};
     double a[9];
     assert_int_equal(sr_layer_flats_area(&m, &o, a, NULL), SR_OK);
     assert_near(a[4], ngon(10) - ngon(6), 0.01 * (ngon(10) - ngon(6)));
@@ -108,7 +109,7 @@ static void an_image_plane_on_a_shoulder_counts_for_the_layer(void **state)
     (void)state;
     sr_mesh m = {0};
     stepped_shaft(&m);
-    sr_layer_flats_opts o = {0, 10.0 / 9, 9, MARGIN, NULL, 0};
+    sr_layer_flats_opts o = {.z_init = 0, .dz = 10.0 / 9, .layers = 9, .margin_mm = MARGIN};
     double plane2 = 2.5 * o.dz; /* layer 2's plane */
     double shifts[2] = {5.0 - plane2, -(5.0 - plane2)};
     double alone[9], glide[9];
@@ -121,6 +122,27 @@ static void an_image_plane_on_a_shoulder_counts_for_the_layer(void **state)
     sr_mesh_release(&m);
 }
 
+/* margin_mm 0 is SR_LAYER_FLATS_MARGIN_MM: an end face 0.04 mm off a plane counts, one
+ * 0.1 mm off does not (a margin reads up to one bin, margin / 4, further) */
+static void a_zero_margin_is_the_default(void **state)
+{
+    (void)state;
+    sr_mesh m = {0};
+    double lo[3] = {-3, -2, 0}, hi[3] = {3, 2, 10};
+    assert_int_equal(sr_shape_box(lo, hi, &m, NULL), SR_OK);
+    sr_layer_flats_opts o = {.z_init = -0.54, .dz = 1.0, .layers = 1}; /* plane -0.04 */
+    double a = -1;
+    assert_int_equal(sr_layer_flats_area(&m, &o, &a, NULL), SR_OK);
+    assert_near(a, 24.0, 1e-9);
+    o.z_init = -0.6; /* plane -0.1 */
+    assert_int_equal(sr_layer_flats_area(&m, &o, &a, NULL), SR_OK);
+    assert_true(a == 0);
+    o.margin_mm = SR_LAYER_FLATS_MARGIN_MM;
+    assert_int_equal(sr_layer_flats_area(&m, &o, &a, NULL), SR_OK);
+    assert_true(a == 0);
+    sr_mesh_release(&m);
+}
+
 static void bad_options_are_refused(void **state)
 {
     (void)state;
@@ -129,12 +151,12 @@ static void bad_options_are_refused(void **state)
     double a[4] = {1, 2, 3, 4}, before[4];
     memcpy(before, a, sizeof a);
     sr_err err = {{0}};
-    sr_layer_flats_opts zero_dz = {0, 0, 4, MARGIN, NULL, 0};
+    sr_layer_flats_opts zero_dz = {.z_init = 0, .dz = 0, .layers = 4, .margin_mm = MARGIN};
     assert_int_equal(sr_layer_flats_area(&m, &zero_dz, a, &err), SR_E_RANGE);
     assert_non_null(strstr(err.msg, "dz 0 mm"));
-    sr_layer_flats_opts no_layers = {0, 1, 0, MARGIN, NULL, 0};
+    sr_layer_flats_opts no_layers = {.z_init = 0, .dz = 1, .layers = 0, .margin_mm = MARGIN};
     assert_int_equal(sr_layer_flats_area(&m, &no_layers, a, &err), SR_E_RANGE);
-    sr_layer_flats_opts nan_margin = {0, 1, 4, NAN, NULL, 0};
+    sr_layer_flats_opts nan_margin = {.z_init = 0, .dz = 1, .layers = 4, .margin_mm = NAN};
     assert_int_equal(sr_layer_flats_area(&m, &nan_margin, a, &err), SR_E_RANGE);
     assert_non_null(strstr(err.msg, "margin"));
     assert_memory_equal(a, before, sizeof a);
@@ -148,6 +170,7 @@ int main(void)
         cmocka_unit_test(a_plane_on_a_shoulder_reads_its_area),
         cmocka_unit_test(a_plane_on_a_noisy_shoulder_reads_its_area),
         cmocka_unit_test(an_image_plane_on_a_shoulder_counts_for_the_layer),
+        cmocka_unit_test(a_zero_margin_is_the_default),
         cmocka_unit_test(bad_options_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -37,7 +37,7 @@ static void make_ringed_cylinder(sr_mesh *m)
     double z[41];
     for (int i = 0; i < 41; i++)
         z[i] = i;
-    sr_revolve_opts o = {96, 41, z, ring_radius, NULL, NULL};
+    sr_revolve_opts o = {.segments = 96, .ring_count = 41, .ring_z = z, .outer = ring_radius};
     assert_int_equal(sr_shape_revolve(&o, m, NULL), SR_OK);
     assert_true(sr_mesh_is_closed(m));
 }

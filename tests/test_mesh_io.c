@@ -223,7 +223,7 @@ static void round_trip(void **state, const char *name, int ascii, double tol, do
     path_in(state, name, path);
     sr_mesh m, back = {0};
     make_octa(&m);
-    sr_write_opts opts = {ascii};
+    sr_write_opts opts = {.ascii = ascii};
     sr_err err = {{0}};
     sr_status st = sr_mesh_write(path, &m, &opts, &err);
     if (st)

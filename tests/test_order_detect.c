@@ -136,10 +136,10 @@ static void a_sliced_five_lobed_solid_gives_five(void **state)
 {
     (void)state;
     static const double z[2] = {0, 10};
-    sr_revolve_opts ro = {360, 2, z, lobed5_radius, NULL, NULL};
+    sr_revolve_opts ro = {.segments = 360, .ring_count = 2, .ring_z = z, .outer = lobed5_radius};
     sr_mesh m = {0};
     assert_int_equal(sr_shape_revolve(&ro, &m, NULL), SR_OK);
-    sr_slice_opts so = {80, 120, 0, 0};
+    sr_slice_opts so = {.layers = 80, .sectors = 120};
     sr_layer_grid g;
     assert_int_equal(sr_slice_accurate(&m, &so, &g, NULL), SR_OK);
     sr_order_detection o;

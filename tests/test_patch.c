@@ -323,7 +323,7 @@ static void mirror_restores_the_shorter_side(void **state)
     double r[8] = {10, 12, 12, 10, 7, 9, 9, 7};
     r[0] = 6; /* damaged: its partner (sector 3) has 10 */
     memcpy(g.r, r, sizeof r);
-    sr_analyse_opts o = {.symmetry = {SR_SYM_MIRROR, 0, 0}, .gamma_plane = 0.95};
+    sr_analyse_opts o = {.symmetry = {SR_SYM_MIRROR, 0, 0}, .gamma_plane = 0.95, .fixed_plane = 1};
     sr_analysis a;
     assert_int_equal(sr_analyse(&g, &o, &a, NULL), SR_OK);
     assert_int_equal(a.damaged_cells, 1);

@@ -474,7 +474,33 @@ static void export_writes_json_svg_per_layer_and_parsable_gcode(void **state)
     free_run(&run);
 }
 
-static void zero_step_over_refused_naming_field(void **state)
+/* A zeroed sr_plan_opts is valid: each 0 is its default, the allowance 0 none. */
+static void zeroed_opts_plan_with_the_defaults_and_no_allowance(void **state)
+{
+    sr_run run;
+    sr_plan zeroed, init;
+    sr_plan_opts o;
+    make_axial_run(&run);
+    memset(&o, 0, sizeof o);
+    assert_int_equal(sr_plan_build(&run, 0, &o, &zeroed, NULL), SR_OK);
+    sr_plan_opts_init(&o);
+    o.allowance_mm = 0;
+    assert_int_equal(sr_plan_build(&run, 0, &o, &init, NULL), SR_OK);
+    assert_near(zeroed.opts.step_over_mm, 1.0, 0);
+    assert_near(zeroed.opts.allowance_mm, 0, 0);
+    assert_near(zeroed.opts.density_g_cm3, 7.85, 0);
+    assert_near(zeroed.opts.rate_cm3_min, 1.0, 0);
+    assert_near(zeroed.opts.layer_mm, init.opts.layer_mm, 0);
+    assert_int_equal(zeroed.layer_count, init.layer_count);
+    assert_near(zeroed.deposit_volume_mm3, init.deposit_volume_mm3, 0);
+    assert_near(zeroed.deposit_mass_g, init.deposit_mass_g, 0);
+    assert_near(zeroed.build_time_min, init.build_time_min, 0);
+    sr_plan_release(&zeroed);
+    sr_plan_release(&init);
+    free_run(&run);
+}
+
+static void negative_step_over_refused_naming_field(void **state)
 {
     sr_run run;
     sr_plan plan;
@@ -482,7 +508,7 @@ static void zero_step_over_refused_naming_field(void **state)
     sr_err err = {{0}};
     make_axial_run(&run);
     sr_plan_opts_init(&o);
-    o.step_over_mm = 0;
+    o.step_over_mm = -1;
     assert_int_equal(sr_plan_build(&run, 0, &o, &plan, &err), SR_E_RANGE);
     assert_msg_has(err, "step_over_mm must be > 0");
     free_run(&run);
@@ -516,7 +542,7 @@ static void other_bad_options_refused_naming_field(void **state)
     assert_int_equal(sr_plan_opts_check(&o, &err), SR_E_RANGE);
     assert_msg_has(err, "density_g_cm3");
     sr_plan_opts_init(&o);
-    o.rate_cm3_min = 0;
+    o.rate_cm3_min = -1;
     assert_int_equal(sr_plan_opts_check(&o, &err), SR_E_RANGE);
     assert_msg_has(err, "rate_cm3_min");
     sr_plan_opts_init(&o);
@@ -626,7 +652,8 @@ int main(void)
         cmocka_unit_test(contour_pattern_gives_closed_rings_only),
         cmocka_unit_test(sector_without_damaged_point_is_bridged),
         cmocka_unit_test(export_writes_json_svg_per_layer_and_parsable_gcode),
-        cmocka_unit_test(zero_step_over_refused_naming_field),
+        cmocka_unit_test(zeroed_opts_plan_with_the_defaults_and_no_allowance),
+        cmocka_unit_test(negative_step_over_refused_naming_field),
         cmocka_unit_test(negative_allowance_refused_naming_field),
         cmocka_unit_test(other_bad_options_refused_naming_field),
         cmocka_unit_test(too_thin_layers_refused),

@@ -51,7 +51,8 @@ static void make_cylinder(sr_mesh *m, int chipped)
     double z[41];
     for (int i = 0; i < 41; i++)
         z[i] = i;
-    sr_revolve_opts o = {96, 41, z, chipped_radius, NULL, &chipped};
+    sr_revolve_opts o = {
+        .segments = 96, .ring_count = 41, .ring_z = z, .outer = chipped_radius, .user = &chipped};
     assert_int_equal(sr_shape_revolve(&o, m, NULL), SR_OK);
     assert_true(sr_mesh_is_closed(m));
 }

@@ -3,6 +3,7 @@
  * (see analyse.h for the readings of the paper's pseudo-code).
  */
 #include "paper/analyse.h"
+#include "run/params_default.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -67,7 +68,7 @@ static void planar(const sr_layer_grid *g, const sr_analyse_opts *o, sr_analysis
     long base = (long)(n / 2);
     long best = base;
     double diff_min = INFINITY;
-    if (o->search_plane) {
+    if (!o->fixed_plane) {
         long span = (long)(n / 36) + 1; /* +-10 deg around the aligned plane */
         for (long t = base - span; t <= base + span; t++) {
             double d = plane_diff(g, t);
@@ -113,10 +114,12 @@ sr_status sr_analyse(const sr_layer_grid *grid, const sr_analyse_opts *opts,
                      sr_analysis *out, sr_err *err)
 {
     sr_analyse_opts o = *opts;
+    sr_params d;
+    sr_params_default(&d);
     if (o.gamma_axis == 0)
-        o.gamma_axis = 0.95;
+        o.gamma_axis = d.gamma_axis;
     if (o.gamma_plane == 0)
-        o.gamma_plane = 0.95;
+        o.gamma_plane = d.gamma_plane;
     if (!(o.gamma_axis > 0 && o.gamma_axis <= 1))
         return sr_err_set(err, SR_E_RANGE, "bad gamma_axis %g: expected 0 < gamma <= 1",
                           o.gamma_axis);

@@ -29,12 +29,15 @@ typedef struct sr_analysis {
     size_t damaged_cells;
 } sr_analysis;
 
+/* Valid when zeroed but for the symmetry: every 0 is the default named, resolved by
+ * sr_analyse (the gammas from the parameter table, run/params_default.h). */
 typedef struct sr_analyse_opts {
-    sr_symmetry symmetry;
-    double gamma_axis;          /* (0,1]; 0 = 0.95 */
-    double gamma_plane;         /* (0,1]; 0 = 0.95 */
-    double min_depth_mm;        /* >= 0 */
-    int search_plane;           /* planar: search phi around pi/2 (else fixed at pi/2) */
+    sr_symmetry symmetry;       /* required: axial, mirror or glide */
+    double gamma_axis;          /* (0,1]; 0 = the 'default' set's (0.95) */
+    double gamma_plane;         /* (0,1]; 0 = the 'default' set's (0.95) */
+    double min_depth_mm;        /* >= 0; 0 = any depth counts */
+    int fixed_plane;            /* planar: 0 = search phi around pi/2 (Alg. 5, the
+                                 * default); 1 = take the aligned plane, phi = pi/2 */
 } sr_analyse_opts;
 
 /* Runs Alg. 4 or 5 on grid. *out only on success. */

@@ -40,22 +40,40 @@ sr_status sr_plan_pattern_parse(const char *text, const char *field, sr_plan_pat
                       text ? text : "");
 }
 
+/* The defaults of plan.h: what sr_plan_opts_init gives and what a 0 stands for
+ * (layer_mm 0 stays: the run's spacing, filled in by sr_plan_build). */
+static const sr_plan_opts plan_defaults = {
+    .step_over_mm = 1.0,
+    .allowance_mm = 0.5,
+    .layer_mm = 0,
+    .density_g_cm3 = 7.85,
+    .rate_cm3_min = 1.0,
+    .raster_angle_deg = 0,
+    .pattern = SR_PLAN_CONTOUR_RASTER,
+};
+
 void sr_plan_opts_init(sr_plan_opts *opts)
 {
-    memset(opts, 0, sizeof *opts);
-    opts->step_over_mm = 1.0;
-    opts->allowance_mm = 0.5;
-    opts->layer_mm = 0;
-    opts->density_g_cm3 = 7.85;
-    opts->rate_cm3_min = 1.0;
-    opts->raster_angle_deg = 0;
-    opts->pattern = SR_PLAN_CONTOUR_RASTER;
+    *opts = plan_defaults;
+}
+
+/* o with each 0 that stands for a default replaced by it (allowance 0 is none). */
+static sr_plan_opts with_defaults(sr_plan_opts o)
+{
+    if (o.step_over_mm == 0)
+        o.step_over_mm = plan_defaults.step_over_mm;
+    if (o.density_g_cm3 == 0)
+        o.density_g_cm3 = plan_defaults.density_g_cm3;
+    if (o.rate_cm3_min == 0)
+        o.rate_cm3_min = plan_defaults.rate_cm3_min;
+    return o;
 }
 
 sr_status sr_plan_opts_check(const sr_plan_opts *o, sr_err *err)
 {
-    if (!(o->step_over_mm > 0) || !isfinite(o->step_over_mm) || o->step_over_mm > 1e4)
-        return sr_err_set(err, SR_E_RANGE, "step_over_mm must be > 0 and <= 10000, got %g",
+    if (!(o->step_over_mm >= 0) || !isfinite(o->step_over_mm) || o->step_over_mm > 1e4)
+        return sr_err_set(err, SR_E_RANGE,
+                          "step_over_mm must be > 0 (or 0 for 1 mm) and <= 10000, got %g",
                           o->step_over_mm);
     if (!(o->allowance_mm >= 0) || !isfinite(o->allowance_mm) || o->allowance_mm > 1e4)
         return sr_err_set(err, SR_E_RANGE, "allowance_mm must be >= 0 and <= 10000, got %g",
@@ -64,11 +82,11 @@ sr_status sr_plan_opts_check(const sr_plan_opts *o, sr_err *err)
         return sr_err_set(err, SR_E_RANGE,
                           "layer_mm must be > 0 (or 0 for the run's spacing), got %g",
                           o->layer_mm);
-    if (!(o->density_g_cm3 > 0) || !isfinite(o->density_g_cm3))
-        return sr_err_set(err, SR_E_RANGE, "density_g_cm3 must be > 0, got %g",
+    if (!(o->density_g_cm3 >= 0) || !isfinite(o->density_g_cm3))
+        return sr_err_set(err, SR_E_RANGE, "density_g_cm3 must be > 0 (or 0 for 7.85), got %g",
                           o->density_g_cm3);
-    if (!(o->rate_cm3_min > 0) || !isfinite(o->rate_cm3_min))
-        return sr_err_set(err, SR_E_RANGE, "rate_cm3_min must be > 0, got %g",
+    if (!(o->rate_cm3_min >= 0) || !isfinite(o->rate_cm3_min))
+        return sr_err_set(err, SR_E_RANGE, "rate_cm3_min must be > 0 (or 0 for 1), got %g",
                           o->rate_cm3_min);
     if (!isfinite(o->raster_angle_deg))
         return sr_err_set(err, SR_E_RANGE, "raster_angle_deg must be finite, got %g",
@@ -548,14 +566,13 @@ static double outline_reach(const sr_run *run, const sr_run_section *sec)
 sr_status sr_plan_build(const sr_run *run, size_t section_index, const sr_plan_opts *opts,
                         sr_plan *out, sr_err *err)
 {
-    sr_plan_opts o;
+    sr_plan_opts o = plan_defaults;
     if (opts)
         o = *opts;
-    else
-        sr_plan_opts_init(&o);
     sr_status st = sr_plan_opts_check(&o, err);
     if (st != SR_OK)
         return st;
+    o = with_defaults(o);
     const sr_run_section *sec = NULL;
     for (size_t i = 0; i < run->section_count; i++)
         if (run->sections[i].index == section_index)

@@ -70,26 +70,28 @@ const char *sr_plan_pattern_name(sr_plan_pattern pattern);
 sr_status sr_plan_pattern_parse(const char *text, const char *field, sr_plan_pattern *out,
                                 sr_err *err);
 
-/* Plan parameters. Unlike most option structs a zeroed one is not valid (a zero
- * step-over is refused): start from sr_plan_opts_init. */
+/* Plan parameters, valid when zeroed: a 0 takes the default named below (resolved by
+ * sr_plan_build). The one exception is the allowance, where 0 is a real setting (no
+ * allowance): sr_plan_opts_init (and opts NULL) give the suggested 0.5 mm. */
 typedef struct sr_plan_opts {
-    double step_over_mm;      /* bead spacing, > 0; default 1.0 */
-    double allowance_mm;      /* machining allowance, >= 0; default 0.5 */
+    double step_over_mm;      /* bead spacing, > 0; 0 = 1.0 */
+    double allowance_mm;      /* machining allowance, >= 0; 0 = none; init: 0.5 */
     double layer_mm;          /* layer thickness, > 0, or 0 = the run's layer spacing */
-    double density_g_cm3;     /* deposit density, > 0; default 7.85 (steel) */
-    double rate_cm3_min;      /* deposition rate, > 0; default 1.0 (about 0.5 kg/h of
+    double density_g_cm3;     /* deposit density, > 0; 0 = 7.85 (steel) */
+    double rate_cm3_min;      /* deposition rate, > 0; 0 = 1.0 (about 0.5 kg/h of
                                * steel, a usual powder DED rate) */
     double raster_angle_deg;  /* raster angle of the first layer (finite); default 0;
                                * every other layer adds 90 */
-    sr_plan_pattern pattern;  /* default SR_PLAN_CONTOUR_RASTER */
+    sr_plan_pattern pattern;  /* default (0) SR_PLAN_CONTOUR_RASTER */
 } sr_plan_opts;
 
 #define SR_PLAN_MAX_LAYERS 100000 /* refused beyond: a thickness far too small */
 
-/* Fills the defaults above. */
+/* Fills the defaults above, the 0.5 mm allowance included. */
 void sr_plan_opts_init(sr_plan_opts *opts);
 
-/* Range checks; SR_E_RANGE naming the field ("step_over_mm must be > 0, got 0"). */
+/* Range checks (a 0 that stands for a default passes); SR_E_RANGE naming the field
+ * ("step_over_mm must be > 0 (or 0 for 1 mm) and <= 10000, got -1"). */
 sr_status sr_plan_opts_check(const sr_plan_opts *opts, sr_err *err);
 
 enum {
@@ -132,7 +134,8 @@ typedef struct sr_plan {
  * SR_E_NOTFOUND "run N has no section K" (K 1-based, as the CLI shows it). SR_E_RANGE
  * from sr_plan_opts_check, or for a section of a run with symmetry NONE, or when the
  * thickness gives more than SR_PLAN_MAX_LAYERS layers. Polygon failures pass through.
- * *out only on success (free with sr_plan_release). opts NULL = defaults. */
+ * *out only on success (free with sr_plan_release). opts NULL = sr_plan_opts_init's;
+ * the plan's opts hold the values used, every default filled in. */
 sr_status sr_plan_build(const sr_run *run, size_t section_index, const sr_plan_opts *opts,
                         sr_plan *out, sr_err *err);
 

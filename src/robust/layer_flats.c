@@ -68,14 +68,15 @@ static sr_status build_histogram(const sr_mesh *m, double margin, flat_histogram
 sr_status sr_layer_flats_area(const sr_mesh *mesh, const sr_layer_flats_opts *o,
                               double *area_out, sr_err *err)
 {
-    if (o->layers == 0 || !(o->dz > 0) || !isfinite(o->dz) || !(o->margin_mm > 0) ||
+    if (o->layers == 0 || !(o->dz > 0) || !isfinite(o->dz) || !(o->margin_mm >= 0) ||
         !isfinite(o->margin_mm) || !isfinite(o->z_init))
         return sr_err_set(err, SR_E_RANGE,
                           "bad layer flats: %zu layers, dz %g mm, margin %g mm (expected "
-                          "layers >= 1, dz > 0, margin > 0)",
+                          "layers >= 1, dz > 0, margin > 0 or 0 for the default)",
                           o->layers, o->dz, o->margin_mm);
+    double margin = o->margin_mm > 0 ? o->margin_mm : SR_LAYER_FLATS_MARGIN_MM;
     flat_histogram h = {0};
-    sr_status st = build_histogram(mesh, o->margin_mm, &h, err);
+    sr_status st = build_histogram(mesh, margin, &h, err);
     if (st != SR_OK)
         return st;
     for (size_t l = 0; l < o->layers; l++) {

@@ -30,10 +30,16 @@
 /* |n_z| of a flat face's triangle: within about 18 degrees of horizontal */
 #define SR_LAYER_FLATS_NZ 0.95
 
+/* Default of margin_mm: twice the robust method's smallest noise filter radius. */
+#define SR_LAYER_FLATS_MARGIN_MM 0.05
+
+/* The layer grid (z_init, dz, layers) is required; the options after it are valid
+ * when zeroed, each 0 the default named. */
 typedef struct sr_layer_flats_opts {
-    double z_init, dz;      /* layer l's plane is z_init + (l + 1/2) dz */
+    double z_init, dz;      /* layer l's plane is z_init + (l + 1/2) dz; dz > 0 */
     size_t layers;          /* >= 1 */
-    double margin_mm;       /* a face this near a plane is at it, > 0 */
+    double margin_mm;       /* a face this near a plane is at it, > 0;
+                             * 0 = SR_LAYER_FLATS_MARGIN_MM */
     const double *shifts;   /* image planes at plane + shifts[k]; may be NULL */
     size_t shift_count;
 } sr_layer_flats_opts;

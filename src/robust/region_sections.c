@@ -452,7 +452,8 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
         st = cut_regions(aligned, z + 2 * L, L, down, &open_chains, err);
     if (st != SR_OK)
         goto done;
-    sr_vote_opts vo = {opts->symmetry, opts->coverage, 0, opts->open_mm};
+    sr_vote_opts vo = {
+        .symmetry = opts->symmetry, .coverage = opts->coverage, .open_mm = opts->open_mm};
     st = sr_vote_restore(d, up, down, L, &vo, res, mis, err);
     /* a plane within 2 x open_mm of the model's end faces cuts them where scan noise
      * lifts them, leaving a ragged partial section: no damage is read there */
@@ -464,7 +465,8 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
      * Candidates lie within 0.6 mm + 3 layers of the damage: over the 0.5 mm step a
      * fracture steeper than about 40 degrees uncovers a band narrower than that */
     if (st == SR_OK && opts->symmetry.kind != SR_SYM_AXIAL) {
-        sr_continuity_opts co = {opts->symmetry, opts->open_mm, 3.0 * grid->dz + 0.6, 0, 0, 0};
+        sr_continuity_opts co = {
+            .symmetry = opts->symmetry, .open_mm = opts->open_mm, .near_mm = 3.0 * grid->dz + 0.6};
         st = sr_continuity_extend(aligned, z, L, res, mis, &co, NULL, err);
     }
     if (st == SR_OK)
@@ -473,8 +475,12 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
         st = sr_err_set(err, SR_E_NOMEM, "out of memory for %zu contour layers", L);
     if (st == SR_OK) {
         double shifts[2] = {opts->symmetry.shift_mm, -opts->symmetry.shift_mm};
-        sr_layer_flats_opts fo = {grid->z_init, grid->dz, L, 2.0 * fmax(opts->open_mm, 0.025),
-                                  glide ? shifts : NULL, glide ? 2 : 0};
+        sr_layer_flats_opts fo = {.z_init = grid->z_init,
+                                  .dz = grid->dz,
+                                  .layers = L,
+                                  .margin_mm = fmax(2.0 * opts->open_mm, SR_LAYER_FLATS_MARGIN_MM),
+                                  .shifts = glide ? shifts : NULL,
+                                  .shift_count = glide ? 2 : 0};
         st = sr_layer_flats_area(aligned, &fo, flat, err);
     }
     if (st == SR_OK) {

@@ -419,12 +419,17 @@ sr_status sr_continuity_extend(const sr_mesh *aligned, const double *z, size_t l
         return sr_err_set(err, SR_E_RANGE, "continuity along z needs a mirror or glide");
     if (o->symmetry.kind == SR_SYM_GLIDE && !(o->symmetry.shift_mm > 0))
         return sr_err_set(err, SR_E_RANGE, "continuity along z: glide shift must be > 0 mm");
-    if (!(o->open_mm >= 0) || !(o->near_mm > 0) || !(o->flat_deg >= 0 && o->flat_deg < 90) ||
+    if (!(o->open_mm >= 0) || !(o->near_mm >= 0) || !(o->flat_deg >= 0 && o->flat_deg < 90) ||
         !(o->sample_mm >= 0) || !isfinite(o->near_mm) || !isfinite(o->sample_mm))
         return sr_err_set(err, SR_E_RANGE,
                           "continuity along z: bad option (open %g, near %g, flat %g deg, "
                           "sample %g mm)",
                           o->open_mm, o->near_mm, o->flat_deg, o->sample_mm);
+    sr_continuity_opts resolved = *opts;
+    if (resolved.near_mm == 0)
+        resolved.near_mm =
+            3.0 * (layers >= 2 ? (z[layers - 1] - z[0]) / (double)(layers - 1) : 0) + 0.6;
+    o = &resolved;
     double flat_cos = cos((o->flat_deg > 0 ? o->flat_deg : 20.0) * M_PI / 180.0);
     double step = o->sample_mm > 0 ? o->sample_mm : 0.2;
     size_t n_carried = 0;

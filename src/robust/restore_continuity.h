@@ -43,12 +43,14 @@
 #include "base/status.h"
 #include "base/symmetry.h"
 
+/* Valid when zeroed but for the symmetry: every 0 is the default named. */
 typedef struct sr_continuity_opts {
-    sr_symmetry symmetry; /* SR_SYM_MIRROR or SR_SYM_GLIDE (shift_mm > 0) */
+    sr_symmetry symmetry; /* required: SR_SYM_MIRROR or SR_SYM_GLIDE (shift_mm > 0) */
     double open_mm;       /* carried slivers thinner than 2x are dropped, >= 0; also the
                            * height within which images meet a surface "alike"
                            * (at least 0.01 mm) */
-    double near_mm;       /* carried material lies within this of the damage, > 0 */
+    double near_mm;       /* carried material lies within this of the damage, > 0;
+                           * 0 = 3 layer spacings + 0.6 mm (what region_sections.c asks) */
     double flat_deg;      /* end face: normal within this of z; 0 = 20 degrees */
     double sample_mm;     /* decision grid step; 0 = 0.2 mm */
     double step_z_mm;     /* carry from the layer this far away (at least one); 0 = 0.5 */

@@ -148,7 +148,11 @@ static sr_status shaft_build(size_t segments, double pitch, int damaged, sr_mesh
             sh.rings++;
         }
     }
-    sr_revolve_opts o = {segments, sh.rings, sh.z, shaft_outer, NULL, &sh};
+    sr_revolve_opts o = {.segments = segments,
+                         .ring_count = sh.rings,
+                         .ring_z = sh.z,
+                         .outer = shaft_outer,
+                         .user = &sh};
     sr_status st = sr_shape_revolve(&o, out, err);
     free(sh.z);
     free(sh.r);
@@ -199,7 +203,7 @@ static void bench_slicing(void)
     printf("  mesh: chipped stepped shaft, %zu triangles, %zu vertices, %.1f MiB in memory "
            "(built in %.2f s)\n",
            m.tri_count, m.vertex_count, mib(mesh_bytes(&m)), now_s() - t0);
-    sr_slice_opts so = {320, 240, 0, 0};
+    sr_slice_opts so = {.layers = 320, .sectors = 240};
     printf("  setting: %zu layers x %zu sectors; best of 3 runs each\n", so.layers, so.sectors);
 
     double best[3] = {INFINITY, INFINITY, INFINITY};
