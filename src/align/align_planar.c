@@ -165,9 +165,10 @@ static void polish_plane(al_ctx *ctx, double tau, plane_cand *pc)
  * reflection-symmetric directions of the normals (align_egi.c) and the hint, each
  * moved to its best offset and screened; those screening at least 0.8 of the best
  * (and the hint's) are refined as mirrors on the coarse samples (a plane is only
- * chosen when it scores 0.8 of the best). Returns the number of refined candidates
+ * chosen when it scores 0.8 of the best); polish: a mirror search, each restarted
+ * tilted (polish_plane). Returns the number of refined candidates
  * written to out (<= MAX_PLANES). */
-static int plane_candidates(al_ctx *ctx, double keep, plane_cand *out)
+static int plane_candidates(al_ctx *ctx, double keep, bool polish, plane_cand *out)
 {
     al_surface *s = ctx->surf;
     double w[3], v[9];
@@ -228,7 +229,8 @@ static int plane_candidates(al_ctx *ctx, double keep, plane_cand *out)
         double tau = 4 * med[i];
         tau = tau < ctx->tol ? ctx->tol : (tau < 0.03 * s->diag ? tau : 0.03 * s->diag);
         al_icp(s, &ctx->coarse, &pc->m, 25, tau, ctx->tol, &pc->f);
-        polish_plane(ctx, tau, pc);
+        if (polish)
+            polish_plane(ctx, tau, pc);
         pc->spread = spread_along(s, pc->m.a);
     }
     return count;
@@ -248,7 +250,7 @@ static void finish(al_ctx *ctx, al_model *m, const al_fit *cf, al_fit *fit)
 static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     plane_cand pc[MAX_PLANES];
-    int np = plane_candidates(ctx, 0.8, pc);
+    int np = plane_candidates(ctx, 0.8, true, pc);
     double top = 0;
     for (int k = 0; k < np; k++)
         top = pc[k].f.score > top ? pc[k].f.score : top;
@@ -373,7 +375,9 @@ static sr_status glide_search(al_ctx *ctx, al_model *out, al_fit *fit)
 {
     al_surface *s = ctx->surf;
     plane_cand pc[MAX_PLANES];
-    int np = plane_candidates(ctx, 0.4, pc); /* a glide's plane is a poor mirror */
+    /* a glide's plane is a poor mirror: its mirror fit is not polished (the glide
+     * refinement below fits it with the shift) */
+    int np = plane_candidates(ctx, 0.4, false, pc);
     double top = 0;
     for (int k = 0; k < np; k++)
         top = pc[k].f.score > top ? pc[k].f.score : top;
