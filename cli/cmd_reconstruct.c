@@ -179,9 +179,14 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
            r->restored_by_union ? "boolean union" : "separate shells", r->patch_volume_mm3);
     if (!r->restored_by_union && r->union_note[0])
         printf("  union:      %s\n", r->union_note);
-    printf("  time %.3f s (align %.3f, slice %.3f, analyse %.3f, patch %.3f, union %.3f)\n",
-           r->timings.total_s, r->timings.align_s, r->timings.slice_s, r->timings.analyse_s,
-           r->timings.patch_s, r->timings.union_s);
+    const char *phase[SR_RECON_PHASES];
+    double sec[SR_RECON_PHASES];
+    size_t np = sr_recon_timings_list(&r->timings, phase, sec);
+    printf("  time %.3f s (", r->timings.total_s);
+    for (size_t i = 0, shown = 0; i + 1 < np; i++)
+        if (sec[i] >= 0.0005 || i < 2) /* align and slice always; the rest where they ran */
+            printf("%s%s %.3f", shown++ ? ", " : "", phase[i], sec[i]);
+    printf(")\n");
     cli_run_advice_print(run);
     if (run_id > 0)
         printf("run %lld recorded\n", (long long)run_id);
@@ -370,18 +375,15 @@ static void print_json(const sr_recon_result *r, const sr_run *run, const char *
     }
     json_key(&j, "timings");
     json_object_begin(&j);
-    json_key(&j, "align_s");
-    json_number(&j, r->timings.align_s);
-    json_key(&j, "slice_s");
-    json_number(&j, r->timings.slice_s);
-    json_key(&j, "analyse_s");
-    json_number(&j, r->timings.analyse_s);
-    json_key(&j, "patch_s");
-    json_number(&j, r->timings.patch_s);
-    json_key(&j, "union_s");
-    json_number(&j, r->timings.union_s);
-    json_key(&j, "total_s");
-    json_number(&j, r->timings.total_s);
+    const char *phase[SR_RECON_PHASES];
+    double sec[SR_RECON_PHASES];
+    size_t np = sr_recon_timings_list(&r->timings, phase, sec);
+    for (size_t i = 0; i < np; i++) {
+        char key[32];
+        snprintf(key, sizeof key, "%s_s", phase[i]);
+        json_key(&j, key);
+        json_number(&j, sec[i]);
+    }
     json_object_end(&j);
     json_object_end(&j);
     json_finish(&j);

@@ -69,6 +69,22 @@ sr_status sr_recon_method_parse(const char *text, const char *field, sr_recon_me
     return SR_OK;
 }
 
+size_t sr_recon_timings_list(const sr_recon_timings *t, const char *names[],
+                             double seconds[])
+{
+    static const char *const n[SR_RECON_PHASES] = {
+        "align", "slice", "unfold", "vote", "clip", "continue",
+        "analyse", "patch", "union", "finish", "total"};
+    const double v[SR_RECON_PHASES] = {
+        t->align_s, t->slice_s, t->unfold_s, t->vote_s, t->clip_s, t->continue_s,
+        t->analyse_s, t->patch_s, t->union_s, t->finish_s, t->total_s};
+    for (size_t i = 0; i < SR_RECON_PHASES; i++) {
+        names[i] = n[i];
+        seconds[i] = isfinite(v[i]) && v[i] >= 0 ? v[i] : 0;
+    }
+    return SR_RECON_PHASES;
+}
+
 void sr_recon_result_release(sr_recon_result *r)
 {
     if (!r)
@@ -796,6 +812,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     sr_mesh aligned = {0};
     double t0 = now_s();
     if (opts->method == SR_METHOD_IMAGE) {
+        double tu = now_s();
         /* a noisy scan's folds undone first, where the union would cut them out */
         st = sr_mesh_copy(&unfolded, scan_in);
         if (st != SR_OK)
@@ -810,6 +827,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         } else {
             sr_mesh_release(&unfolded);
         }
+        r.timings.unfold_s = now_s() - tu;
     }
 
     st = align_and_slice(scan, &given, opts, &r, &aligned, err);
@@ -867,10 +885,14 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
                                   &r.image, err);
         if (st != SR_OK)
             goto fail;
+        r.timings.vote_s = r.image.vote_s;
+        r.timings.clip_s = r.image.patch_s;
         r.open_mm = opts->open_mm > 0 ? opts->open_mm : fmax(0.05, 3.0 * r.noise_mm);
+        double tc = now_s();
         st = continue_across_plane(&aligned, &r, &sym, opts, err);
         if (st != SR_OK)
             goto fail;
+        r.timings.continue_s = now_s() - tc;
         r.timings.analyse_s = now_s() - t;
         t = now_s();
     } else {
@@ -960,6 +982,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
                  "frame",
                  used ? "; " : "", late);
     r.timings.union_s = now_s() - t;
+    t = now_s();
     if (opts->method == SR_METHOD_IMAGE) {
         st = analysis_from_restored(&r, err);
         if (st != SR_OK)
@@ -973,6 +996,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     if (opts->method == SR_METHOD_IMAGE && r.scan_volume_mm3 > 0)
         r.image.poor_fit =
             r.image.misfit > POOR_FIT_FLOOR + 2.0 * r.patch_volume_mm3 / r.scan_volume_mm3;
+    r.timings.finish_s = now_s() - t;
     r.timings.total_s = now_s() - t0;
     sr_mesh_release(&unfolded);
     *out = r;

@@ -57,8 +57,17 @@ typedef struct sr_recon_opts {
                                  * is the same for any number */
 } sr_recon_opts;
 
+/* Seconds per phase. analyse_s covers every method's finding of the sections (for the
+ * image method: vote_s + clip_s + continue_s); union_s the union, the mending of what
+ * it refused and the move back to the scan's frame; finish_s the figures read back
+ * from the restored part. */
 typedef struct sr_recon_timings {
     double align_s, slice_s, analyse_s, patch_s, union_s, total_s;
+    double unfold_s;            /* image: the noisy scan's folds undone */
+    double vote_s;              /* image: occupancy, vote, sections grouped */
+    double clip_s;              /* image: hulls and the images clipped to them */
+    double continue_s;          /* image, mirror: the layer method across the plane */
+    double finish_s;            /* figures from the restored part, volumes */
 } sr_recon_timings;
 
 typedef struct sr_recon_result {
@@ -85,6 +94,13 @@ typedef struct sr_recon_result {
     double unfold_max_mm;       /* the farthest one moved */
     sr_recon_timings timings;
 } sr_recon_result;
+
+/* The phases of t in their order with their names ("align", "slice", "unfold", "vote",
+ * "clip", "continue", "analyse", "patch", "union", "finish", "total"): writes up to
+ * SR_RECON_PHASES names and seconds, returns the count. */
+#define SR_RECON_PHASES 11
+size_t sr_recon_timings_list(const sr_recon_timings *t, const char *names[],
+                             double seconds[]);
 
 /* Runs the pipeline. *out only on success (release with sr_recon_result_release). */
 sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,

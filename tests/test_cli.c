@@ -2154,6 +2154,16 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     assert_int_equal((int)jnum(jget(&rec, "scan_folds"), "vertices_moved"), 0);
     const jv *secs = jget(&rec, "sections");
     assert_true(secs->count >= 1);
+    /* the image method's phases: its vote and clipping inside the analysis, every
+     * phase inside the total */
+    const jv *tm = jget(&rec, "timings");
+    assert_true(jnum(tm, "vote_s") > 0);
+    assert_true(jnum(tm, "clip_s") > 0);
+    assert_true(jnum(tm, "vote_s") + jnum(tm, "clip_s") + jnum(tm, "continue_s") <=
+                jnum(tm, "analyse_s") + 1e-6);
+    assert_true(jnum(tm, "align_s") + jnum(tm, "unfold_s") + jnum(tm, "analyse_s") +
+                    jnum(tm, "union_s") + jnum(tm, "finish_s") <=
+                jnum(tm, "total_s") + 1e-6);
     char ids[32];
     snprintf(ids, sizeof ids, "%ld", id);
 
@@ -2192,7 +2202,8 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     for (size_t i = 0; i < 12; i++)
         assert_true(jget(align, "transform")->items[i].num == rec_xf->items[i].num);
     assert_int_equal(jget(&show, "timings")->type, J_OBJ);
-    assert_true(jnum(jget(&show, "timings"), "total") >= 0);
+    assert_true(jnum(jget(&show, "timings"), "total") >= jnum(jget(&show, "timings"), "vote"));
+    assert_near(jnum(jget(&show, "timings"), "vote"), jnum(tm, "vote_s"), 1e-5);
     assert_true(jnum(jget(&show, "restored_mesh"), "triangles") > 0);
     const jv *ssecs = jget(&show, "sections");
     assert_int_equal(ssecs->count, secs->count);

@@ -183,6 +183,42 @@ static void cyclic_wrong_order_fills_nothing_and_right_order_restores(void **sta
     sr_mesh_release(&scan);
 }
 
+/* A square plate, 4-fold, with two chips a quarter turn apart that overlap each
+ * other's turn: where they overlap only two of the three turns carry material, which
+ * the strict n-fold vote refused (two thirds of each chip stayed missing); the
+ * majority continuing a strong core brings both back whole. */
+static void two_damages_a_turn_apart_are_both_restored_whole(void **state)
+{
+    (void)state;
+    sr_mesh plate, a, b, cut1, scan;
+    box(&plate, -20, -20, 0, 20, 20, 10);
+    box(&a, 17, -6, -1, 21, 2, 11);  /* at the +x edge */
+    box(&b, -4, 17, -1, 4, 21, 11);  /* at the +y edge: its x -2..4 is a's turn */
+    minus(&plate, &a, &cut1);
+    minus(&cut1, &b, &scan);
+    double want = sr_mesh_volume(&plate) - sr_mesh_volume(&scan);
+    assert_near(want, 480.0, 1e-6);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_AXIAL, 4, 0};
+    reconstruct_aligned(&scan, sym, &r);
+    print_message("two chips a turn apart: %zu section(s), %.1f of %.1f mm^3\n",
+                  r.section_count, r.patch_volume_mm3, want);
+    assert_int_equal(r.section_count, 2);
+    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.005 * want);
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&plate)) <=
+                1e-4 * r.restored_volume_mm3);
+    sr_recon_result_release(&r);
+    /* the plate intact: no section, the majority continues no strong core */
+    reconstruct_aligned(&plate, sym, &r);
+    assert_int_equal(r.section_count, 0);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&plate);
+    sr_mesh_release(&a);
+    sr_mesh_release(&b);
+    sr_mesh_release(&cut1);
+    sr_mesh_release(&scan);
+}
+
 /* A 26-tooth star (radii 24..30) with 5 lightening holes of radius 3 at radius 15: its
  * teeth are 26-fold, its web 5-fold. Read with order 26 the holes are kept (no turn of
  * one lands on another whole), and the misfit is said to lie where the holes are. */
@@ -510,6 +546,7 @@ int main(void)
         cmocka_unit_test(mirror_chip_is_restored_exactly),
         cmocka_unit_test(intact_block_has_no_section),
         cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
+        cmocka_unit_test(two_damages_a_turn_apart_are_both_restored_whole),
         cmocka_unit_test(a_web_of_another_order_is_kept_and_located),
         cmocka_unit_test(axial_bolt_hole_is_kept),
         cmocka_unit_test(seam_on_the_axis_gets_a_pin_only_where_the_loss_reaches_it),

@@ -794,7 +794,13 @@ static void fake_result(sr_recon_result *res)
     s->area_mm2 = 44;
     box_mesh(0, 1, &s->patch);
     box_mesh(0, 3, &res->restored);
-    res->timings = (sr_recon_timings){0.5, 0.25, 0.125, 0.0625, 1, 2};
+    res->timings = (sr_recon_timings){.align_s = 0.5,
+                                      .slice_s = 0.25,
+                                      .analyse_s = 0.125,
+                                      .patch_s = 0.0625,
+                                      .union_s = 1,
+                                      .total_s = 2,
+                                      .vote_s = 0.03125};
 }
 
 static void run_from_result_lays_out_outlines_sections_and_timings(void **state)
@@ -819,8 +825,10 @@ static void run_from_result_lays_out_outlines_sections_and_timings(void **state)
     assert_int_equal(run.ok, 1);
     assert_string_equal(run.software_version, SR_VERSION);
     assert_true(strcmp(run.started_at, run.finished_at) <= 0);
-    assert_string_equal(run.timings_json, "{\"align\":0.5,\"slice\":0.25,\"analyse\":0.125,"
-                                          "\"patch\":0.0625,\"union\":1,\"total\":2}");
+    assert_string_equal(run.timings_json,
+                        "{\"align\":0.5,\"slice\":0.25,\"unfold\":0,\"vote\":0.03125,"
+                        "\"clip\":0,\"continue\":0,\"analyse\":0.125,\"patch\":0.0625,"
+                        "\"union\":1,\"finish\":0,\"total\":2}");
     assert_int_equal(run.layer_count, 2);
     assert_int_equal(run.sectors, 4);
     assert_near(run.layer_z[0], 11, 1e-12);

@@ -15,9 +15,9 @@
  * Mirror: several planes can be mirror planes of most of the part (a bracket is
  * symmetric about x = 0 and y = 0, a plate about its mid-plane, a U clamp about its
  * half-length). Among the refined planes scoring at least 0.8 of the best, the one
- * across which the part spreads widest (largest variance of the surface along the
- * normal) is taken: the plane whose two halves say most about each other; this is a
- * heuristic, and the caller's hint (opts->hint) overrides it - the hint joins the
+ * across which the matched share of the part spreads widest (the variance of the
+ * surface along the normal times the share of samples matched) is taken: the plane
+ * whose two halves say most about each other; this is a heuristic, and the caller's hint (opts->hint) overrides it - the hint joins the
  * candidates and the good plane nearest it is taken.
  *
  * Glide: reflection in the plane plus a shift s along a direction t in the plane. For
@@ -256,8 +256,11 @@ static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
         top = pc[k].f.score > top ? pc[k].f.score : top;
     /* several planes can be mirror planes of most of the part (a bracket's y = 0 as
      * well as its x = 0, a plate's mid-plane): among the good ones take the plane
-     * across which the part spreads widest, the one whose halves say most about each
-     * other (with a hint: the one nearest the hint); when none is good, the best */
+     * across which the part's matched share spreads widest (the spread weighted by
+     * the share matched), the one whose halves say most about each other (with a
+     * hint: the one nearest the hint); when none is good, the best. The spread alone
+     * took a U clamp's false plane across its height (matched 0.825, spread 263 mm2)
+     * over its true one (0.965, 246 mm2): 3.3 cm3 of its bolt hole filled */
     int pick = -1;
     for (int k = 0; k < np; k++) {
         bool good = pc[k].f.score >= 0.5 && pc[k].f.score >= 0.8 * top;
@@ -267,7 +270,8 @@ static sr_status mirror_search(al_ctx *ctx, al_model *out, al_fit *fit)
             pick = k;
         else if (ctx->have_hint ? fabs(v3_dot(pc[k].m.a, ctx->hint)) >
                                       fabs(v3_dot(pc[pick].m.a, ctx->hint))
-                                : pc[k].spread > pc[pick].spread)
+                                : pc[k].f.score * pc[k].spread >
+                                      pc[pick].f.score * pc[pick].spread)
             pick = k;
     }
     if (pick < 0) {

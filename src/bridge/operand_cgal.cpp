@@ -159,17 +159,38 @@ sr_status check_operand(const sr_mesh *m, const char *what, const double *other_
 /* Copies a triangulated Surface_mesh into *out: only vertices used by a face, numbered
  * compactly in index order; any face of more than three sides fanned into triangles.
  * No faces: *out is an empty mesh. */
+/* The number of sides of face f, walking its halfedges at most `limit` steps; 0 when
+ * the walk does not come back to where it started (a corefinement of a noisy rail's
+ * scan left such a face, and Surface_mesh::degree looped on it for minutes). */
+static size_t face_sides(const Mesh &sm, Mesh::Face_index f, size_t limit)
+{
+    Mesh::Halfedge_index h0 = sm.halfedge(f), h = h0;
+    size_t n = 0;
+    do {
+        if (++n > limit || !sm.is_valid(h))
+            return 0;
+        h = sm.next(h);
+    } while (h != h0);
+    return n;
+}
+
 sr_status mesh_to_arrays(Mesh &sm, sr_mesh *out, sr_err *err, const char *doing)
 {
     if (sm.has_garbage())
         sm.collect_garbage();
     const uint32_t unused = UINT32_MAX;
     std::vector<uint32_t> index(sm.number_of_vertices(), unused);
-    size_t nt = 0;
+    size_t nt = 0, limit = sm.number_of_halfedges();
     for (Mesh::Face_index f : sm.faces()) {
-        nt += sm.degree(f) - 2;
-        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
-            index[v.idx()] = 0;
+        size_t sides = face_sides(sm, f, limit);
+        if (sides < 3)
+            return sr_err_set(err, SR_E_INTERNAL, "%s: the result has a broken face", doing);
+        nt += sides - 2;
+        Mesh::Halfedge_index h0 = sm.halfedge(f), h = h0;
+        do {
+            index[sm.target(h).idx()] = 0;
+            h = sm.next(h);
+        } while (h != h0);
     }
     size_t nv = 0;
     for (uint32_t &i : index)
@@ -199,10 +220,12 @@ sr_status mesh_to_arrays(Mesh &sm, sr_mesh *out, sr_err *err, const char *doing)
     }
     uint32_t *t = res.tri;
     for (Mesh::Face_index f : sm.faces()) {
+        /* a fan of sides - 2 triangles from the first vertex (the walk is bounded by
+         * the count found above, whatever vertices the face repeats) */
         Mesh::Halfedge_index h0 = sm.halfedge(f);
         uint32_t first = index[sm.source(h0).idx()];
         Mesh::Halfedge_index h = sm.next(h0);
-        while (sm.target(h) != sm.source(h0)) {
+        for (size_t k = face_sides(sm, f, limit); k > 2; k--) {
             t[0] = first;
             t[1] = index[sm.source(h).idx()];
             t[2] = index[sm.target(h).idx()];

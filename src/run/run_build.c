@@ -121,14 +121,14 @@ static sr_status fill_sections(const sr_recon_result *res, sr_sym_kind kind, sr_
 
 static sr_status fill_timings(const sr_recon_timings *t, sr_run *run, sr_err *err)
 {
-    const double v[6] = {t->align_s, t->slice_s, t->analyse_s, t->patch_s, t->union_s,
-                         t->total_s};
-    static const char *const names[6] = {"align", "slice", "analyse", "patch", "union", "total"};
+    const char *names[SR_RECON_PHASES];
+    double v[SR_RECON_PHASES];
+    size_t n = sr_recon_timings_list(t, names, v);
     char buf[512];
     size_t len = 0;
     buf[len++] = '{';
-    for (int i = 0; i < 6; i++) {
-        double x = isfinite(v[i]) && v[i] >= 0 ? v[i] : 0;
+    for (size_t i = 0; i < n; i++) {
+        double x = v[i];
         int w = snprintf(buf + len, sizeof buf - len, "%s\"%s\":%.6g", i ? "," : "", names[i], x);
         if (w < 0 || (size_t)w >= sizeof buf - len)
             return sr_err_set(err, SR_E_INTERNAL, "timings do not fit");
