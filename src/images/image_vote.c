@@ -192,7 +192,7 @@ static void misfit_where(const sr_voxels *scan, const sr_image *g, const sr_symm
     free(z);
 }
 
-/* Axial: which rings about the axis hold material, per layer: bit (k, b) is set when
+/* Axial: which rings about the axis hold material, per layer: ring[k nb + b] = 1 when
  * an occupied voxel of layer k has its centre at b <= r / h < b + 1. A turn keeps a
  * voxel centre's radius r and its layer, and lands in the voxel nearest to it, whose
  * centre is within h / sqrt 2 of it: so every turn of a voxel whose rings b - 1 .. b + 1
