@@ -77,6 +77,14 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
 sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh *out,
                                size_t *mended, sr_err *err);
 
+/* A closed piece that crosses itself where near-coincident faces were rounded across
+ * each other: its vertices moved apart first (sr_mesh_unfold, 2 um at most), and only
+ * what still crosses cut out and filled (sr_mesh_mend_crossings), a fill kept only if
+ * it changes the volume by at most max_volume_share of it (a hole's fill can chord a
+ * flank). Returns 1 when q is left closed and crossing nowhere; on 0 q may have been
+ * changed (the caller drops it or retries). */
+int sr_image_uncross(sr_mesh *q, double max_volume_share);
+
 /* A section's z, layer and angular range (and cell count) from its patch (aligned
  * frame): the arc is the smallest one holding every vertex's azimuth. */
 void sr_image_section_figures(const sr_layer_grid *grid, sr_section *s);
