@@ -334,6 +334,23 @@ static sr_status group_sections(sr_poly2 *missing, const layer_data *sd,
         size_t l0 = pc[idx[0]].layer;
         if (pc[idx[n - 1]].layer == l0 && vol <= sd->flat[l0] * grid->dz)
             continue;
+        if (o->want) {
+            /* the pieces' boxes and layers, grown by what the patch grows */
+            double grow = 3.0 * grid->dz + 0.1 + grid->dz, box[6];
+            box[0] = box[1] = HUGE_VAL;
+            box[3] = box[4] = -HUGE_VAL;
+            for (size_t i = 0; i < n; i++) {
+                const double *b = pc[idx[i]].box;
+                box[0] = fmin(box[0], b[0]), box[1] = fmin(box[1], b[1]);
+                box[3] = fmax(box[3], b[2]), box[4] = fmax(box[4], b[3]);
+            }
+            box[2] = sr_layer_z(grid, l0);
+            box[5] = sr_layer_z(grid, pc[idx[n - 1]].layer);
+            for (int a = 0; a < 3; a++)
+                box[a] -= grow, box[3 + a] += grow;
+            if (!o->want(box, vol, o->want_ctx))
+                continue;
+        }
         st = build_section(pc, idx, n, sd, grid, &sec[ns], err);
         if (st != SR_OK)
             break;
@@ -421,6 +438,51 @@ static sr_status cut_regions(const sr_mesh *m, const double *z, size_t n, sr_pol
     return st;
 }
 
+/* Each layer's cross-section cut to the box's xy rectangle, layers outside its z
+ * range emptied (sr_region_opts.roi). */
+static sr_status crop_layers(sr_poly2 *d, const double *z, size_t n, const double roi[6],
+                             sr_err *err)
+{
+    double rect[8] = {roi[0], roi[1], roi[3], roi[1], roi[3], roi[4], roi[0], roi[4]};
+    sr_poly2 box = {0};
+    sr_status st = sr_poly2_add_contour(&box, rect, 4, err);
+    for (size_t l = 0; l < n && st == SR_OK; l++) {
+        if (z[l] < roi[2] || z[l] > roi[5]) {
+            sr_poly2_release(&d[l]);
+            continue;
+        }
+        sr_poly2 cut = {0};
+        st = sr_poly2_boolean(SR_POLY_INTERSECTION, &d[l], &box, &cut, err);
+        sr_poly2_release(&d[l]);
+        d[l] = cut;
+    }
+    sr_poly2_release(&box);
+    return st;
+}
+
+/* Sections that reach a face of the region of interest where that face cuts the part
+ * (inside the part's own box by more than tol) are dropped: cut by the crop, their
+ * size is not known. */
+static void drop_cropped(sr_section *sec, size_t *count, const double roi[6],
+                         const double part_lo[3], const double part_hi[3], double tol)
+{
+    size_t kept = 0;
+    for (size_t i = 0; i < *count; i++) {
+        double lo[3], hi[3];
+        sr_mesh_bbox(&sec[i].patch, lo, hi);
+        int cut = 0;
+        for (int a = 0; a < 3 && !cut; a++)
+            cut = (roi[a] > part_lo[a] + tol && lo[a] < roi[a] + tol) ||
+                  (roi[3 + a] < part_hi[a] - tol && hi[a] > roi[3 + a] - tol);
+        if (cut) {
+            sr_mesh_release(&sec[i].patch);
+            continue;
+        }
+        sec[kept++] = sec[i];
+    }
+    *count = kept;
+}
+
 sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid,
                                 const sr_region_opts *opts, sr_analysis *analysis,
                                 sr_section **sections, size_t *count, sr_err *err)
@@ -446,6 +508,8 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
         z[2 * L + l] = z[l] - opts->symmetry.shift_mm;
     }
     st = cut_regions(aligned, z, L, d, &open_chains, err);
+    if (st == SR_OK && opts->have_roi)
+        st = crop_layers(d, z, L, opts->roi, err);
     if (st == SR_OK && glide)
         st = cut_regions(aligned, z + L, L, up, &open_chains, err);
     if (st == SR_OK && glide)
@@ -487,7 +551,12 @@ sr_status sr_region_reconstruct(const sr_mesh *aligned, const sr_layer_grid *gri
         layer_data sd = {d, res, flat};
         st = group_sections(mis, &sd, grid, opts, sections, count, err);
     }
-    if (st == SR_OK) {
+    if (st == SR_OK && opts->have_roi) {
+        double lo[3], hi[3];
+        sr_mesh_bbox(aligned, lo, hi);
+        drop_cropped(*sections, count, opts->roi, lo, hi, 2.0 * grid->dz + opts->open_mm);
+        memset(analysis, 0, sizeof *analysis);
+    } else if (st == SR_OK) {
         st = outline_analysis(grid, res, opts, analysis, err);
         if (st != SR_OK) {
             sr_sections_release(*sections, *count);

@@ -41,6 +41,18 @@ typedef struct sr_region_opts {
     double min_depth_mm;        /* sections shallower than this are dropped */
     double min_volume_mm3;      /* sections smaller than this are dropped */
     double coverage;            /* continuous axial vote; 0 = 0.5 */
+    /* a region of interest (aligned frame: min x y z, max x y z), used when have_roi:
+     * every layer's cross-section is cut to its box and layers outside it are left
+     * empty, so the work is the box's; sections that reach a face of the box where it
+     * cuts the part are dropped (not known whole), and no restored outline is made
+     * (*analysis is left empty). A mirror's box must be symmetric about x = 0. */
+    int have_roi;
+    double roi[6];
+    /* when set, only the sections it wants get a patch (and are returned): it is given
+     * a box holding the section (min x y z, max x y z; a little larger than its patch)
+     * and its volume, before the patch is built */
+    int (*want)(const double box[6], double volume_mm3, void *ctx);
+    void *want_ctx;
 } sr_region_opts;
 
 /* Runs steps 1-5 on the aligned scan over the layer grid `grid` (its layers and

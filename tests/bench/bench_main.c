@@ -370,6 +370,17 @@ static void part_row(const char *name, const char *input, const sr_mesh *scan,
     if (s.method == SR_METHOD_PAPER && s.sectors == 240)
         g_paper_total = r.timings.total_s;
     if (s.method == SR_METHOD_IMAGE) {
+        /* every phase of the default method, with its share of the total */
+        const char *names[SR_RECON_PHASES];
+        double secs[SR_RECON_PHASES];
+        size_t np = sr_recon_timings_list(&r.timings, names, secs);
+        printf("  %41s phases:", "");
+        for (size_t k = 0; k < np; k++)
+            if (strcmp(names[k], "total") != 0 && strcmp(names[k], "analyse") != 0 &&
+                secs[k] >= 0.0005)
+                printf(" %s %.3f (%.0f%%)", names[k], secs[k],
+                       r.timings.total_s > 0 ? 100 * secs[k] / r.timings.total_s : 0.0);
+        printf("\n");
         /* the default method against its floor and the paper method, same input */
         double fl = floor_of(path, &r);
         if (fl > 0)
