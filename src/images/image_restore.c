@@ -764,9 +764,6 @@ static int cmp_section(const void *pa, const void *pb)
     return a->volume_mm3 < b->volume_mm3 ? 1 : a->volume_mm3 > b->volume_mm3 ? -1 : 0;
 }
 
-/* Q of a section: the chosen images of the scan (the first np of pick) clipped to the
- * section's hull and united, checked closed and free of crossings; empty when that
- * cannot be had. */
 /* The crossings of united image pieces are intersection points of near-coincident
  * faces rounded across each other, a micrometre deep (measured: the fill of a hole 60
  * triangles wide on a generated gear's root chorded a flank and filled 3 % of a broken
@@ -794,6 +791,9 @@ int sr_image_uncross(sr_mesh *q, double max_volume_share)
            fabs(sr_mesh_volume(q) - before) <= max_volume_share * fabs(before);
 }
 
+/* Q of a section: the chosen images of the scan (the first np of pick) clipped to the
+ * section's hull and united, checked closed and free of crossings; empty when that
+ * cannot be had. */
 static sr_status clip_images(const sr_mesh *aligned, const sr_image *im, const size_t *pick,
                              size_t np, const sr_mesh *hull, sr_mesh *out, sr_image_info *info,
                              sr_err *err)
