@@ -15,6 +15,7 @@
 #include "bridge/boolean.h"
 #include "bridge/mend.h"
 #include "mesh/mesh_shells.h"
+#include "images/plane_continuation.h"
 #include "robust/region_sections.h"
 #include "mesh/shapes.h"
 #include "run/params_default.h"
@@ -293,177 +294,6 @@ static sr_status unite(const sr_mesh *scan, const double xf[12], sr_recon_result
     }
     note_repairs(r, degenerate, mended, patch_mended, &voids);
     r->restored = acc;
-    return SR_OK;
-}
-
-/* Image method, mirror: a break through the plane takes material from both
- * sides, which no image of the scan carries (the lever's broken boss corner: the
- * mirror restores 40 % of it). Where a section reaches the plane (its clipped image
- * within two voxels of x = 0), the layer method's continuity along z is asked
- * (region_sections.h: each layer's lost piece carried up or down to the feature's own
- * end face); a layer section over the same place that holds a quarter more than the
- * image's becomes that section's piece to unite (the union makes it exact against the
- * scan, as any image). Parts whose damage stops at the plane agree with it and are
- * left as they are. */
-/* The volumes of m on the two sides of the plane x = 0 (aligned frame); 0 when a clip
- * fails. */
-static int side_volumes(const sr_mesh *m, double *neg, double *pos)
-{
-    double lo[3], hi[3];
-    sr_mesh_bbox(m, lo, hi);
-    double big = 1.0;
-    for (int c = 0; c < 3; c++)
-        big = fmax(big, fmax(fabs(lo[c]), fabs(hi[c])));
-    big *= 2.0;
-    double side[2] = {0, 0};
-    for (int k = 0; k < 2; k++) {
-        double bl[3] = {k ? 0.0 : -big, -big, -big}, bh[3] = {k ? big : 0.0, big, big};
-        sr_mesh box = {0}, piece = {0};
-        if (sr_shape_box(bl, bh, &box, NULL) != SR_OK)
-            return 0;
-        sr_status st = sr_boolean_intersection(m, &box, &piece, NULL);
-        sr_mesh_release(&box);
-        if (st != SR_OK) {
-            sr_mesh_release(&piece);
-            return 0;
-        }
-        side[k] = sr_mesh_volume(&piece);
-        sr_mesh_release(&piece);
-    }
-    *neg = side[0];
-    *pos = side[1];
-    return 1;
-}
-
-#define CONTINUE_MARGIN_MM 3.0
-
-/* Image pieces at the mirror plane, and the test a layer section must pass to take one
- * over: the layer section's box holds at least half of the piece's box, and it is not
- * a different loss (1.25 to 4 times the piece's volume). */
-typedef struct plane_pieces {
-    const sr_section *sec;
-    size_t count;
-    double reach;
-} plane_pieces;
-
-static int at_plane(const sr_section *s, double reach, double lo[3], double hi[3])
-{
-    sr_mesh_bbox(&s->patch, lo, hi);
-    return lo[0] < reach && hi[0] > -reach;
-}
-
-static int takes_over(const double a[3], const double b[3], double volume,
-                      const double lo[3], const double hi[3], double piece_volume)
-{
-    double common = 1, own = 1;
-    for (int c = 0; c < 3; c++) {
-        common *= fmax(0, fmin(b[c], hi[c]) - fmax(a[c], lo[c]));
-        own *= hi[c] - lo[c];
-    }
-    return common >= 0.5 * own && volume >= 1.25 * piece_volume &&
-           volume <= 4.0 * piece_volume;
-}
-
-/* sr_region_opts.want: only a layer section that may take over a piece gets a patch
- * (building every one took a noisy bracket's layer method 9.7 s) */
-static int wanted_across(const double box[6], double volume, void *ctx)
-{
-    const plane_pieces *pp = ctx;
-    for (size_t i = 0; i < pp->count; i++) {
-        double lo[3], hi[3];
-        if (at_plane(&pp->sec[i], pp->reach, lo, hi) &&
-            takes_over(box, box + 3, volume, lo, hi, pp->sec[i].volume_mm3))
-            return 1;
-    }
-    return 0;
-}
-
-static sr_status continue_across_plane(const sr_mesh *aligned, sr_recon_result *r,
-                                       const sr_symmetry *sym, const sr_recon_opts *opts,
-                                       sr_err *err)
-{
-    if (sym->kind != SR_SYM_MIRROR)
-        return SR_OK; /* tried on glide parts too: the layer sections of noisy rails
-                       * filled 80 % outside the part */
-    double reach = 2.0 * r->image.pitch_mm;
-    /* the layer method runs only in a box round the image pieces at the plane: each
-     * grown by its own size (a layer section the match below takes holds at most four
-     * times the piece) and CONTINUE_MARGIN_MM, symmetric about the plane; the layers
-     * outside it, and the sections the box cuts, are not its answer (a noisy clamp's
-     * continuation over the whole part 5.4 s, in the box 0.9 s) */
-    double roi[6] = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    int any = 0;
-    for (size_t i = 0; i < r->section_count; i++) {
-        double lo[3], hi[3];
-        if (!at_plane(&r->sections[i], reach, lo, hi))
-            continue;
-        any = 1;
-        for (int a = 0; a < 3; a++) {
-            double grow = (hi[a] - lo[a]) + CONTINUE_MARGIN_MM;
-            roi[a] = fmin(roi[a], lo[a] - grow);
-            roi[3 + a] = fmax(roi[3 + a], hi[a] + grow);
-        }
-    }
-    if (!any)
-        return SR_OK;
-    double half = fmax(fabs(roi[0]), fabs(roi[3]));
-    roi[0] = -half;
-    roi[3] = half;
-    sr_region_opts ro = {.symmetry = *sym,
-                         .open_mm = r->open_mm,
-                         .min_depth_mm = opts->min_depth_mm,
-                         .min_volume_mm3 = opts->min_volume_mm3,
-                         .have_roi = 1,
-                         .roi = {roi[0], roi[1], roi[2], roi[3], roi[4], roi[5]}};
-    plane_pieces pp = {r->sections, r->section_count, reach};
-    ro.want = wanted_across;
-    ro.want_ctx = &pp;
-    sr_analysis an = {0};
-    sr_section *ls = NULL;
-    size_t ln = 0;
-    sr_err lerr = {{0}};
-    if (sr_region_reconstruct(aligned, &r->grid, &ro, &an, &ls, &ln, &lerr) != SR_OK)
-        return SR_OK; /* the images' answer stands */
-    sr_analysis_release(&an);
-    for (size_t i = 0; i < r->section_count; i++) {
-        sr_section *sec = &r->sections[i];
-        double lo[3], hi[3];
-        if (!at_plane(sec, reach, lo, hi))
-            continue;
-        for (size_t k = 0; k < ln; k++) {
-            double a[3], b[3];
-            sr_mesh_bbox(&ls[k].patch, a, b);
-            if (!ls[k].patch.tri ||
-                !takes_over(a, b, ls[k].volume_mm3, lo, hi, sec->volume_mm3))
-                continue;
-            /* a break carried across the plane goes on into the half that no image
-             * holds: on the image piece's own side the layers must agree with it (add
-             * at most a tenth of what they add), or it is the layer method's own
-             * overfill (a generated bracket's chip beside the plane: +225 %, 760 mm3
-             * added on the image's side). The lever: 257 mm3 added across, -0.6 on
-             * the image's side. */
-            double layer_neg, layer_pos, image_neg, image_pos;
-            if (!side_volumes(&ls[k].patch, &layer_neg, &layer_pos) ||
-                !side_volumes(&sec->patch, &image_neg, &image_pos))
-                continue;
-            int image_pos_side = image_pos >= image_neg;
-            double add_neg = layer_neg - image_neg, add_pos = layer_pos - image_pos;
-            double add_own = image_pos_side ? add_pos : add_neg;
-            double add_across = image_pos_side ? add_neg : add_pos;
-            if (!(add_across > 0) || add_own > 0.1 * add_across)
-                continue;
-            /* the layer patch alone (it is grown into the scan, so it covers what the
-             * image did): a union with the image piece would leave slivers where the
-             * two run together */
-            sr_mesh_release(&sec->patch);
-            sec->patch = ls[k].patch;
-            memset(&ls[k].patch, 0, sizeof ls[k].patch);
-            sec->volume_mm3 = sr_mesh_volume(&sec->patch);
-            r->image.continued++;
-            break;
-        }
-    }
-    sr_sections_release(ls, ln);
     return SR_OK;
 }
 
@@ -940,7 +770,13 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         r.timings.clip_s = r.image.patch_s;
         r.open_mm = opts->open_mm > 0 ? opts->open_mm : fmax(0.05, 3.0 * r.noise_mm);
         double tc = now_s();
-        st = continue_across_plane(&aligned, &r, &sym, opts, err);
+        sr_continuation_opts co = {.symmetry = sym,
+                                   .pitch_mm = r.image.pitch_mm,
+                                   .open_mm = r.open_mm,
+                                   .min_depth_mm = opts->min_depth_mm,
+                                   .min_volume_mm3 = opts->min_volume_mm3};
+        st = sr_continue_across_plane(&aligned, &r.grid, &co, r.sections, r.section_count,
+                                      &r.image.continued, err);
         if (st != SR_OK)
             goto fail;
         r.timings.continue_s = now_s() - tc;
