@@ -276,6 +276,41 @@ static void axial_bolt_hole_is_kept(void **state)
     sr_mesh_release(&part);
 }
 
+/* A disc (r 30, z 0..10) less a box whose walls run along the axis but face neither
+ * radially nor round at the loss (x 14..34, y 2..16: 20 degrees off its centre's
+ * frame, as a box cut to a wedge of the part): a chip, restored whole (it once read as a
+ * designed pocket and was kept, a pulley's rim -100 %); a keyway of the design beside
+ * it (a slot x >= 22, |y| <= 2 at the far side, through the disc: walls tangential,
+ * floor radial) is kept. */
+static void chip_with_walls_along_the_axis_is_restored_and_a_keyway_kept(void **state)
+{
+    (void)state;
+    sr_mesh disc, chip, key, part, chipped;
+    assert_int_equal(sr_shape_cylinder(30, 0, 10, 96, &disc, NULL), SR_OK);
+    box(&chip, 14, 2, 4, 34, 16, 11);
+    box(&key, -31, -2, -1, -22, 2, 11);
+    minus(&disc, &key, &part);
+    minus(&part, &chip, &chipped);
+    double truth = sr_mesh_volume(&part) - sr_mesh_volume(&chipped);
+    sr_recon_result r, k;
+    sr_symmetry sym = {SR_SYM_AXIAL, 0, 0};
+    reconstruct_aligned(&chipped, sym, &r);
+    print_message("chip %.1f mm^3: %zu section(s), %.1f mm^3, %zu kept\n", truth,
+                  r.section_count, r.patch_volume_mm3, r.image.features_kept);
+    assert_int_equal(r.section_count, 1);
+    assert_near(r.patch_volume_mm3, truth, 0.02 * truth);
+    reconstruct_aligned(&part, sym, &k);
+    assert_int_equal(k.section_count, 0);
+    assert_true(k.image.features_kept >= 1);
+    sr_recon_result_release(&r);
+    sr_recon_result_release(&k);
+    sr_mesh_release(&disc);
+    sr_mesh_release(&chip);
+    sr_mesh_release(&key);
+    sr_mesh_release(&part);
+    sr_mesh_release(&chipped);
+}
+
 /* A shaft (radius 15, z 0..40, a 96-gon with no vertex on the axis) less a wedge of
  * angles [a0, a1] degrees from the axis out, z 28..41. */
 static void shaft_less_wedge(double a0, double a1, double bore, sr_mesh *out)
@@ -628,6 +663,7 @@ int main(void)
         cmocka_unit_test(two_damages_a_turn_apart_are_both_restored_whole),
         cmocka_unit_test(a_web_of_another_order_is_kept_and_located),
         cmocka_unit_test(axial_bolt_hole_is_kept),
+        cmocka_unit_test(chip_with_walls_along_the_axis_is_restored_and_a_keyway_kept),
         cmocka_unit_test(seam_on_the_axis_gets_a_pin_only_where_the_loss_reaches_it),
         cmocka_unit_test(end_chip_across_the_axis_leaves_no_seam),
         cmocka_unit_test(glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth),

@@ -471,6 +471,11 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
  * the part has fracture faces at its own angles. */
 #define DESIGN_DEG 3.0
 #define DESIGN_SHARE 0.85
+#define DESIGN_WALL_DEG 12.0    /* a wall along the axis facing farther than this off the
+                                 * recess's frame is fracture (a noisy scan's facets of a
+                                 * keyway's walls scatter by several degrees) */
+#define DESIGN_BINS 12          /* a hole's walls face (nearly) every 30 degrees round */
+#define DESIGN_BIN_SHARE 0.01
 static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label, int s)
 {
     /* the radial direction at the section's centre (a radial hole's axis) */
@@ -487,6 +492,10 @@ static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label,
     double rdir[2] = {rc > 0 ? cen[0] / rc : 1, rc > 0 ? cen[1] / rc : 0};
     double sn = sin(DESIGN_DEG * M_PI / 180), cs = cos(DESIGN_DEG * M_PI / 180);
     double total = 0, design = 0, mean[3] = {0, 0, 0};
+    /* the walls along the axis: their area, the share facing the section's own frame
+     * (radial or tangential at its centre), and the bins of azimuth they face */
+    double walls = 0, walls_framed = 0, wall_bin[DESIGN_BINS] = {0};
+    double wall_cs = cos(DESIGN_WALL_DEG * M_PI / 180);
     for (size_t t = 0; t < m->tri_count; t++) {
         const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
                      *c = m->xyz + 3 * m->tri[3 * t + 2];
@@ -511,11 +520,30 @@ static int design_recess(const sr_mesh *m, const sr_voxels *g, const int *label,
             for (int k = 0; k < 3; k++)
                 mean[k] += area * n[k];
         }
+        if (fabs(n[2]) < sn) {
+            double tan_ = fabs(-n[0] * rdir[1] + n[1] * rdir[0]), h = hypot(n[0], n[1]);
+            walls += area;
+            if (rad >= wall_cs * h || tan_ >= wall_cs * h)
+                walls_framed += area;
+            double az = atan2(n[1], n[0]) + M_PI;
+            int bin = (int)(az / (2 * M_PI) * DESIGN_BINS);
+            wall_bin[bin < 0 ? 0 : bin >= DESIGN_BINS ? DESIGN_BINS - 1 : bin] += area;
+        }
     }
-    if (!(total > 0) || design < DESIGN_SHARE * total)
-        return 0;
-    double spread = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]) / design;
-    return spread < 0.8;
+    /* walls along the axis are a keyway's or a slot's (facing the frame at the recess:
+     * its sides tangential, its floor radial), or a hole's (facing every way round);
+     * a box's faces cut to a wedge of the part face neither, and count as fracture (a
+     * chip inside a sleeve's bore, a pulley's rim broken off: both kept as a design
+     * pocket, -26 % and -100 %) */
+    int bins = 0;
+    for (int k = 0; k < DESIGN_BINS; k++)
+        bins += wall_bin[k] > DESIGN_BIN_SHARE * walls;
+    double spread = design > 0
+                        ? sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]) / design
+                        : 1.0;
+    if (bins < DESIGN_BINS - 2)
+        design -= walls - walls_framed;
+    return total > 0 && design >= DESIGN_SHARE * total && spread < 0.8;
 }
 
 /* Glide, a section of weak evidence alone (image_vote.h): an end of the pattern where
