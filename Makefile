@@ -207,7 +207,8 @@ valgrind: deps
 # --strict on the files written; then the parts of fresh seeds that showed a class
 # failing (a U clamp's false plane, two chips of a nut a turn apart, two gears whose
 # united images crossed themselves by a micrometre and were filled or dropped, a
-# sleeve's bore chip and a pulley's rim read as designed pockets).
+# sleeve's bore chip and a pulley's rim read as designed pockets, a noisy strip's glide
+# shift at the scan's lower bound).
 partgen-check: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
 	$(Q)rc=0; sh tests/partgen/check_generated.sh build/release/symrec || rc=1; \
@@ -215,7 +216,7 @@ partgen-check: deps
 	  sh tests/partgen/check_generated.sh build/release/symrec 271828 9 24 || rc=1; \
 	  sh tests/partgen/check_generated.sh build/release/symrec 55441 13 24 || rc=1; \
 	  sh tests/partgen/check_generated.sh build/release/symrec 987654 0,13 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 2718 20 24 || rc=1; \
+	  sh tests/partgen/check_generated.sh build/release/symrec 2718 7,20 24 || rc=1; \
 	  exit $$rc
 
 # The inner loop: the debug build's unit tests and the CLI tests, no accuracy matrix,
