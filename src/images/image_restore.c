@@ -467,8 +467,10 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
  * fracture: nearly all of its area (DESIGN_SHARE) faces along the frame of the axis,
  * within DESIGN_DEG (walls parallel to the axis, floors across it: an axial hole, a
  * keyway; walls round a radial direction: a radial hole), and faces more than one way
- * (a single plane facing so is a chip that happens to lie so). A cutter's bite out of
- * the part has fracture faces at its own angles. */
+ * (a single plane facing so is a chip that happens to lie so). Of the walls along the
+ * axis, only those facing the recess's own frame (radial or tangential at its centre,
+ * within DESIGN_WALL_DEG) are design, unless they face every way round (a hole). A
+ * cutter's bite out of the part has fracture faces at its own angles. */
 #define DESIGN_DEG 3.0
 #define DESIGN_SHARE 0.85
 #define DESIGN_WALL_DEG 12.0    /* a wall along the axis facing farther than this off the
