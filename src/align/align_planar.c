@@ -354,15 +354,16 @@ static sr_status facing_samples(const al_samples *c, const double t[3], facing *
  * samples, leaving the best in m->shift. Shifts below 4 tol are not a glide but a
  * mirror (a face across t, such as the end of a rail, matches itself under any shift
  * smaller than the tolerance). */
+#define SHIFT_STEPS 400 /* the most shifts a scan tries */
 static double scan_shift(al_ctx *ctx, al_model *m, const facing *fc, double smax)
 {
     double tol = ctx->tol, step = tol / 2, s0 = 4 * tol;
     int nstep = smax > s0 ? (int)((smax - s0) / step) : 0;
-    if (nstep > 400) {
-        nstep = 400;
+    if (nstep > SHIFT_STEPS) {
+        nstep = SHIFT_STEPS;
         step = (smax - s0) / nstep;
     }
-    double sc[401];
+    double sc[SHIFT_STEPS + 1];
     for (int i = 0; i <= nstep; i++) {
         m->shift = s0 + i * step;
         sc[i] = glide_score(ctx->surf, fc->p, fc->n, fc->count, m, tol);

@@ -35,6 +35,13 @@ static size_t find(piece *p, size_t i)
     return i;
 }
 
+/* How far a section's patch reaches past its missing regions into the damaged part,
+ * mm (so no fracture surface is left exposed between layer planes). */
+static double patch_grow_mm(const sr_layer_grid *grid)
+{
+    return 3.0 * grid->dz + 0.1;
+}
+
 static int boxes_overlap(const double a[4], const double b[4])
 {
     return a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3];
@@ -165,7 +172,7 @@ static sr_status build_section(piece *pc, const size_t *idx, size_t n, const lay
         size_t lo = first > 0 ? first - 1 : first;
         size_t hi = last + 1 < grid->layers ? last + 1 : last;
         size_t GL = hi - lo + 1;
-        double grow = 3.0 * grid->dz + 0.1;
+        double grow = patch_grow_mm(grid);
         sr_poly2 *g = calloc(GL, sizeof *g);
         double *gz = malloc((GL + 1) * sizeof *gz);
         if (!g || !gz)
@@ -335,8 +342,9 @@ static sr_status group_sections(sr_poly2 *missing, const layer_data *sd,
         if (pc[idx[n - 1]].layer == l0 && vol <= sd->flat[l0] * grid->dz)
             continue;
         if (o->want) {
-            /* the pieces' boxes and layers, grown by what the patch grows */
-            double grow = 3.0 * grid->dz + 0.1 + grid->dz, box[6];
+            /* the pieces' boxes and layers, grown by what the patch grows (and its
+             * extra layer below and above) */
+            double grow = patch_grow_mm(grid) + grid->dz, box[6];
             box[0] = box[1] = HUGE_VAL;
             box[3] = box[4] = -HUGE_VAL;
             for (size_t i = 0; i < n; i++) {
