@@ -1,12 +1,13 @@
 /*
- * test_runs.c: the record of reconstruction runs (src/catalog/catalog_runs.c) and the building
- * of a run from a reconstruction (src/run/run_build.c): a run with layers, two sections,
- * advice and meshes read back field for field (NaN outline points included); what is
- * read without the layer/mesh flags; listing order, filters and summaries; the count;
- * every refused field leaving no row in any table; a failure inside the transaction
- * (an unknown rule) rolling back the rows already written; not-found errors; release
- * of a zeroed run; and a real reconstruction of the demo shaft recorded and read back.
- * Raw sqlite3 calls count rows and add a repair rule (no API for rules here).
+ * test_runs.c: the record of reconstruction runs (written by src/catalog/catalog_runs.c,
+ * read back by catalog_run_read.c) and the building of a run from a reconstruction
+ * (src/run/run_build.c): a run with layers, two sections, advice and meshes read back
+ * field for field (NaN outline points included); what is read without the layer/mesh
+ * flags; listing order, filters and summaries; the count; every refused field leaving no
+ * row in any table; a failure inside the transaction (an unknown rule) rolling back the
+ * rows already written; not-found errors; release of a zeroed run; and a real
+ * reconstruction of the demo shaft recorded and read back. Raw sqlite3 calls count rows
+ * and add a repair rule (no API for rules here).
  */
 #include <dirent.h>
 #include <math.h>

@@ -145,6 +145,14 @@ void sr_cat_column_symmetry(sqlite3_stmt *stmt, int col, sr_symmetry *out);
 sr_status sr_cat_symmetry_write(sr_catalog *cat, int64_t part_id, int64_t instance_id,
                                 const sr_symmetry *sym, sr_err *err);
 
+/* ---- the run record's blobs (catalog_runs.c, read back in catalog_run_read.c) ---- */
+
+/* Writes v to p[0..7] as a little-endian IEEE double, byte by byte, so the alignment and
+ * layer outline blobs read the same on any host (their layout: catalog_runs.c). */
+void sr_cat_put_f64(unsigned char *p, double v);
+/* Reads the double sr_cat_put_f64 wrote at p[0..7]. */
+double sr_cat_get_f64(const unsigned char *p);
+
 /* ---- history summaries (catalog_history.c) ---- */
 
 struct sr_history_filter;
