@@ -1,7 +1,8 @@
 /*
  * mend.h: mends a surface where it crosses itself locally (the noise folds a scan gets at
- * sharp edges), the pure-C face of src/bridge/mend_cgal.cpp (CGAL 5.5 PMP
- * self_intersections, CDT_2 and triangulate_hole, GPL-3.0-or-later like boolean.h).
+ * sharp edges), the pure-C face of src/bridge/mend_cgal.cpp and the files mend_cgal.hpp
+ * lists (CGAL 5.5 PMP self_intersections, CDT_2 and triangulate_hole, GPL-3.0-or-later
+ * like boolean.h).
  *
  * A boolean needs operands free of crossings where the other operand cuts them; a noisy
  * scan folds over itself along the fracture's sharp edges, exactly where a patch

@@ -1,0 +1,77 @@
+/*
+ * mend_cgal.hpp: the private interface between the CGAL files that implement mend.h.
+ * Not installed, not used outside src/bridge/.
+ *
+ *   mend_cgal.cpp         sr_mesh_mend_crossings: crossings found, cut out with rings of
+ *                         neighbours and filled again, attempt by attempt; the
+ *                         Surface_mesh built straight from the sr_mesh arrays (build)
+ *   mend_fill_cgal.cpp    the regions cut out, and the fill of one from its own points
+ *                         (CDT_2 across its mean normal)
+ *   mend_unfold_cgal.cpp  sr_mesh_unfold and sr_mesh_collapse_short_edges
+ *
+ * CGAL_ALWAYS_ROUND_TO_NEAREST is defined here, before any CGAL header, for Valgrind as
+ * in boolean_cgal.hpp (see its comment): every file above includes this header first.
+ * These translation units are slow to compile: keep the includes to the CGAL headers
+ * each needs. CGAL's PMP package is GPL-3.0-or-later.
+ */
+#ifndef SR_MEND_CGAL_HPP
+#define SR_MEND_CGAL_HPP
+
+#define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* before any CGAL header; see boolean_cgal.hpp */
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+extern "C" {
+#include "bridge/mend.h"
+#include "mesh/mesh.h"
+#include "base/status.h"
+}
+
+namespace sr_mend {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+typedef K::Point_3 Point;
+typedef CGAL::Surface_mesh<Point> Mesh;
+typedef Mesh::Vertex_index Vertex_index;
+typedef Mesh::Face_index Face_index;
+typedef Mesh::Halfedge_index Halfedge_index;
+
+/* ---- mend_cgal.cpp ---- */
+
+bool build(const sr_mesh *m, Mesh &sm);
+
+/* ---- mend_fill_cgal.cpp ---- */
+
+/* One region of the faces to take out (connected across edges): its rim (the directed
+ * edges of its faces that another face runs the other way), its inner vertices (every
+ * face at them taken out) and the sum of its faces' area vectors. */
+struct Region {
+    std::vector<Face_index> faces;
+    std::vector<std::pair<uint32_t, uint32_t>> rim;
+    std::vector<std::pair<uint32_t, uint32_t>> edges; /* between two of its faces, once */
+    std::vector<Vertex_index> inner;
+    K::Vector_3 normal = K::Vector_3(0, 0, 0);
+};
+
+std::vector<Region> regions_of(const Mesh &sm, const std::vector<Face_index> &cut,
+                               const std::vector<uint8_t> &mark);
+
+/* What fill_from_points did: nothing fits (fill_none), the fill appended (fill_ok), or
+ * a fill that crosses the faces around it, not appended (fill_crossing). */
+enum Fill { fill_none, fill_ok, fill_crossing };
+Fill fill_from_points(const Mesh &sm, const Region &reg, size_t id,
+                      const std::vector<uint32_t> &region_of, bool in_space,
+                      std::vector<uint32_t> &tris, std::vector<uint32_t> &grow_at);
+
+} // namespace sr_mend
+
+#endif

@@ -1,0 +1,232 @@
+/*
+ * mend_unfold_cgal.cpp: mend.h's two repairs that move vertices instead of cutting
+ * faces out (mend_cgal.cpp does that), on the same Surface_mesh built from the arrays
+ * (build, mend_cgal.hpp). sr_mesh_unfold relaxes the crossing triangles' vertices
+ * towards the centres of their rings, never farther than max_move_mm, looking again
+ * around what it moved, round after round; sr_mesh_collapse_short_edges collapses the
+ * short edges where CGAL's Euler link condition allows, in passes, and renumbers the
+ * vertices. Every extern "C" entry catches all exceptions.
+ */
+#include "bridge/mend_cgal.hpp"
+
+#include <CGAL/boost/graph/Euler_operations.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <iterator>
+#include <new>
+#include <utility>
+#include <vector>
+
+namespace sr_mend {
+
+namespace {
+
+const int unfold_rounds = 6; /* relaxation rounds of sr_mesh_unfold */
+
+/* sr_mesh_unfold proper: see mend.h. */
+sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err)
+{
+    Mesh sm;
+    if (!build(m, sm))
+        return sr_err_set(err, SR_E_INVALID, "cannot unfold: not an oriented manifold");
+    std::vector<Point> start(m->vertex_count);
+    for (Vertex_index v : sm.vertices())
+        start[v.idx()] = sm.point(v);
+    std::vector<Face_index> range(sm.faces().begin(), sm.faces().end());
+    std::vector<uint8_t> moved(m->vertex_count, 0);
+    for (int round = 0; round < unfold_rounds; round++) {
+        std::vector<std::pair<Face_index, Face_index>> pairs;
+        PMP::self_intersections(range, sm, std::back_inserter(pairs));
+        if (round == 0)
+            rep->crossing_pairs = pairs.size();
+        rep->remaining_pairs = pairs.size();
+        if (pairs.empty())
+            break;
+        /* the crossing triangles' vertices off the border, each to halfway towards
+         * the centre of its ring (Jacobi: all from the old positions) */
+        std::vector<Vertex_index> verts;
+        for (const auto &pr : pairs)
+            for (Face_index f : {pr.first, pr.second})
+                for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+                    verts.push_back(v);
+        std::sort(verts.begin(), verts.end());
+        verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+        std::vector<Point> next;
+        next.reserve(verts.size());
+        for (Vertex_index v : verts) {
+            const Point &p = sm.point(v);
+            if (sm.is_border(v)) {
+                next.push_back(p);
+                continue;
+            }
+            double c[3] = {0, 0, 0};
+            int n = 0;
+            for (Vertex_index w : sm.vertices_around_target(sm.halfedge(v))) {
+                const Point &q = sm.point(w);
+                c[0] += q.x();
+                c[1] += q.y();
+                c[2] += q.z();
+                n++;
+            }
+            double t[3] = {0.5 * (p.x() + c[0] / n), 0.5 * (p.y() + c[1] / n),
+                           0.5 * (p.z() + c[2] / n)};
+            /* never farther than max_move from where the scan put it */
+            const Point &o = start[v.idx()];
+            double d[3] = {t[0] - o.x(), t[1] - o.y(), t[2] - o.z()};
+            double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (len > max_move) {
+                double k = max_move / len;
+                t[0] = o.x() + k * d[0];
+                t[1] = o.y() + k * d[1];
+                t[2] = o.z() + k * d[2];
+            }
+            next.push_back(Point(t[0], t[1], t[2]));
+        }
+        for (size_t i = 0; i < verts.size(); i++) {
+            sm.point(verts[i]) = next[i];
+            moved[verts[i].idx()] = 1;
+        }
+        /* the next round looks where this one moved: the triangles around the moved
+         * vertices and two rings more */
+        std::vector<uint8_t> take(sm.number_of_faces(), 0);
+        std::vector<Vertex_index> ring(verts), more;
+        for (int r = 0; r < 3; r++) {
+            more.clear();
+            for (Vertex_index v : ring)
+                for (Face_index f : sm.faces_around_target(sm.halfedge(v))) {
+                    if (f == Mesh::null_face() || take[f.idx()])
+                        continue;
+                    take[f.idx()] = 1;
+                    for (Vertex_index w : sm.vertices_around_face(sm.halfedge(f)))
+                        more.push_back(w);
+                }
+            ring.swap(more);
+        }
+        range.clear();
+        for (Face_index f : sm.faces())
+            if (take[f.idx()])
+                range.push_back(f);
+    }
+    double worst = 0;
+    for (Vertex_index v : sm.vertices()) {
+        if (!moved[v.idx()])
+            continue;
+        rep->moved_vertices++;
+        const Point &p = sm.point(v), &o = start[v.idx()];
+        worst = std::max(worst, std::sqrt(CGAL::squared_distance(p, o)));
+        double *x = m->xyz + 3 * v.idx();
+        x[0] = p.x();
+        x[1] = p.y();
+        x[2] = p.z();
+    }
+    rep->max_move_mm = worst;
+    return SR_OK;
+}
+
+/* sr_mesh_collapse_short_edges proper: see mend.h. */
+sr_status collapse_short(sr_mesh *m, double min_edge, size_t *collapsed, sr_err *err)
+{
+    Mesh sm;
+    if (!build(m, sm))
+        return sr_err_set(err, SR_E_INVALID, "cannot collapse edges: not an oriented manifold");
+    size_t n = 0;
+    double min2 = min_edge * min_edge;
+    for (int pass = 0; pass < 8; pass++) {
+        size_t before = n;
+        std::vector<Mesh::Edge_index> short_edges;
+        for (Mesh::Edge_index e : sm.edges()) {
+            Halfedge_index h = sm.halfedge(e);
+            if (CGAL::squared_distance(sm.point(sm.source(h)), sm.point(sm.target(h))) < min2)
+                short_edges.push_back(e);
+        }
+        for (Mesh::Edge_index e : short_edges) {
+            if (sm.is_removed(e))
+                continue;
+            Halfedge_index h = sm.halfedge(e);
+            Point a = sm.point(sm.source(h)), b = sm.point(sm.target(h));
+            if (!(CGAL::squared_distance(a, b) < min2) || sm.is_border(e) ||
+                !CGAL::Euler::does_satisfy_link_condition(e, sm))
+                continue;
+            Vertex_index v = CGAL::Euler::collapse_edge(e, sm);
+            sm.point(v) = CGAL::midpoint(a, b);
+            n++;
+        }
+        if (n == before)
+            break;
+    }
+    *collapsed = n;
+    if (n == 0)
+        return SR_OK;
+    sm.collect_garbage();
+    sr_mesh out;
+    sr_mesh_init(&out);
+    if (sr_mesh_alloc(&out, sm.number_of_vertices(), sm.number_of_faces()) != SR_OK)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory collapsing edges");
+    for (Vertex_index v : sm.vertices()) {
+        const Point &p = sm.point(v);
+        out.xyz[3 * v.idx()] = p.x();
+        out.xyz[3 * v.idx() + 1] = p.y();
+        out.xyz[3 * v.idx() + 2] = p.z();
+    }
+    size_t t = 0;
+    for (Face_index f : sm.faces()) {
+        int k = 0;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+            out.tri[3 * t + k++] = static_cast<uint32_t>(v.idx());
+        t++;
+    }
+    sr_mesh_release(m);
+    *m = out;
+    return SR_OK;
+}
+
+} // namespace
+
+} // namespace sr_mend
+
+using namespace sr_mend;
+
+extern "C" {
+
+sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *report,
+                         sr_err *err)
+{
+    sr_unfold_report local;
+    if (!report)
+        report = &local;
+    memset(report, 0, sizeof *report);
+    try {
+        return unfold(mesh, max_move_mm, report, err);
+    } catch (const std::bad_alloc &) {
+        return sr_err_set(err, SR_E_NOMEM, "out of memory unfolding a mesh");
+    } catch (const std::exception &e) {
+        return sr_err_set(err, SR_E_INTERNAL, "unfolding a mesh: %s", e.what());
+    } catch (...) {
+        return sr_err_set(err, SR_E_INTERNAL, "unfolding a mesh: unknown exception");
+    }
+}
+
+sr_status sr_mesh_collapse_short_edges(sr_mesh *mesh, double min_edge_mm, size_t *collapsed,
+                                       sr_err *err)
+{
+    size_t local = 0;
+    if (!collapsed)
+        collapsed = &local;
+    *collapsed = 0;
+    if (!(min_edge_mm > 0))
+        return SR_OK;
+    try {
+        return collapse_short(mesh, min_edge_mm, collapsed, err);
+    } catch (const std::bad_alloc &) {
+        return sr_err_set(err, SR_E_NOMEM, "out of memory collapsing edges");
+    } catch (const std::exception &e) {
+        return sr_err_set(err, SR_E_INTERNAL, "collapsing edges: %s", e.what());
+    } catch (...) {
+        return sr_err_set(err, SR_E_INTERNAL, "collapsing edges: unknown exception");
+    }
+}
+
+} // extern "C"
