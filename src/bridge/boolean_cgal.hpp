@@ -7,6 +7,8 @@
  *   boolean_cgal.cpp        the whole-mesh booleans (union, intersection, difference)
  *   neighbourhood_cgal.cpp  the local union's neighbourhood N of a patch, point in mesh
  *   union_local_cgal.cpp    the local union proper (sr_boolean_union_local*)
+ *   union_result_cgal.cpp   the local union's result: united from the patch flags,
+ *                           checked to close up with the rest of the scan, spliced in
  *   repair_cgal.cpp         sr_mesh_repair
  *   deviation_cgal.cpp      sr_mesh_deviation
  *
@@ -31,6 +33,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
+#include <boost/dynamic_bitset.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -82,6 +85,37 @@ uint64_t he_key(uint32_t x, uint32_t y);
 int inside_by_rays(const sr_mesh *a, const double *xf, const Point &p);
 bool select_neighbourhood(const sr_mesh *a, const double *xf, const double box[6],
                           std::vector<uint8_t> &in, size_t *count);
+
+/* ---- union_result_cgal.cpp ---- */
+
+/* Patch flags of one corefined operand, as CGAL's output builder works them out. */
+struct Patch_flags {
+    std::vector<std::size_t> patch;          /* per face index: its patch */
+    boost::dynamic_bitset<> inside;          /* patch inside the other operand */
+    boost::dynamic_bitset<> coplanar;        /* patch on the other operand's surface */
+    boost::dynamic_bitset<> coplanar_union;  /* ... kept once by a union */
+    boost::dynamic_bitset<> not_set;         /* patch with no intersection edge */
+    bool have = false;
+};
+
+/* The local result as arrays: vertex ids below base are a's vertices, the others index
+ * `fresh` (new points) as id - base. */
+struct Local_result {
+    std::vector<uint32_t> tri;
+    std::vector<double> fresh;
+};
+
+void splice_local(sr_mesh *dst, const std::vector<uint8_t> &in, const Local_result &res);
+bool assemble_local(const sr_mesh *a, const char *a_what, const char *b_what,
+                    const double *xf, const double *back, Mesh &sm,
+                    Mesh::Property_map<Vertex_index, uint32_t> orig, Mesh &mb,
+                    Patch_flags flags[2], const std::vector<uint32_t> node_vertex[2],
+                    Local_result &res, std::vector<uint32_t> *diff, char *why,
+                    size_t why_size);
+sr_status diff_to_mesh(const sr_mesh *a, const Local_result &res,
+                       const std::vector<uint32_t> &diff, sr_mesh *out);
+bool local_result_fits(const Local_result &res, const std::vector<uint64_t> &border_before,
+                       size_t base);
 
 } // namespace sr_bool
 
