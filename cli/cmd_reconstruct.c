@@ -113,10 +113,11 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s,
                r->image.patch_s);
     printf("\n");
-    if (r->unfold_vertices)
-        printf("  scan folds: %zu crossing triangle pairs, %zu vertices moved (at most %.3f mm),"
-               " %zu pairs left to mend\n",
-               r->unfold_pairs, r->unfold_vertices, r->unfold_max_mm, r->unfold_left);
+    if (r->unfold_vertices || r->unfold_slivers)
+        printf("  scan folds: %zu crossing triangle pairs, %zu sliver triangles collapsed, %zu"
+               " vertices moved (at most %.3f mm), %zu pairs left to mend\n",
+               r->unfold_pairs, r->unfold_sliver_tris, r->unfold_vertices, r->unfold_max_mm,
+               r->unfold_left);
     if (r->repair_note[0])
         printf("  note:       %s\n", r->repair_note);
     printf("  parameters: set '%s', %d layers x %d sectors, gamma %g/%g, min depth %g mm\n",
@@ -367,6 +368,8 @@ static void print_json(const sr_recon_result *r, const sr_run *run, const char *
         json_object_begin(&j);
         json_key(&j, "crossing_pairs");
         json_int(&j, (int64_t)r->unfold_pairs);
+        json_key(&j, "sliver_triangles_collapsed");
+        json_int(&j, (int64_t)r->unfold_sliver_tris);
         json_key(&j, "vertices_moved");
         json_int(&j, (int64_t)r->unfold_vertices);
         json_key(&j, "max_move_mm");

@@ -9,6 +9,8 @@
  * mended is refused with a message and the mesh untouched. Unfolding
  * (sr_mesh_unfold): a fold of noise's size comes out by moving vertices, within the
  * cap, topology and volume kept; one too large for the cap is left, and said.
+ * Folded slivers (sr_mesh_clean_folded_slivers): a cap noise folded over its long edge
+ * is flipped, and a box with one stays the box exactly.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -493,6 +495,87 @@ static void needles_fold_away_and_longer_edges_stay(void **state)
     sr_mesh_release(&m);
 }
 
+/* ---- sr_mesh_clean_folded_slivers ---------------------------------------------------- */
+
+/* Finds the triangle with these three vertices (in this cyclic order). */
+static size_t triangle_of(const sr_mesh *m, uint32_t a, uint32_t b, uint32_t c)
+{
+    for (size_t t = 0; t < m->tri_count; t++)
+        for (int r = 0; r < 3; r++) {
+            const uint32_t *f = m->tri + 3 * t;
+            if (f[r] == a && f[(r + 1) % 3] == b && f[(r + 2) % 3] == c)
+                return t;
+        }
+    fail_msg("no triangle %u %u %u", a, b, c);
+    return 0;
+}
+
+/* A scanner's cap folded by noise: on the grid box's top (z = 10), a vertex w put into
+ * the triangle (4,4)-(5,4)-(5,5) next to its edge along y = 4, then moved 0.02 mm across
+ * that edge (as noise does to a vertex 0.01 mm from it). The cap (a, b, w) now faces
+ * down and lies over the triangle beyond the edge. Every point stays on the box, so the
+ * cleaned surface must be the box exactly: no crossing, closed, volume 1000, area 600;
+ * the fold is a cap's, so an edge flip cures it and no triangle is lost. */
+static void folded_cap_is_flipped_and_the_box_stays_exact(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    make_grid_box(&m);
+    uint32_t a = (uint32_t)nearest_vertex(&m, 4, 4, 10), b = (uint32_t)nearest_vertex(&m, 5, 4, 10),
+             d = (uint32_t)nearest_vertex(&m, 5, 5, 10);
+    size_t t = triangle_of(&m, a, b, d);
+    sr_mesh f;
+    assert_int_equal(sr_mesh_alloc(&f, m.vertex_count + 1, m.tri_count + 2), SR_OK);
+    memcpy(f.xyz, m.xyz, 3 * m.vertex_count * sizeof *m.xyz);
+    memcpy(f.tri, m.tri, 3 * m.tri_count * sizeof *m.tri);
+    uint32_t w = (uint32_t)m.vertex_count;
+    double pw[3] = {4.5, 3.98, 10.0};
+    memcpy(f.xyz + 3 * w, pw, sizeof pw);
+    uint32_t fan[9] = {a, b, w, b, d, w, d, a, w};
+    memcpy(f.tri + 3 * t, fan, 3 * sizeof *fan);
+    memcpy(f.tri + 3 * m.tri_count, fan + 3, 6 * sizeof *fan);
+    f.vertex_count = m.vertex_count + 1;
+    f.tri_count = m.tri_count + 2;
+    sr_mesh_release(&m);
+    assert_true(sr_mesh_is_closed(&f));
+    assert_true(crosses(&f));
+    sr_sliver_report rep;
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_clean_folded_slivers(&f, 0.1, &rep, &err), SR_OK);
+    assert_true(rep.crossing_pairs > 0);
+    assert_int_equal(rep.remaining_pairs, 0);
+    assert_int_equal(rep.faces_removed, 0);
+    assert_false(crosses(&f));
+    assert_true(sr_mesh_is_closed(&f));
+    assert_near(sr_mesh_volume(&f), 1000.0, 1e-9);
+    assert_near(sr_mesh_area(&f), 600.0, 1e-9);
+    sr_mesh_release(&f);
+}
+
+/* A surface that does not cross itself is left exactly as it is; a bad bound is refused
+ * and a non-manifold mesh too, each with the mesh untouched. */
+static void clean_surface_is_left_and_bad_input_refused(void **state)
+{
+    (void)state;
+    sr_mesh m, before;
+    make_grid_box(&m);
+    assert_int_equal(sr_mesh_copy(&before, &m), SR_OK);
+    sr_sliver_report rep;
+    assert_int_equal(sr_mesh_clean_folded_slivers(&m, 0.1, &rep, NULL), SR_OK);
+    assert_int_equal(rep.crossing_pairs, 0);
+    assert_int_equal(m.tri_count, before.tri_count);
+    assert_memory_equal(m.tri, before.tri, 3 * m.tri_count * sizeof *m.tri);
+    assert_memory_equal(m.xyz, before.xyz, 3 * m.vertex_count * sizeof *m.xyz);
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_clean_folded_slivers(&m, 0.0, &rep, &err), SR_E_RANGE);
+    assert_non_null(strstr(err.msg, "bound"));
+    memcpy(m.tri + 3, m.tri, 3 * sizeof *m.tri); /* a triangle twice: not a manifold */
+    assert_int_equal(sr_mesh_clean_folded_slivers(&m, 0.1, &rep, &err), SR_E_INVALID);
+    assert_memory_equal(m.xyz, before.xyz, 3 * m.vertex_count * sizeof *m.xyz);
+    sr_mesh_release(&m);
+    sr_mesh_release(&before);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -507,6 +590,8 @@ int main(void)
         cmocka_unit_test(folded_scan_unites_with_a_patch_over_the_fold),
         cmocka_unit_test(fold_of_noise_size_is_unfolded_within_the_cap),
         cmocka_unit_test(fold_beyond_the_cap_is_left_and_said),
+        cmocka_unit_test(folded_cap_is_flipped_and_the_box_stays_exact),
+        cmocka_unit_test(clean_surface_is_left_and_bad_input_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -70,6 +70,22 @@ typedef struct sr_unfold_report {
 sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *report,
                          sr_err *err);
 
+/* What sr_mesh_clean_folded_slivers did. */
+typedef struct sr_sliver_report {
+    size_t crossing_pairs;  /* crossing triangle pairs found first */
+    size_t remaining_pairs; /* ... left after (for the unfold and the mender) */
+    size_t faces_removed;   /* triangles gone with collapsed needles */
+} sr_sliver_report;
+
+/* Where the mesh crosses itself, its slivers folded over by noise are undone: a cap's
+ * long edge flipped, a needle's short edge collapsed (CGAL's
+ * remove_almost_degenerate_faces on the crossing triangles and their neighbours), the
+ * surface moving by at most max_move_mm. The mesh is replaced (vertices renumbered)
+ * when anything crossed. SR_E_INVALID when it is not an oriented manifold (mesh
+ * unchanged); SR_E_RANGE for a bad bound; SR_E_NOMEM. report may be NULL. */
+sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
+                                       sr_sliver_report *report, sr_err *err);
+
 /* Collapses every edge shorter than min_edge_mm (off the border, where the link
  * condition allows) to its midpoint, in passes until none is left: the needles two
  * booleans leave where faces met to rounding (a fin of slivers standing inside the
