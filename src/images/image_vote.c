@@ -157,8 +157,13 @@ static void misfit_where(const sr_voxels *scan, const sr_image *g, const sr_symm
 {
     size_t nx = scan->nx, ny = scan->ny, total = nx * ny * scan->nz, cap = 4096, n = 0;
     double *d = malloc(cap * sizeof *d), *z = malloc(cap * sizeof *z);
+    if (!d || !z) {
+        free(d);
+        free(z);
+        return;
+    }
     int axial = sym->kind == SR_SYM_AXIAL;
-    for (size_t v = 0; d && z && v < total; v += 7) {
+    for (size_t v = 0; v < total; v += 7) {
         if (!(scan->v[v] & 1))
             continue;
         double c[3] = {scan->origin[0] + (double)(v % nx) * scan->h,
@@ -179,7 +184,7 @@ static void misfit_where(const sr_voxels *scan, const sr_image *g, const sr_symm
         z[n] = c[2];
         n++;
     }
-    if (d && z && n >= 10) {
+    if (n >= 10) {
         qsort(d, n, sizeof *d, cmp_dbl);
         qsort(z, n, sizeof *z, cmp_dbl);
         out->misfit_where[0] = d[n / 10];
