@@ -430,7 +430,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     free(stack);
     /* a core with no strong voxel is only an end of a pattern (dropped), or, on a glide,
      * a feature of the ends broken off: kept as a section said to be weak only, for
-     * the caller to tell by the scan's surface round it (image_restore.c) */
+     * the caller to tell by the scan's surface round it (section_kind.c) */
     uint8_t *weak = NULL; /* glide: per core, 1 when it has a strong voxel */
     if (ncomp) {
         uint8_t *strong = calloc(ncomp + 1, 1);

@@ -1,0 +1,75 @@
+/*
+ * images_int.h: the private interface between the files of the image method
+ * (image_restore.h). Not for use outside src/images/ (voxels.c, image_vote.c,
+ * axis_seam.c and plane_continuation.c need none of it).
+ *
+ *   image_restore.c  the driver: the voxel grid, the vote's sections merged, the images
+ *                    chosen per section, clipped to its hull and united
+ *                    (sr_image_reconstruct, sr_image_patch_alone, sr_image_uncross)
+ *   section_box.c    one section's voxels in a local box with its band, and its hull
+ *   section_kind.c   a recess of the design, and a glide's core bounded by a fracture
+ *   image_figures.c  a section's figures: from its voxels (depth, lost area) and from
+ *                    its patch (sr_image_section_figures)
+ */
+#ifndef SR_IMAGES_INT_H
+#define SR_IMAGES_INT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "images/image_restore.h"
+#include "images/voxels.h"
+
+#define HULL_GROW 4.5           /* hull corners: voxel half-size + four voxels, in pitches */
+
+/* The centre of voxel v of the grid (aligned frame, mm). */
+static inline void sr_img_voxel_centre(const sr_voxels *g, size_t v, double c[3])
+{
+    size_t i = v % g->nx, j = (v / g->nx) % g->ny, k = v / (g->nx * g->ny);
+    c[0] = g->origin[0] + (double)i * g->h;
+    c[1] = g->origin[1] + (double)j * g->h;
+    c[2] = g->origin[2] + (double)k * g->h;
+}
+
+/* ---- a section's local box and hull (section_box.c) ---- */
+
+/* One section's voxels in a local box: sec (1 = in the section), the box's origin in
+ * grid indices and its size. */
+typedef struct local_box {
+    size_t i0, j0, k0, nx, ny, nz;
+    uint8_t *sec;      /* 1 section, 2 band (within BAND voxels, not in the section) */
+} local_box;
+
+/* The index in b->sec of local voxel (i, j, k), x fastest. */
+static inline size_t sr_img_lidx(const local_box *b, size_t i, size_t j, size_t k)
+{
+    return (k * b->ny + j) * b->nx + i;
+}
+
+/* The box round section s of label (label[v] == s) with its band; b->sec allocated (the
+ * caller frees it). SR_E_RANGE when no voxel is labelled s, SR_E_NOMEM. */
+sr_status sr_img_box_make(const sr_voxels *g, const int *label, int s, local_box *b);
+
+/* The section's hull: the convex hull of its voxels' corners grown by HULL_GROW
+ * pitches, z clamped to [z_min, z_max]. */
+sr_status sr_img_hull_make(const sr_voxels *g, const local_box *b, double z_min, double z_max,
+                           sr_mesh *out, sr_err *err);
+
+/* ---- what a candidate section is (section_kind.c) ---- */
+
+/* Axial: 1 when the scan's surface round section s is a recess of the design (a hole,
+ * a slot, a keyway) rather than a fracture. */
+int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const int *label, int s);
+
+/* Glide: 1 when the scan's surface facing section s (of weak evidence alone) is mostly
+ * fracture, so the section is built; 1 too when the images cannot be had. */
+int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
+                            const sr_symmetry *sym);
+
+/* ---- figures (image_figures.c) ---- */
+
+/* s's depth_max_mm, depth_mean_mm and area_mm2 from the section's voxels in b; left as
+ * they are when out of memory. */
+void sr_img_voxel_figures(const sr_voxels *g, const local_box *b, sr_section *s);
+
+#endif

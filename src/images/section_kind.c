@@ -1,0 +1,167 @@
+/*
+ * section_kind.c: what a candidate section of the image method is, from the scan's
+ * surface facing it (images_int.h): a recess of the design on an axis (a hole, a slot,
+ * a keyway: kept, not filled; sr_img_design_recess), and, under a glide, whether a
+ * core of weak evidence is bounded by a fracture (a feature broken off: built) or by
+ * the design (a phantom end of the pattern: not built; sr_img_fracture_bounded).
+ */
+#include <math.h>
+#include <stdlib.h>
+
+#include "images/image_vote.h"
+#include "images/images_int.h"
+
+/* True when the scan's surface around section s (its triangles whose outside, a voxel
+ * along the normal, lies in the section) is a recess of the design rather than a
+ * fracture: nearly all of its area (DESIGN_SHARE) faces along the frame of the axis,
+ * within DESIGN_DEG (walls parallel to the axis, floors across it: an axial hole, a
+ * keyway; walls round a radial direction: a radial hole), and faces more than one way
+ * (a single plane facing so is a chip that happens to lie so). Of the walls along the
+ * axis, only those facing the recess's own frame (radial or tangential at its centre,
+ * within DESIGN_WALL_DEG) are design, unless they face every way round (a hole). A
+ * cutter's bite out of the part has fracture faces at its own angles. */
+#define DESIGN_DEG 3.0
+#define DESIGN_SHARE 0.85
+#define DESIGN_WALL_DEG 12.0    /* a wall along the axis facing farther than this off the
+                                 * recess's frame is fracture (a noisy scan's facets of a
+                                 * keyway's walls scatter by several degrees) */
+#define DESIGN_BINS 12          /* a hole's walls face (nearly) every 30 degrees round */
+#define DESIGN_BIN_SHARE 0.01
+int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const int *label, int s)
+{
+    /* the radial direction at the section's centre (a radial hole's axis) */
+    double cen[2] = {0, 0};
+    size_t total_v = g->nx * g->ny * g->nz;
+    for (size_t v = 0; v < total_v; v++)
+        if (label[v] == s) {
+            double c[3];
+            sr_img_voxel_centre(g, v, c);
+            cen[0] += c[0];
+            cen[1] += c[1];
+        }
+    double rc = hypot(cen[0], cen[1]);
+    double rdir[2] = {rc > 0 ? cen[0] / rc : 1, rc > 0 ? cen[1] / rc : 0};
+    double sn = sin(DESIGN_DEG * M_PI / 180), cs = cos(DESIGN_DEG * M_PI / 180);
+    double total = 0, design = 0, mean[3] = {0, 0, 0};
+    /* the walls along the axis: their area, the share facing the section's own frame
+     * (radial or tangential at its centre), and the bins of azimuth they face */
+    double walls = 0, walls_framed = 0, wall_bin[DESIGN_BINS] = {0};
+    double wall_cs = cos(DESIGN_WALL_DEG * M_PI / 180);
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
+                     *c = m->xyz + 3 * m->tri[3 * t + 2];
+        double n[3];
+        sr_mesh_tri_normal(m, t, n);
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 0))
+            continue;
+        double area = 0.5 * len;
+        for (int k = 0; k < 3; k++)
+            n[k] /= len;
+        double p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = (a[k] + b[k] + c[k]) / 3 + n[k] * g->h;
+        long vi = sr_voxels_locate(g, p);
+        if (vi < 0 || label[vi] != s)
+            continue;
+        total += area;
+        double rad = fabs(n[0] * rdir[0] + n[1] * rdir[1]);
+        if (fabs(n[2]) < sn || fabs(n[2]) > cs || rad < sn) {
+            design += area;
+            for (int k = 0; k < 3; k++)
+                mean[k] += area * n[k];
+        }
+        if (fabs(n[2]) < sn) {
+            double tan_ = fabs(-n[0] * rdir[1] + n[1] * rdir[0]), h = hypot(n[0], n[1]);
+            walls += area;
+            if (rad >= wall_cs * h || tan_ >= wall_cs * h)
+                walls_framed += area;
+            double az = atan2(n[1], n[0]) + M_PI;
+            int bin = (int)(az / (2 * M_PI) * DESIGN_BINS);
+            wall_bin[bin < 0 ? 0 : bin >= DESIGN_BINS ? DESIGN_BINS - 1 : bin] += area;
+        }
+    }
+    /* walls along the axis are a keyway's or a slot's (facing the frame at the recess:
+     * its sides tangential, its floor radial), or a hole's (facing every way round);
+     * a box's faces cut to a wedge of the part face neither, and count as fracture (a
+     * chip inside a sleeve's bore, a pulley's rim broken off: both kept as a design
+     * pocket, -26 % and -100 %) */
+    int bins = 0;
+    for (int k = 0; k < DESIGN_BINS; k++)
+        bins += wall_bin[k] > DESIGN_BIN_SHARE * walls;
+    double spread = design > 0
+                        ? sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]) / design
+                        : 1.0;
+    if (bins < DESIGN_BINS - 2)
+        design -= walls - walls_framed;
+    return total > 0 && design >= DESIGN_SHARE * total && spread < 0.8;
+}
+
+/* Glide, a section of weak evidence alone (image_vote.h): an end of the pattern where
+ * the other side's pattern runs on (a phantom tooth: not to be built), or a feature of
+ * the ends broken off (a first tooth). The scan's surface facing the section (its
+ * triangles whose outside, a voxel along the normal, lies in it) tells them apart: the
+ * design's faces there either lie along the frame (the plain core's face: within
+ * FRAME_DEG of x, y or z) or have an image on the scan's surface (the next tooth's
+ * flank); a fracture's do neither. True when FRACTURE_SHARE of that area is fracture.
+ * (Tried first on voxels alone: the core's face at a sawtooth rack's end has no image
+ * on the surface, so phantoms were built at both ends.) */
+#define FRAME_DEG 3.0
+#define FRACTURE_SHARE 0.5
+static int surface_at(const sr_voxels *g, const double p[3], const double n[3])
+{
+    double in[3], out[3];
+    for (int k = 0; k < 3; k++) {
+        in[k] = p[k] - 0.75 * g->h * n[k];
+        out[k] = p[k] + 1.25 * g->h * n[k];
+    }
+    long vi = sr_voxels_locate(g, in), vo = sr_voxels_locate(g, out);
+    return vi >= 0 && vo >= 0 && (g->v[vi] & 1) && !(g->v[vo] & 1);
+}
+
+int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
+                            const sr_symmetry *sym)
+{
+    sr_image *im = NULL;
+    size_t n_im = 0;
+    if (sr_images_of(sym, &im, &n_im, NULL) != SR_OK)
+        return 1;
+    double cs = cos(FRAME_DEG * M_PI / 180);
+    double total = 0, fracture = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
+                     *c = m->xyz + 3 * m->tri[3 * t + 2];
+        double nv[3];
+        sr_mesh_tri_normal(m, t, nv);
+        double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+        if (!(len > 0))
+            continue;
+        double p[3];
+        for (int k = 0; k < 3; k++) {
+            nv[k] /= len;
+            p[k] = (a[k] + b[k] + c[k]) / 3;
+        }
+        double q[3] = {p[0] + nv[0] * g->h, p[1] + nv[1] * g->h, p[2] + nv[2] * g->h};
+        long vi = sr_voxels_locate(g, q);
+        if (vi < 0 || label[vi] != s)
+            continue;
+        double area = 0.5 * len;
+        total += area;
+        if (fabs(nv[0]) > cs || fabs(nv[1]) > cs || fabs(nv[2]) > cs)
+            continue; /* along the frame: the design's */
+        int twin = 0;
+        for (size_t k = 0; k < n_im && !twin; k++) {
+            const double *x = im[k].xf;
+            double pp[3], nn[3];
+            for (int r = 0; r < 3; r++) {
+                pp[r] = x[4 * r] * p[0] + x[4 * r + 1] * p[1] + x[4 * r + 2] * p[2] + x[4 * r + 3];
+                nn[r] = x[4 * r] * nv[0] + x[4 * r + 1] * nv[1] + x[4 * r + 2] * nv[2];
+            }
+            twin = surface_at(g, pp, nn);
+        }
+        if (!twin)
+            fracture += area;
+    }
+    free(im);
+    return total > 0 && fracture >= FRACTURE_SHARE * total;
+}
