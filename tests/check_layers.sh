@@ -3,7 +3,7 @@
 # `make quick` and `make test` through `make layers`, from the repository root):
 #
 #   1. the core - the geometry stages (src/base mesh io align slice images robust
-#      paper, src/reconstruct.c/.h) and the stages on top of them that describe,
+#      paper, src/reconstruct*.c/.h) and the stages on top of them that describe,
 #      advise, plan and report a run (src/advice plan run report) - includes no
 #      catalogue header ("catalog/...") and no sqlite3.h: the catalogue stores the
 #      core's records, the core never reaches into it. The one place that joins rule
@@ -22,7 +22,8 @@ set -u
 cd "$(dirname "$0")/.." || exit 2
 
 CORE="src/base src/mesh src/io src/align src/slice src/images src/robust src/paper
-      src/advice src/plan src/run src/report src/reconstruct.c src/reconstruct.h"
+      src/advice src/plan src/run src/report src/reconstruct.c src/reconstruct_union.c
+      src/reconstruct.h src/reconstruct_int.h"
 RECORD_FILE=""
 bad=0
 

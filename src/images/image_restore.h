@@ -17,8 +17,8 @@
  *     one image covers it) is clipped to the hull, Q = g(scan) ∩ hull, by CGAL;
  *  4. the section's patch is exactly Q \ scan and the restored part scan ∪ Q, both
  *     from one corefinement (bridge/boolean.h sr_boolean_union_local_split, run by
- *     reconstruct.c), so the patch never overlaps the scan and holds what the union
- *     added, to the triangle;
+ *     reconstruct_union.c), so the patch never overlaps the scan and holds what the
+ *     union added, to the triangle;
  *  5. the section's figures come from its patch (volume, z and angular range,
  *     sr_image_section_figures) and its voxels (depth of build-up from the fracture,
  *     lost surface area).
