@@ -259,7 +259,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         sr_sliver_report slivers = {0};
         int cleaned = sr_mesh_clean_folded_slivers(&unfolded, UNFOLD_MAX_MM, &slivers,
                                                    NULL) == SR_OK &&
-                      slivers.crossing_pairs > slivers.remaining_pairs;
+                      slivers.crossing_pairs > 0;
         if (sr_mesh_unfold(&unfolded, UNFOLD_MAX_MM, &unfold, NULL) == SR_OK &&
             (unfold.moved_vertices || cleaned)) {
             scan = &unfolded;

@@ -72,8 +72,8 @@ sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *re
 
 /* What sr_mesh_clean_folded_slivers did. */
 typedef struct sr_sliver_report {
-    size_t crossing_pairs;  /* crossing triangle pairs found first */
-    size_t remaining_pairs; /* ... left after (for the unfold and the mender) */
+    size_t crossing_pairs;  /* crossing triangle pairs found (what is left is for
+                             * sr_mesh_unfold, which looks for it again) */
     size_t faces_removed;   /* triangles gone with collapsed needles */
 } sr_sliver_report;
 

@@ -59,7 +59,7 @@ std::vector<Face_index> folded_faces(const Mesh &sm, size_t *pairs)
 extern "C" sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
                                                   sr_sliver_report *report, sr_err *err)
 {
-    sr_sliver_report local = {0, 0, 0};
+    sr_sliver_report local = {0, 0};
     if (!report)
         report = &local;
     *report = local;
@@ -78,9 +78,6 @@ extern "C" sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move
         PMP::experimental::remove_almost_degenerate_faces(
             near, sm, std::cos(CAP_ANGLE_DEG * M_PI / 180.0), NEEDLE_RATIO, max_move_mm,
             CGAL::parameters::flip_triangle_height_threshold(max_move_mm));
-        size_t left = 0;
-        folded_faces(sm, &left);
-        report->remaining_pairs = left;
         report->faces_removed = faces_before - sm.number_of_faces();
         sr_mesh out;
         sr_mesh_init(&out);
