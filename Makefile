@@ -29,6 +29,12 @@ CFLAGS_COMMON   := -std=c11 -fopenmp -D_DEFAULT_SOURCE -Wall -Wextra -Wshadow -W
                    -Wno-unused-parameter -Isrc -Icli -Itests -I$(BUILD)/gen -MMD -MP
 CXXFLAGS_COMMON := -std=c++17 -Wall -Wextra -Wno-unused-parameter -Isrc -MMD -MP \
                    -DOM_STATIC_BUILD=0 -Wno-deprecated-copy -Wno-class-memaccess
+# werror=1 turns every warning into an error (the tree builds warning-free; CI and a
+# pre-push check may ask for it): `make werror=1 config=debug all tests-built`
+ifeq ($(werror),1)
+  CFLAGS_COMMON += -Werror
+  CXXFLAGS_COMMON += -Werror
+endif
 LDLIBS := -fopenmp -lOpenMeshCore -lOpenMeshTools -ltinygltf -lpolyclipping -lsqlite3 -lgmp -lmpfr -lm -lstdc++
 
 ifeq ($(config),release)
