@@ -113,8 +113,9 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
         json_key(&j, "runs");
         json_int(&j, runs);
         json_object_end(&j);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
+        rc = CLI_OK;
         printf("catalogue:       %s\n", sr_catalog_path(cat));
         printf("schema version:  %d\n", sr_catalog_schema_version(cat));
         printf("parts:           %lld\n", (long long)parts);
@@ -122,7 +123,7 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
         printf("runs:            %lld\n", (long long)runs);
     }
     sr_catalog_close(cat);
-    return CLI_OK;
+    return rc;
 }
 
 int cmd_catalog(const cli_ctx *ctx, int argc, char **argv)

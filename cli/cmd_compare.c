@@ -184,8 +184,9 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
         json_key(&j, "hausdorff_mm");
         json_number(&j, r.hausdorff_mm);
         json_object_end(&j);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
+        rc = CLI_OK;
         print_side("A", what_a, &a, r.volume_a_mm3, r.area_a_mm2, r.closed_a);
         print_side("B", what_b, &b, r.volume_b_mm3, r.area_b_mm2, r.closed_b);
         if (r.volume_diff_pct == r.volume_diff_pct)
@@ -199,7 +200,6 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
                r.b_to_a.max_mm, r.b_to_a.mean_mm, r.b_to_a.rms_mm, r.b_to_a.samples);
         printf("Hausdorff distance: %.4f mm (at the samples)\n", r.hausdorff_mm);
     }
-    rc = CLI_OK;
 done:
     sr_catalog_close(cat);
     sr_mesh_release(&a);

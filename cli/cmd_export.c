@@ -85,11 +85,12 @@ int cmd_export(const cli_ctx *ctx, int argc, char **argv)
         json_key(&j, "triangles");
         json_int(&j, (int64_t)mesh.tri_count);
         json_object_end(&j);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
         printf("wrote %s to '%s' (%s, %zu vertices, %zu triangles)\n", what, out,
                sr_format_name(fmt), mesh.vertex_count, mesh.tri_count);
+        rc = CLI_OK;
     }
     sr_mesh_release(&mesh);
-    return CLI_OK;
+    return rc;
 }

@@ -162,7 +162,12 @@ static sr_status write_volumes(const char *dir, const fixture *fx, size_t count,
     }
     json_array_end(&j);
     json_object_end(&j);
-    json_finish(&j);
+    sr_status st = json_end(&j, err);
+    if (st != SR_OK) {
+        fclose(f);
+        remove(tmp);
+        return st;
+    }
     bool ok = fflush(f) == 0 && !ferror(f) && fsync(fileno(f)) == 0;
     int saved = errno;
     if (fclose(f) != 0 && ok) {

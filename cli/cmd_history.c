@@ -380,6 +380,8 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv)
     st = sr_catalog_history(cat, &filter, row_out, &c, &err);
     sr_catalog_close(cat);
     if (st != SR_OK) {
+        if (json)
+            json_discard(&jo);
         cli_table_release(&c.t);
         sr_history_summary_release(&sum);
         return cli_fail(st, &err);
@@ -389,7 +391,7 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv)
         json_key(&jo, "summary");
         summary_json(&jo, &sum);
         json_object_end(&jo);
-        json_finish(&jo);
+        rc = json_finish(&jo);
     } else if (c.kind == OUT_TABLE) {
         if (c.count == 0)
             printf("no runs\n");

@@ -179,12 +179,13 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
         json_out j;
         json_init(&j, stdout);
         json_instance(&j, &info);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
         printf("%lld\n", (long long)id);
+        rc = CLI_OK;
     }
     sr_catalog_close(cat);
-    return CLI_OK;
+    return rc;
 }
 
 static int instance_list(const cli_ctx *ctx, int argc, char **argv)
@@ -219,7 +220,7 @@ static int instance_list(const cli_ctx *ctx, int argc, char **argv)
         for (size_t i = 0; i < list.count; i++)
             json_instance(&j, &list.v[i]);
         json_array_end(&j);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else if (list.count == 0) {
         printf("no instances\n");
     } else if (!cli_instance_table(cat, &list, true, 0)) {
@@ -291,12 +292,13 @@ static int instance_show(const cli_ctx *ctx, int argc, char **argv)
         json_key(&j, "missing_volume_mm3");
         has ? json_number(&j, p.volume_mm3 - in.volume_mm3) : json_null(&j);
         json_object_end(&j);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
         print_instance_text(&in, &p);
+        rc = CLI_OK;
     }
     sr_catalog_close(cat);
-    return CLI_OK;
+    return rc;
 }
 
 int cmd_instance(const cli_ctx *ctx, int argc, char **argv)

@@ -127,7 +127,7 @@ static int materials_list(const cli_ctx *ctx, int argc, char **argv)
         for (size_t i = 0; i < mv.count; i++)
             json_material(&j, &mv.v[i]);
         json_array_end(&j);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
         static const char *const headers[] = {"name", "g/cm³", "family", "processes"};
         static const bool right[] = {false, true, false, false};

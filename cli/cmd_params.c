@@ -123,8 +123,7 @@ static int print_list(const params_vec *pv, bool json)
         for (size_t i = 0; i < pv->count; i++)
             json_params(&j, &pv->v[i]);
         json_array_end(&j);
-        json_finish(&j);
-        return CLI_OK;
+        return json_finish(&j);
     }
     static const char *const headers[] = {"name", "layers", "sectors", "gamma_axis",
                                           "gamma_plane", "delta_d", "min depth mm",
@@ -172,10 +171,9 @@ static int params_show(const cli_ctx *ctx, int argc, char **argv)
         json_out j;
         json_init(&j, stdout);
         json_params(&j, &p);
-        json_finish(&j);
-    } else {
-        print_params_text(&p);
+        return json_finish(&j);
     }
+    print_params_text(&p);
     return CLI_OK;
 }
 
@@ -268,10 +266,9 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
         json_out j;
         json_init(&j, stdout);
         json_params(&j, &p);
-        json_finish(&j);
-    } else {
-        print_params_text(&p);
+        return json_finish(&j);
     }
+    print_params_text(&p);
     return CLI_OK;
 }
 

@@ -111,12 +111,13 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
         json_out j;
         json_init(&j, stdout);
         json_part(&j, &info);
-        json_finish(&j);
+        rc = json_finish(&j);
     } else {
         printf("%lld\n", (long long)id);
+        rc = CLI_OK;
     }
     sr_catalog_close(cat);
-    return CLI_OK;
+    return rc;
 }
 
 int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json)
@@ -134,9 +135,8 @@ int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json
         for (size_t i = 0; i < parts.count; i++)
             json_part(&j, &parts.v[i]);
         json_array_end(&j);
-        json_finish(&j);
         cli_parts_release(&parts);
-        return CLI_OK;
+        return json_finish(&j);
     }
     if (parts.count == 0) {
         printf("no parts\n");
@@ -217,7 +217,7 @@ int cli_part_show_print(sr_catalog *cat, const char *key, bool json)
             json_instance(&j, &list.v[i]);
         json_array_end(&j);
         json_object_end(&j);
-        json_finish(&j);
+        ok = json_finish(&j) == CLI_OK;
     } else {
         print_part_text(&p);
         if (list.count > 0)

@@ -72,7 +72,7 @@ static void print_human(const sr_plan *p, const char *dir)
            dir, p->layer_count, dir);
 }
 
-static void print_json(const sr_plan *p, const sr_plan_machine *m, const char *dir)
+static int print_json(const sr_plan *p, const sr_plan_machine *m, const char *dir)
 {
     json_out j;
     json_init(&j, stdout);
@@ -112,7 +112,7 @@ static void print_json(const sr_plan *p, const sr_plan_machine *m, const char *d
     json_key(&j, "out");
     json_string(&j, dir);
     json_object_end(&j);
-    json_finish(&j);
+    return json_finish(&j);
 }
 
 /* Parses one optional number option into *out (kept when the option is absent). */
@@ -215,12 +215,13 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
     if (st != SR_OK)
         return cli_fail(st, &err);
     st = sr_plan_export(&plan, &m, out, &err);
-    if (st == SR_OK) {
-        if (json)
-            print_json(&plan, &m, out);
-        else
-            print_human(&plan, out);
-    }
+    rc = CLI_OK;
+    if (st != SR_OK)
+        rc = cli_fail(st, &err);
+    else if (json)
+        rc = print_json(&plan, &m, out);
+    else
+        print_human(&plan, out);
     sr_plan_release(&plan);
-    return st == SR_OK ? CLI_OK : cli_fail(st, &err);
+    return rc;
 }

@@ -195,7 +195,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
         printf("run %lld recorded\n", (long long)run_id);
 }
 
-static void print_json(const sr_recon_result *r, const sr_run *run, const char *source,
+static int print_json(const sr_recon_result *r, const sr_run *run, const char *source,
                        const sr_symmetry *sym, const sr_params *p, int64_t run_id)
 {
     json_out j;
@@ -391,7 +391,7 @@ static void print_json(const sr_recon_result *r, const sr_run *run, const char *
     }
     json_object_end(&j);
     json_object_end(&j);
-    json_finish(&j);
+    return json_finish(&j);
 }
 
 static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
@@ -625,7 +625,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     }
     if (rc == CLI_OK) {
         if (json)
-            print_json(&r, &run, source, &ro.symmetry, &params, run_id);
+            rc = print_json(&r, &run, source, &ro.symmetry, &params, run_id);
         else
             print_human(&r, &run, source, &params, run_id);
     }

@@ -181,7 +181,7 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         json_key(&j, "replace_sections");
         json_int(&j, (int64_t)info.replace_sections);
         json_object_end(&j);
-        json_finish(&j);
+        return json_finish(&j);
     } else {
         printf("report of run %lld written to %s (%zu bytes", (long long)run_id, out, len);
         if (info.decimated)

@@ -181,9 +181,8 @@ static int rules_list(const cli_ctx *ctx, int argc, char **argv)
         for (size_t i = 0; i < rl.count; i++)
             json_rule(&j, &rl.v[i]);
         json_array_end(&j);
-        json_finish(&j);
         free(rl.v);
-        return CLI_OK;
+        return json_finish(&j);
     }
     static const char *const headers[] = {"id", "name", "priority", "on", "scope",
                                           "conditions", "process"};
@@ -214,10 +213,9 @@ static int print_rule(const sr_rule *r, bool json)
         json_out j;
         json_init(&j, stdout);
         json_rule(&j, r);
-        json_finish(&j);
-    } else {
-        print_rule_text(r);
+        return json_finish(&j);
     }
+    print_rule_text(r);
     return CLI_OK;
 }
 

@@ -10,7 +10,8 @@
  * angle_min_deg/angle_max_deg (axial) or side (planar), depth_max_mm, depth_mean_mm,
  * volume_mm3, area_mm2 and class, followed by the members of the section's stored
  * features_json that do not repeat those; each advice entry has process, rules
- * (names) and reason.
+ * (names) and reason. The stored JSON texts (timings, features, details) go into the
+ * document compacted, as raw values of the one JSON writer (json_out.h).
  */
 #include <math.h>
 #include <stdio.h>
@@ -61,47 +62,67 @@ static const char usage_show[] =
 
 /* ---- JSON text stored by other modules (timings, features, details) ----
  * Read with base/json_scan.h: bounded by the terminating NUL, so a damaged text gives
- * a short or null value, never a crash. */
+ * a short or null value, never a crash; written through json_raw and json_key_raw, so
+ * the builder places the commas. */
 
-/* Writes the JSON text [p, end) without the whitespace outside strings. */
-static void write_compact(FILE *f, const char *p, const char *end)
+/* The JSON text [p, end) without the whitespace outside strings, as a heap string
+ * (free() it); NULL when out of memory. */
+static char *compact(const char *p, const char *end)
 {
+    char *out = malloc((size_t)(end - p) + 1), *o = out;
+    if (!out)
+        return NULL;
     bool in_str = false;
     for (; p < end; p++) {
         char c = *p;
         if (in_str) {
-            fputc(c, f);
+            *o++ = c;
             if (c == '\\' && p + 1 < end)
-                fputc(*++p, f);
+                *o++ = *++p;
             else if (c == '"')
                 in_str = false;
         } else if (c == '"') {
             in_str = true;
-            fputc(c, f);
+            *o++ = c;
         } else if (c != ' ' && c != '\t' && c != '\n' && c != '\r') {
-            fputc(c, f);
+            *o++ = c;
         }
     }
+    *o = '\0';
+    return out;
+}
+
+/* Prints the JSON text [p, end) compacted (as stored when out of memory). */
+static void print_compact(const char *p, const char *end)
+{
+    char *text = compact(p, end);
+    if (text)
+        fputs(text, stdout);
+    else
+        fwrite(p, 1, (size_t)(end - p), stdout);
+    free(text);
+}
+
+/* Writes the stored JSON value [p, end) as the next value, compacted. */
+static void json_stored_span(json_out *j, const char *p, const char *end)
+{
+    char *text = compact(p, end);
+    if (text)
+        json_raw(j, text);
+    else
+        json_nomem(j);
+    free(text);
 }
 
 /* Writes a stored JSON text as the next value (null when NULL or unreadable). */
-static void json_raw(json_out *j, const char *text)
+static void json_stored(json_out *j, const char *text)
 {
     const char *p = text ? sr_json_skip_space(text) : NULL;
     const char *end = p ? sr_json_value_end(p) : NULL;
-    if (!end) {
+    if (end)
+        json_stored_span(j, p, end);
+    else
         json_null(j);
-        return;
-    }
-    /* a value in place: json_out's bookkeeping as json_string would do it */
-    if (j->after_key)
-        j->after_key = false;
-    else {
-        if (j->need_comma[j->depth])
-            fputc(',', j->f);
-        j->need_comma[j->depth] = true;
-    }
-    write_compact(j->f, p, end);
 }
 
 /* ---- run list ---- */
@@ -198,8 +219,8 @@ static int run_list(const cli_ctx *ctx, int argc, char **argv)
     static const bool right[] = {true, false, false, false, false,
                                  false, true, true, false, false};
     cli_table_init(&c.t, 10, headers, right);
-    /* JSON is written as rows come, so it is started only when the query can run:
-     * the look-ups above and the part filter are checked first. */
+    /* The JSON document is started only when the query can run (the look-ups above
+     * and the part filter are checked first), and discarded if the query fails. */
     if (st == SR_OK && part) {
         sr_part_info p;
         st = sr_catalog_part_find(cat, part, &p, &err);
@@ -212,13 +233,15 @@ static int run_list(const cli_ctx *ctx, int argc, char **argv)
         st = sr_catalog_run_list(cat, &filter, list_row, &c, &err);
     sr_catalog_close(cat);
     if (st != SR_OK) {
+        if (json)
+            json_discard(&c.j); /* c is zeroed: also when never started */
         cli_table_release(&c.t);
         return cli_fail(st, &err);
     }
     rc = CLI_OK;
     if (json) {
         json_array_end(&c.j);
-        json_finish(&c.j);
+        rc = json_finish(&c.j);
     } else if (c.count == 0) {
         printf("no runs\n");
     } else if (!cli_table_print(&c.t, stdout, 0)) {
@@ -243,13 +266,8 @@ static void feature_member(const char *key, size_t len, const char *val, const c
         if (strlen(fixed_features[i]) == len && memcmp(fixed_features[i], key, len) == 0)
             return;
     /* the key as written (escapes included), then the value */
-    if (j->need_comma[j->depth])
-        fputc(',', j->f);
-    j->need_comma[j->depth] = true;
-    fputc('"', j->f);
-    fwrite(key, 1, len, j->f);
-    fputs("\":", j->f);
-    write_compact(j->f, val, end);
+    json_key_raw(j, key, len);
+    json_stored_span(j, val, end);
 }
 
 /* Counter-clockwise end of an axial arc as reconstruct prints it: in [0, 360], a
@@ -348,13 +366,13 @@ void json_run_advice(json_out *j, const sr_run *r)
         json_key(j, "reason");
         json_string(j, a->reason);
         json_key(j, "details");
-        json_raw(j, a->details_json ? a->details_json : "{}");
+        json_stored(j, a->details_json ? a->details_json : "{}");
         json_object_end(j);
     }
     json_array_end(j);
 }
 
-static void print_json(const sr_run *r, bool layers)
+static int print_json(const sr_run *r, bool layers)
 {
     json_out jo, *j = &jo;
     json_init(j, stdout);
@@ -401,7 +419,7 @@ static void print_json(const sr_run *r, bool layers)
         json_null(j);
     json_object_end(j);
     json_key(j, "timings");
-    json_raw(j, r->timings_json);
+    json_stored(j, r->timings_json);
     json_key(j, "restored_mesh");
     if (r->restored.tri_count > 0) {
         json_object_begin(j);
@@ -455,7 +473,7 @@ static void print_json(const sr_run *r, bool layers)
         json_array_end(j);
     }
     json_object_end(j);
-    json_finish(j);
+    return json_finish(j);
 }
 
 static void timing_member(const char *key, size_t len, const char *val, const char *end,
@@ -468,7 +486,7 @@ static void timing_member(const char *key, size_t len, const char *val, const ch
     if (stop == end)
         printf("%.3f s", v);
     else
-        write_compact(stdout, val, end);
+        print_compact(val, end);
 }
 
 static void print_point(const double *xy)
@@ -485,7 +503,7 @@ void cli_run_advice_print(const sr_run *r)
         if (r->sections[i].features_json) {
             printf("    features of %zu: ", r->sections[i].index + 1);
             const char *f = r->sections[i].features_json;
-            write_compact(stdout, f, f + strlen(f));
+            print_compact(f, f + strlen(f));
             printf("\n");
         }
     if (r->advice_count == 0) {
@@ -624,7 +642,7 @@ static int run_show(const cli_ctx *ctx, int argc, char **argv)
         return cli_fail(st, &err);
     rc = CLI_OK;
     if (json)
-        print_json(&r, layers);
+        rc = print_json(&r, layers);
     else if (!print_text(&r, layers))
         rc = CLI_FAIL;
     sr_run_release(&r);

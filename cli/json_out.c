@@ -1,5 +1,6 @@
 /*
- * json_out.c: the JSON writer behind every --json (see json_out.h), and the JSON form
+ * json_out.c: the CLI's --json writer (see json_out.h): a FILE and an in-memory
+ * document built by base/jsonbuf.h, written whole by json_finish; and the JSON form
  * of the catalogue's records (part, instance, symmetry, parameter set) so that every
  * command prints a record with the same keys.
  *
@@ -9,182 +10,64 @@
 #include "json_out.h"
 
 #include <assert.h>
-#include <inttypes.h>
-#include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "base/symmetry.h"
+#include "cli.h"
 
 void json_init(json_out *j, FILE *f)
 {
-    memset(j, 0, sizeof *j);
     j->f = f;
+    sr_jsonbuf_init(&j->jb);
 }
 
-/* Called before every value: the comma between siblings, none after a key. */
-static void before_value(json_out *j)
+void json_object_begin(json_out *j) { sr_jsonbuf_object_begin(&j->jb); }
+void json_object_end(json_out *j) { sr_jsonbuf_object_end(&j->jb); }
+void json_array_begin(json_out *j) { sr_jsonbuf_array_begin(&j->jb); }
+void json_array_end(json_out *j) { sr_jsonbuf_array_end(&j->jb); }
+void json_key(json_out *j, const char *key) { sr_jsonbuf_key(&j->jb, key); }
+void json_string(json_out *j, const char *s) { sr_jsonbuf_string(&j->jb, s); }
+void json_number(json_out *j, double v) { sr_jsonbuf_number(&j->jb, v); }
+void json_int(json_out *j, int64_t v) { sr_jsonbuf_int(&j->jb, v); }
+void json_bool(json_out *j, bool v) { sr_jsonbuf_bool(&j->jb, v); }
+void json_null(json_out *j) { sr_jsonbuf_null(&j->jb); }
+void json_raw(json_out *j, const char *json) { sr_jsonbuf_raw(&j->jb, json); }
+
+void json_key_raw(json_out *j, const char *key, size_t len)
 {
-    if (j->after_key) {
-        j->after_key = false;
-        return;
-    }
-    if (j->need_comma[j->depth])
-        fputc(',', j->f);
-    j->need_comma[j->depth] = true;
+    sr_jsonbuf_key_raw(&j->jb, key, len);
 }
 
-static void open_container(json_out *j, char c)
+void json_nomem(json_out *j)
 {
-    before_value(j);
-    fputc(c, j->f);
-    assert(j->depth < JSON_MAX_DEPTH);
-    j->depth++;
-    j->need_comma[j->depth] = false;
+    j->jb.nomem = true;     /* the builder's sticky failure: later appends do nothing */
 }
 
-static void close_container(json_out *j, char c)
+sr_status json_end(json_out *j, sr_err *err)
 {
-    assert(j->depth > 0 && !j->after_key);
-    j->depth--;
-    fputc(c, j->f);
-}
-
-void json_object_begin(json_out *j) { open_container(j, '{'); }
-void json_object_end(json_out *j) { close_container(j, '}'); }
-void json_array_begin(json_out *j) { open_container(j, '['); }
-void json_array_end(json_out *j) { close_container(j, ']'); }
-
-void json_key(json_out *j, const char *key)
-{
-    assert(!j->after_key);
-    before_value(j);
-    json_write_string(j->f, key);
-    fputc(':', j->f);
-    j->after_key = true;
-}
-
-/* Length of the valid UTF-8 sequence at s (1..4), or 0 if the bytes there are not
- * one (stray continuation byte, overlong form, surrogate, beyond U+10FFFF, cut off). */
-static size_t utf8_len(const unsigned char *s)
-{
-    unsigned c = s[0];
-    size_t n;
-    uint32_t cp;
-    if (c < 0x80)
-        return 1;
-    if (c >= 0xc2 && c <= 0xdf) {
-        n = 2;
-        cp = c & 0x1f;
-    } else if (c >= 0xe0 && c <= 0xef) {
-        n = 3;
-        cp = c & 0x0f;
-    } else if (c >= 0xf0 && c <= 0xf4) {
-        n = 4;
-        cp = c & 0x07;
-    } else {
-        return 0;
-    }
-    for (size_t i = 1; i < n; i++) {
-        if ((s[i] & 0xc0) != 0x80)
-            return 0;       /* also stops at the terminating NUL */
-        cp = (cp << 6) | (s[i] & 0x3f);
-    }
-    if ((n == 3 && cp < 0x800) || (n == 4 && cp < 0x10000) || cp > 0x10ffff ||
-        (cp >= 0xd800 && cp <= 0xdfff))
-        return 0;
-    return n;
-}
-
-void json_write_string(FILE *f, const char *s)
-{
-    const unsigned char *p = (const unsigned char *)s;
-    fputc('"', f);
-    while (*p) {
-        unsigned c = *p;
-        switch (c) {
-        case '"': fputs("\\\"", f); p++; continue;
-        case '\\': fputs("\\\\", f); p++; continue;
-        case '\b': fputs("\\b", f); p++; continue;
-        case '\f': fputs("\\f", f); p++; continue;
-        case '\n': fputs("\\n", f); p++; continue;
-        case '\r': fputs("\\r", f); p++; continue;
-        case '\t': fputs("\\t", f); p++; continue;
-        default: break;
-        }
-        if (c < 0x20 || c == 0x7f) {
-            fprintf(f, "\\u%04x", c);
-            p++;
-            continue;
-        }
-        size_t n = utf8_len(p);
-        if (n == 0) {
-            fputs("\\ufffd", f);
-            p++;
-            continue;
-        }
-        fwrite(p, 1, n, f);
-        p += n;
-    }
-    fputc('"', f);
-}
-
-void json_write_number(FILE *f, double v)
-{
-    if (!isfinite(v)) {
-        fputs("null", f);
-        return;
-    }
-    if (v == 0) {
-        fputs("0", f);      /* also -0: JSON readers differ on "-0" */
-        return;
-    }
-    char buf[40];
-    for (int prec = 15; prec <= 17; prec++) {
-        snprintf(buf, sizeof buf, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v)
-            break;
-    }
-    fputs(buf, f);
-}
-
-void json_string(json_out *j, const char *s)
-{
-    before_value(j);
-    if (s)
-        json_write_string(j->f, s);
-    else
-        fputs("null", j->f);
-}
-
-void json_number(json_out *j, double v)
-{
-    before_value(j);
-    json_write_number(j->f, v);
-}
-
-void json_int(json_out *j, int64_t v)
-{
-    before_value(j);
-    fprintf(j->f, "%" PRId64, v);
-}
-
-void json_bool(json_out *j, bool v)
-{
-    before_value(j);
-    fputs(v ? "true" : "false", j->f);
-}
-
-void json_null(json_out *j)
-{
-    before_value(j);
-    fputs("null", j->f);
-}
-
-void json_finish(json_out *j)
-{
-    assert(j->depth == 0);
+    /* a balanced document, unless building it stopped early */
+    assert(j->jb.nomem || (j->jb.depth == 0 && !j->jb.after_key));
+    char *text;
+    sr_status st = sr_jsonbuf_take(&j->jb, &text, err);
+    if (st != SR_OK)
+        return st;
+    fputs(text, j->f);
     fputc('\n', j->f);
+    free(text);
+    return SR_OK;
+}
+
+int json_finish(json_out *j)
+{
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st = json_end(j, &err);
+    return st == SR_OK ? CLI_OK : cli_fail(st, &err);
+}
+
+void json_discard(json_out *j)
+{
+    sr_jsonbuf_release(&j->jb);
 }
 
 /* ---- records ---- */

@@ -1,28 +1,30 @@
 /*
- * json_out.h: the CLI's JSON writer for --json output: one compact JSON value on one
- * line, commas placed by the writer, strings escaped (quotes, backslashes, control
- * characters; invalid UTF-8 bytes become U+FFFD), numbers in the shortest form that
- * reads back to the same double, NaN and infinities written as null (JSON has no
- * token for them).
+ * json_out.h: the CLI's --json output: one compact JSON value on one line, written to
+ * a FILE. A thin layer over the library's builder (base/jsonbuf.h), which owns the
+ * JSON text itself: commas, string escaping (invalid UTF-8 bytes become U+FFFD),
+ * numbers in the shortest form that reads back to the same double, NaN and infinities
+ * as null. The document is built in memory and written whole by json_finish, so a
+ * command that fails half-way prints no half-written JSON (json_discard). Also the
+ * JSON form of the catalogue's records (json_out.c) and of a run (cmd_run.c).
  */
 #ifndef SR_CLI_JSON_OUT_H
 #define SR_CLI_JSON_OUT_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
+#include "base/jsonbuf.h"
+#include "base/status.h"
 #include "catalog/catalog.h"
 
-#define JSON_MAX_DEPTH 16
-
 typedef struct json_out {
-    FILE *f;
-    int depth;
-    bool need_comma[JSON_MAX_DEPTH + 1];
-    bool after_key;
+    FILE *f;                    /* where json_finish writes the document */
+    sr_jsonbuf jb;              /* the document so far */
 } json_out;
 
+/* Starts a document for f; json_finish or json_discard ends it. */
 void json_init(json_out *j, FILE *f);
 
 void json_object_begin(json_out *j);
@@ -38,16 +40,24 @@ void json_number(json_out *j, double v);            /* non-finite writes null */
 void json_int(json_out *j, int64_t v);
 void json_bool(json_out *j, bool v);
 void json_null(json_out *j);
+/* Inserts `json` as one value, unchecked: valid JSON text the caller vouches for (a
+ * stored column, compacted). NULL or "" writes null. */
+void json_raw(json_out *j, const char *json);
+/* The key of the next member as it stands between a stored text's quotes (escapes
+ * included, len bytes), written unchanged. */
+void json_key_raw(json_out *j, const char *key, size_t len);
+/* Marks the document out of memory (a caller's own allocation for a value failed):
+ * json_finish then writes nothing and reports it. */
+void json_nomem(json_out *j);
 
-/* Ends the document with a newline. */
-void json_finish(json_out *j);
-
-/* Writes s as a quoted, escaped JSON string (exposed for tests of the escaping). */
-void json_write_string(FILE *f, const char *s);
-
-/* Writes v in the shortest %.Ng (N = 15..17) that reads back to v; null if v is not
- * finite. */
-void json_write_number(FILE *f, double v);
+/* Writes the document and a newline to the FILE and releases it. SR_E_NOMEM, with
+ * nothing written, if building it ran out of memory. */
+sr_status json_end(json_out *j, sr_err *err);
+/* json_end for a command: CLI_OK, or CLI_FAIL after one error line on stderr. */
+int json_finish(json_out *j);
+/* Releases a document that is not to be written (the command failed after
+ * json_init). */
+void json_discard(json_out *j);
 
 /* The catalogue's records as JSON objects, shared by the commands that print them. */
 void json_symmetry(json_out *j, const sr_symmetry *sym);

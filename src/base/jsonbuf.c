@@ -1,7 +1,8 @@
 /*
  * jsonbuf.c: the in-memory JSON builder of jsonbuf.h: a growable string, comma
  * bookkeeping per nesting level, string escaping with UTF-8 checking, shortest
- * round-trip numbers.
+ * round-trip numbers. The one JSON writer: the CLI's --json output (cli/json_out.c)
+ * is built with it too.
  */
 #include "base/jsonbuf.h"
 
@@ -104,17 +105,32 @@ static size_t utf8_char(const unsigned char *p)
     return n;
 }
 
+/* The letter of the two-character escape of c ('"' for '"', 'n' for '\n', ...), 0 if
+ * c has none. */
+static char short_escape(unsigned char c)
+{
+    switch (c) {
+    case '"': return '"';
+    case '\\': return '\\';
+    case '\b': return 'b';
+    case '\f': return 'f';
+    case '\n': return 'n';
+    case '\r': return 'r';
+    case '\t': return 't';
+    default: return 0;
+    }
+}
+
 static void append_quoted(sr_jsonbuf *jb, const char *s)
 {
     append(jb, "\"", 1);
     for (const unsigned char *p = (const unsigned char *)s; *p;) {
         char esc[8];
-        if (*p == '"' || *p == '\\') {
+        if ((esc[1] = short_escape(*p)) != 0) {
             esc[0] = '\\';
-            esc[1] = (char)*p;
             append(jb, esc, 2);
             p++;
-        } else if (*p < 0x20) {
+        } else if (*p < 0x20 || *p == 0x7f) {
             snprintf(esc, sizeof esc, "\\u%04x", *p);
             append_str(jb, esc);
             p++;
@@ -137,6 +153,15 @@ void sr_jsonbuf_key(sr_jsonbuf *jb, const char *key)
     before_value(jb);
     append_quoted(jb, key);
     append(jb, ":", 1);
+    jb->after_key = true;
+}
+
+void sr_jsonbuf_key_raw(sr_jsonbuf *jb, const char *key, size_t len)
+{
+    before_value(jb);
+    append(jb, "\"", 1);
+    append(jb, key, len);
+    append(jb, "\":", 2);
     jb->after_key = true;
 }
 

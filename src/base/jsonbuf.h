@@ -1,9 +1,10 @@
 /*
- * jsonbuf.h: a JSON text built in memory, for the library's JSON columns
- * (sections.features_json, advice.details_json). The library may not print (only cli/
- * does), so it cannot use the CLI's stream writer; this one appends to a growable
- * heap string. Commas are placed by the writer; strings are escaped (quotes,
- * backslashes, control characters; invalid UTF-8 bytes become U+FFFD) so the result
+ * jsonbuf.h: a JSON text built in memory: the one JSON writer, for the library's JSON
+ * columns (sections.features_json, advice.details_json) and, through the thin layer
+ * cli/json_out.h, for the CLI's --json output. It appends to a growable heap string
+ * (the library may not print). Commas are placed by the writer; strings are escaped
+ * (quotes, backslashes, control characters and DEL: \b \f \n \r \t by name, the rest
+ * as \u00XX; invalid UTF-8 bytes become U+FFFD) so the result
  * always passes SQLite's json_valid; numbers are written in the shortest form that
  * reads back to the same double, and NaN or infinities as null.
  *
@@ -48,6 +49,9 @@ void sr_jsonbuf_array_begin(sr_jsonbuf *jb);
 void sr_jsonbuf_array_end(sr_jsonbuf *jb);
 /* The key of the next member of the current object. */
 void sr_jsonbuf_key(sr_jsonbuf *jb, const char *key);
+/* The same for a key already escaped (len bytes, e.g. as it stands between the quotes
+ * of a stored JSON text), written unchanged. */
+void sr_jsonbuf_key_raw(sr_jsonbuf *jb, const char *key, size_t len);
 void sr_jsonbuf_string(sr_jsonbuf *jb, const char *s);   /* NULL writes null */
 void sr_jsonbuf_number(sr_jsonbuf *jb, double v);        /* non-finite writes null */
 void sr_jsonbuf_int(sr_jsonbuf *jb, int64_t v);
