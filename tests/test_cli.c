@@ -2203,7 +2203,10 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
         assert_true(jget(align, "transform")->items[i].num == rec_xf->items[i].num);
     assert_int_equal(jget(&show, "timings")->type, J_OBJ);
     assert_true(jnum(jget(&show, "timings"), "total") >= jnum(jget(&show, "timings"), "vote"));
-    assert_near(jnum(jget(&show, "timings"), "vote"), jnum(tm, "vote_s"), 1e-5);
+    /* stored to six significant digits (run_build.c): 20 s of vote under a loaded
+     * Memcheck read back 1.5e-5 off */
+    assert_near(jnum(jget(&show, "timings"), "vote"), jnum(tm, "vote_s"),
+                5e-6 * fabs(jnum(tm, "vote_s")) + 1e-9);
     assert_true(jnum(jget(&show, "restored_mesh"), "triangles") > 0);
     const jv *ssecs = jget(&show, "sections");
     assert_int_equal(ssecs->count, secs->count);
