@@ -213,9 +213,18 @@ bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
     return true;
 }
 
-int cli_bad_subcommand(const char *cmd, const char *sub)
+int cli_run_subcommand(const cli_ctx *ctx, const char *cmd, const char *usage,
+                       const cli_subcommand *subs, int argc, char **argv)
 {
+    const char *sub = argc > 1 ? argv[1] : NULL;
     if (!sub)
         return cli_usage_error("'%s' needs a subcommand (see 'symrec %s --help')", cmd, cmd);
+    if (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0) {
+        fputs(usage, stdout);
+        return CLI_OK;
+    }
+    for (const cli_subcommand *s = subs; s->name; s++)
+        if (strcmp(sub, s->name) == 0)
+            return s->run(ctx, argc - 2, argv + 2);
     return cli_usage_error("unknown subcommand '%s %s' (see 'symrec %s --help')", cmd, sub, cmd);
 }

@@ -119,8 +119,19 @@ bool cli_date_valid(const char *text);
 bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
                         int allow_auto, sr_symmetry *out);
 
-/* Prints a subcommand group's usage error for a missing/unknown subcommand. */
-int cli_bad_subcommand(const char *cmd, const char *sub);
+/* One subcommand of a command group: its name and what runs it, given the words after
+ * it. */
+typedef struct cli_subcommand {
+    const char *name;
+    int (*run)(const cli_ctx *ctx, int argc, char **argv);
+} cli_subcommand;
+
+/* The one dispatcher of every command group (`part add`, `rules enable`, ...): argv[1]
+ * picks the subcommand from subs (ended by a NULL name), which runs with the words
+ * after it; --help / -h print `usage`; a missing or unknown one is a usage error
+ * naming the group. Returns the exit code. */
+int cli_run_subcommand(const cli_ctx *ctx, const char *cmd, const char *usage,
+                       const cli_subcommand *subs, int argc, char **argv);
 
 /* ---- catalogue (cli/open.c) ---- */
 

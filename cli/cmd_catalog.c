@@ -128,14 +128,6 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
 
 int cmd_catalog(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_catalog, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "init") == 0)
-        return catalog_init(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "info") == 0)
-        return catalog_info(ctx, argc - 2, argv + 2);
-    return cli_bad_subcommand("catalog", sub);
+    static const cli_subcommand subs[] = {{"init", catalog_init}, {"info", catalog_info}, {NULL, NULL}};
+    return cli_run_subcommand(ctx, "catalog", usage_catalog, subs, argc, argv);
 }

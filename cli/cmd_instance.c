@@ -303,16 +303,6 @@ static int instance_show(const cli_ctx *ctx, int argc, char **argv)
 
 int cmd_instance(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_instance, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "add") == 0)
-        return instance_add(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "list") == 0)
-        return instance_list(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "show") == 0)
-        return instance_show(ctx, argc - 2, argv + 2);
-    return cli_bad_subcommand("instance", sub);
+    static const cli_subcommand subs[] = {{"add", instance_add}, {"list", instance_list}, {"show", instance_show}, {NULL, NULL}};
+    return cli_run_subcommand(ctx, "instance", usage_instance, subs, argc, argv);
 }

@@ -154,12 +154,6 @@ static int materials_list(const cli_ctx *ctx, int argc, char **argv)
 
 int cmd_materials(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_materials, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "list") == 0)
-        return materials_list(ctx, argc - 2, argv + 2);
-    return cli_bad_subcommand("materials", sub);
+    static const cli_subcommand subs[] = {{"list", materials_list}, {NULL, NULL}};
+    return cli_run_subcommand(ctx, "materials", usage_materials, subs, argc, argv);
 }

@@ -274,16 +274,6 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
 
 int cmd_params(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_params, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "list") == 0)
-        return params_list(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "show") == 0)
-        return params_show(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "set") == 0)
-        return params_set(ctx, argc - 2, argv + 2);
-    return cli_bad_subcommand("params", sub);
+    static const cli_subcommand subs[] = {{"list", params_list}, {"show", params_show}, {"set", params_set}, {NULL, NULL}};
+    return cli_run_subcommand(ctx, "params", usage_params, subs, argc, argv);
 }

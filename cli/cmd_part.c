@@ -276,16 +276,6 @@ static int part_show(const cli_ctx *ctx, int argc, char **argv)
 
 int cmd_part(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_part, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "add") == 0)
-        return part_add(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "list") == 0)
-        return part_list(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "show") == 0)
-        return part_show(ctx, argc - 2, argv + 2);
-    return cli_bad_subcommand("part", sub);
+    static const cli_subcommand subs[] = {{"add", part_add}, {"list", part_list}, {"show", part_show}, {NULL, NULL}};
+    return cli_run_subcommand(ctx, "part", usage_part, subs, argc, argv);
 }

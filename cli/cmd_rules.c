@@ -340,24 +340,23 @@ static int rules_enable(const cli_ctx *ctx, int argc, char **argv, int on)
     return CLI_OK;
 }
 
+static int rules_enable_on(const cli_ctx *ctx, int argc, char **argv)
+{
+    return rules_enable(ctx, argc, argv, 1);
+}
+
+static int rules_disable(const cli_ctx *ctx, int argc, char **argv)
+{
+    return rules_enable(ctx, argc, argv, 0);
+}
+
 int cmd_rules(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_rules, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "list") == 0)
-        return rules_list(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "show") == 0)
-        return rules_show(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "set") == 0)
-        return rules_set(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "add") == 0)
-        return rules_add(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "enable") == 0)
-        return rules_enable(ctx, argc - 2, argv + 2, 1);
-    if (sub && strcmp(sub, "disable") == 0)
-        return rules_enable(ctx, argc - 2, argv + 2, 0);
-    return cli_bad_subcommand("rules", sub);
+    static const cli_subcommand subs[] = {
+        {"list", rules_list},       {"show", rules_show},
+        {"set", rules_set},         {"add", rules_add},
+        {"enable", rules_enable_on}, {"disable", rules_disable},
+        {NULL, NULL},
+    };
+    return cli_run_subcommand(ctx, "rules", usage_rules, subs, argc, argv);
 }

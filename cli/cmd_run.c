@@ -651,14 +651,6 @@ static int run_show(const cli_ctx *ctx, int argc, char **argv)
 
 int cmd_run(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *sub = argc > 1 ? argv[1] : NULL;
-    if (sub && (strcmp(sub, "--help") == 0 || strcmp(sub, "-h") == 0)) {
-        fputs(usage_run, stdout);
-        return CLI_OK;
-    }
-    if (sub && strcmp(sub, "list") == 0)
-        return run_list(ctx, argc - 2, argv + 2);
-    if (sub && strcmp(sub, "show") == 0)
-        return run_show(ctx, argc - 2, argv + 2);
-    return cli_bad_subcommand("run", sub);
+    static const cli_subcommand subs[] = {{"list", run_list}, {"show", run_show}, {NULL, NULL}};
+    return cli_run_subcommand(ctx, "run", usage_run, subs, argc, argv);
 }
