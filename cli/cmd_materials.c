@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/grow.h"
 #include "catalog/catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
@@ -34,16 +35,12 @@ typedef struct material_vec {
 static int push_material(const sr_material *m, void *user)
 {
     material_vec *mv = user;
-    if (mv->count == mv->cap) {
-        size_t cap = mv->cap ? 2 * mv->cap : 16;
-        sr_material *v = realloc(mv->v, cap * sizeof *v);
-        if (!v) {
-            mv->nomem = true;
-            return 1;
-        }
-        mv->v = v;
-        mv->cap = cap;
+    sr_material *v = sr_grow(mv->v, mv->count, &mv->cap, sizeof *v);
+    if (!v) {
+        mv->nomem = true;
+        return 1;
     }
+    mv->v = v;
     mv->v[mv->count++] = *m;
     return 0;
 }

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/grow.h"
 #include "cli.h"
 #include "json_out.h"
 
@@ -75,16 +76,12 @@ typedef struct params_vec {
 static int add_params(const sr_params *p, void *user)
 {
     params_vec *pv = user;
-    if (pv->count == pv->cap) {
-        size_t cap = pv->cap ? 2 * pv->cap : 8;
-        sr_params *v = realloc(pv->v, cap * sizeof *v);
-        if (!v) {
-            pv->nomem = true;
-            return 1;
-        }
-        pv->v = v;
-        pv->cap = cap;
+    sr_params *v = sr_grow(pv->v, pv->count, &pv->cap, sizeof *v);
+    if (!v) {
+        pv->nomem = true;
+        return 1;
     }
+    pv->v = v;
     pv->v[pv->count++] = *p;
     return 0;
 }

@@ -6,22 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/grow.h"
 #include "cli.h"
-
-/* Makes room for one more element of `elem` bytes in *v (count used, *cap held).
- * Returns false when out of memory (the array is kept). */
-static bool grow(void **v, size_t count, size_t *cap, size_t elem)
-{
-    if (count < *cap)
-        return true;
-    size_t new_cap = *cap ? 2 * *cap : 16;
-    void *nv = realloc(*v, new_cap * elem);
-    if (!nv)
-        return false;
-    *v = nv;
-    *cap = new_cap;
-    return true;
-}
 
 typedef struct gather_parts {
     cli_parts *parts;
@@ -31,8 +17,8 @@ typedef struct gather_parts {
 static int add_part(const sr_part_info *p, void *user)
 {
     gather_parts *g = user;
-    void *v = g->parts->v;
-    if (!grow(&v, g->parts->count, &g->parts->cap, sizeof *g->parts->v)) {
+    sr_part_info *v = sr_grow(g->parts->v, g->parts->count, &g->parts->cap, sizeof *v);
+    if (!v) {
         g->nomem = true;
         return 1;
     }
@@ -68,8 +54,8 @@ typedef struct gather_instances {
 static int add_instance(const sr_instance_info *in, void *user)
 {
     gather_instances *g = user;
-    void *v = g->list->v;
-    if (!grow(&v, g->list->count, &g->list->cap, sizeof *g->list->v)) {
+    sr_instance_info *v = sr_grow(g->list->v, g->list->count, &g->list->cap, sizeof *v);
+    if (!v) {
         g->nomem = true;
         return 1;
     }

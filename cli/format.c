@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/grow.h"
 #include "cli.h"
 
 const char *cli_sym_str(const sr_symmetry *sym, char *buf, size_t size)
@@ -57,16 +58,12 @@ void cli_table_cell(cli_table *t, const char *fmt, ...)
 {
     if (t->failed)
         return;
-    if (t->cell_count == t->cell_cap) {
-        size_t cap = t->cell_cap ? 2 * t->cell_cap : 64;
-        char **cells = realloc(t->cells, cap * sizeof *cells);
-        if (!cells) {
-            t->failed = true;
-            return;
-        }
-        t->cells = cells;
-        t->cell_cap = cap;
+    char **cells = sr_grow(t->cells, t->cell_count, &t->cell_cap, sizeof *cells);
+    if (!cells) {
+        t->failed = true;
+        return;
     }
+    t->cells = cells;
     va_list ap, ap2;
     va_start(ap, fmt);
     va_copy(ap2, ap);

@@ -38,6 +38,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/grow.h"
 #include "catalog/catalog_history.h"
 
 /* ---- the statements ---- */
@@ -457,14 +458,10 @@ static part_acc *part_slot(summary_acc *a, const char *number)
         else
             hi = mid;
     }
-    if (a->part_count == a->part_cap) {
-        size_t cap = a->part_cap ? 2 * a->part_cap : 16;
-        part_acc *p = realloc(a->parts, cap * sizeof *p);
-        if (!p)
-            return NULL;
-        a->parts = p;
-        a->part_cap = cap;
-    }
+    part_acc *p = sr_grow(a->parts, a->part_count, &a->part_cap, sizeof *p);
+    if (!p)
+        return NULL;
+    a->parts = p;
     memmove(a->parts + lo + 1, a->parts + lo, (a->part_count - lo) * sizeof *a->parts);
     a->part_count++;
     part_acc *slot = &a->parts[lo];
@@ -486,14 +483,10 @@ static sr_history_month *month_slot(summary_acc *a, const char *month)
         else
             hi = mid;
     }
-    if (a->month_count == a->month_cap) {
-        size_t cap = a->month_cap ? 2 * a->month_cap : 32;
-        sr_history_month *p = realloc(a->months, cap * sizeof *p);
-        if (!p)
-            return NULL;
-        a->months = p;
-        a->month_cap = cap;
-    }
+    sr_history_month *p = sr_grow(a->months, a->month_count, &a->month_cap, sizeof *p);
+    if (!p)
+        return NULL;
+    a->months = p;
     memmove(a->months + lo + 1, a->months + lo, (a->month_count - lo) * sizeof *a->months);
     a->month_count++;
     sr_history_month *slot = &a->months[lo];

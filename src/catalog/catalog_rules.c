@@ -14,6 +14,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "base/grow.h"
 #include "catalog/catalog_int.h"
 
 /* The columns read back: the fields, then id, created_at, updated_at. */
@@ -121,16 +122,12 @@ typedef struct rule_vec {
 static int push_rule(const sr_rule *r, void *user)
 {
     rule_vec *rv = user;
-    if (rv->count == rv->cap) {
-        size_t cap = rv->cap ? 2 * rv->cap : 16;
-        sr_rule *v = realloc(rv->v, cap * sizeof *v);
-        if (!v) {
-            rv->nomem = true;
-            return 1;
-        }
-        rv->v = v;
-        rv->cap = cap;
+    sr_rule *v = sr_grow(rv->v, rv->count, &rv->cap, sizeof *v);
+    if (!v) {
+        rv->nomem = true;
+        return 1;
     }
+    rv->v = v;
     rv->v[rv->count++] = *r;
     return 0;
 }
@@ -405,15 +402,12 @@ sr_status sr_catalog_material_list(sr_catalog *cat, sr_material_fn fn, void *use
         st = sr_cat_step(cat, stmt, &row, err, "list materials");
         if (st != SR_OK || !row)
             break;
-        if (count == cap) {
-            cap = cap ? 2 * cap : 16;
-            void *p = realloc(names, cap * sizeof *names);
-            if (!p) {
-                st = sr_err_set(err, SR_E_NOMEM, "out of memory listing materials");
-                break;
-            }
-            names = p;
+        void *p = sr_grow(names, count, &cap, sizeof *names);
+        if (!p) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory listing materials");
+            break;
         }
+        names = p;
         sr_cat_column_text(stmt, 0, names[count++], sizeof names[0]);
     }
     if (st != SR_OK) {
