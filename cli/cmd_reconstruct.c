@@ -113,7 +113,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s,
                r->image.patch_s);
     printf("\n");
-    if (r->unfold_vertices || r->unfold_slivers)
+    if (r->unfold_pairs)
         printf("  scan folds: %zu crossing triangle pairs, %zu sliver triangles collapsed, %zu"
                " vertices moved (at most %.3f mm), %zu pairs left to mend\n",
                r->unfold_pairs, r->unfold_sliver_tris, r->unfold_vertices, r->unfold_max_mm,

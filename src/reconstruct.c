@@ -263,7 +263,6 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         if (sr_mesh_unfold(&unfolded, UNFOLD_MAX_MM, &unfold, NULL) == SR_OK &&
             (unfold.moved_vertices || cleaned)) {
             scan = &unfolded;
-            r.unfold_slivers = cleaned;
             r.unfold_sliver_tris = slivers.faces_removed;
             r.unfold_pairs = cleaned ? slivers.crossing_pairs : unfold.crossing_pairs;
             r.unfold_left = unfold.remaining_pairs;

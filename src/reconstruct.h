@@ -91,7 +91,6 @@ typedef struct sr_recon_result {
     size_t unfold_pairs;        /* image: crossing triangle pairs of the scan found ... */
     size_t unfold_left;         /* ... of which still crossing after the unfolding */
     size_t unfold_sliver_tris;  /* folded slivers' triangles gone (needles collapsed) */
-    int unfold_slivers;         /* 1: folded slivers were flipped or collapsed first */
     size_t unfold_vertices;     /* scan vertices moved to unfold them */
     double unfold_max_mm;       /* the farthest one moved */
     sr_recon_timings timings;
