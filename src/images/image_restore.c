@@ -95,8 +95,8 @@ static void merge_near_sections(const sr_voxels *g, sr_vote_result *vr)
         box[6 * s] = box[6 * s + 1] = box[6 * s + 2] = LONG_MAX;
         box[6 * s + 3] = box[6 * s + 4] = box[6 * s + 5] = LONG_MIN;
     }
-    size_t total = g->nx * g->ny * g->nz;
-    for (size_t v = 0; v < total; v++) {
+    for (size_t q = 0; q < vr->at_count; q++) {
+        size_t v = vr->at[q];
         int l = vr->label[v];
         if (l <= 0)
             continue;
@@ -139,8 +139,9 @@ static void merge_near_sections(const sr_voxels *g, sr_vote_result *vr)
                 num[s] = num[r];
             }
             memset(vr->voxels, 0, n * sizeof *vr->voxels);
-            for (size_t v = 0; v < total; v++)
-                if (vr->label[v] > 0) {
+            for (size_t q = 0; q < vr->at_count; q++)
+                if (vr->label[vr->at[q]] > 0) {
+                    size_t v = vr->at[q];
                     vr->label[v] = (int)num[vr->label[v]];
                     vr->voxels[vr->label[v] - 1]++;
                 }
@@ -435,21 +436,19 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
      * them they would no longer read as such) */
     if (opts->symmetry.kind == SR_SYM_AXIAL && opts->symmetry.order < 2)
         for (size_t s = 1; s <= vr.sections; s++)
-            if (sr_img_design_recess(aligned, &g, vr.label, (int)s)) {
+            if (sr_img_design_recess(aligned, &g, &vr, (int)s)) {
                 info->features_kept++;
-                size_t total = g.nx * g.ny * g.nz;
-                for (size_t v = 0; v < total; v++)
-                    if (vr.label[v] == (int)s)
-                        vr.label[v] = -1; /* not missing; -1 so no label reuses it */
+                for (size_t q = 0; q < vr.at_count; q++)
+                    if (vr.label[vr.at[q]] == (int)s)
+                        vr.label[vr.at[q]] = -1; /* not missing; -1 so no label reuses it */
             }
     /* glide: a core of weak evidence alone is built only where a fracture bounds it */
     for (size_t s = 1; vr.weak_only && s <= vr.sections; s++)
         if (vr.weak_only[s - 1] && !sr_img_fracture_bounded(aligned, &g, vr.label, (int)s,
                                                             &opts->symmetry)) {
-            size_t total = g.nx * g.ny * g.nz;
-            for (size_t v = 0; v < total; v++)
-                if (vr.label[v] == (int)s)
-                    vr.label[v] = -1;
+            for (size_t q = 0; q < vr.at_count; q++)
+                if (vr.label[vr.at[q]] == (int)s)
+                    vr.label[vr.at[q]] = -1;
         }
     info->misfit = vr.misfit;
     info->misfit_located = vr.misfit_located;
@@ -469,7 +468,7 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
     for (size_t s = 1; st == SR_OK && s <= vr.sections; s++) {
         local_box b = {0};
         sr_mesh hull = {0}, q = {0};
-        sr_status box_st = sr_img_box_make(&g, vr.label, (int)s, &b);
+        sr_status box_st = sr_img_box_make(&g, &vr, (int)s, &b);
         if (box_st == SR_E_RANGE)
             continue;
         if (box_st != SR_OK) {

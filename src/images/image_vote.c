@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/grow.h"
+
 #define AXIAL_TURNS 24          /* continuous axial: turns by 15 degrees */
 #define AXIAL_SHARE 0.6         /* ... of which this share must carry material */
 #define CYCLIC_SLACK 1000       /* n-fold: one image in this many may disagree (tried
@@ -82,12 +84,29 @@ int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[
     return v >= 0 ? (scan->v[v] & 1) : 0;
 }
 
+/* sr_image_material for a turn about z (the axial images): the same arithmetic without
+ * the z row (a turn keeps the voxel's layer k) and without the glide's test. Inline: the
+ * vote calls it for every turn of every voxel it cannot skip. */
+static inline int turn_material(const sr_voxels *g, const double *m, double x, double y, size_t k)
+{
+    double px = m[0] * x + m[1] * y, py = m[4] * x + m[5] * y; /* m[2], m[3] are 0 */
+    double fi = (px - g->origin[0]) / g->h, fj = (py - g->origin[1]) / g->h;
+    if (!(fi > -0.5 && fj > -0.5 && fi < (double)g->nx - 0.5 && fj < (double)g->ny - 0.5))
+        return 0;
+    size_t i = (size_t)(fi + 0.5), j = (size_t)(fj + 0.5);
+    if (i >= g->nx)
+        i = g->nx - 1;
+    if (j >= g->ny)
+        j = g->ny - 1;
+    return g->v[sr_voxel_index(g, i, j, k)] & 1;
+}
+
 /* The vote at one voxel the scan lacks: 2 when the images say material (strong), 1
  * for a glide voxel that one image says material and the other does not confirm, or
  * an n-fold one that a majority of the turns but not all say material (weak), 0
  * otherwise. */
 static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_symmetry *sym,
-                const double c[3], double z_lo, double z_hi)
+                const double c[3], size_t k, double z_lo, double z_hi)
 {
     if (sym->kind == SR_SYM_MIRROR)
         return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1 ? 2 : 0;
@@ -118,8 +137,8 @@ static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_sy
      * chip beside a broken merlon stood 1.7 mm deep, the images voting 2 of 3) */
     size_t weak_fails = sym->order >= 2 ? (n - 1) / 2 : allowed;
     size_t fails = 0;
-    for (size_t k = 0; k < n; k++)
-        if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 0) != 1 && ++fails > weak_fails)
+    for (size_t q = 0; q < n; q++)
+        if (!turn_material(scan, im[q].inv, c[0], c[1], k) && ++fails > weak_fails)
             return 0;
     return fails <= allowed ? 2 : 1;
 }
@@ -131,6 +150,7 @@ void sr_vote_result_release(sr_vote_result *r)
     free(r->label);
     free(r->voxels);
     free(r->weak_only);
+    free(r->at);
     memset(r, 0, sizeof *r);
 }
 
@@ -212,7 +232,8 @@ static uint8_t *axial_rings(const sr_voxels *scan, size_t *nb)
         double y = scan->origin[1] + (c & 2 ? (double)(ny - 1) * scan->h : 0);
         rmax = fmax(rmax, hypot(x, y));
     }
-    *nb = (size_t)(rmax / scan->h) + 3;
+    double inv_h = 1.0 / scan->h; /* as the vote's ring test computes it */
+    *nb = (size_t)(rmax * inv_h) + 3;
     uint8_t *ring = calloc(nz * *nb, 1);
     if (!ring)
         return NULL;
@@ -222,7 +243,7 @@ static uint8_t *axial_rings(const sr_voxels *scan, size_t *nb)
                 if (scan->v[sr_voxel_index(scan, i, j, k)] & 1) {
                     double x = scan->origin[0] + (double)i * scan->h;
                     double y = scan->origin[1] + (double)j * scan->h;
-                    ring[k * *nb + (size_t)(hypot(x, y) / scan->h)] = 1;
+                    ring[k * *nb + (size_t)(sqrt(x * x + y * y) * inv_h)] = 1;
                 }
     return ring;
 }
@@ -239,9 +260,189 @@ static int ring_empty(const uint8_t *ring, size_t nb, size_t k, double rh)
     return 1;
 }
 
-sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo,
-                          double z_hi, size_t min_voxels, int threads, sr_vote_result *out,
-                          sr_err *err)
+/* The indices of the voxels m marks (m != 0), ascending, into *out (malloc'd). */
+static sr_status missing_list(const uint8_t *m, size_t total, size_t **out, size_t *count)
+{
+    size_t n = 0;
+    for (size_t v = 0; v < total; v++)
+        n += m[v] != 0;
+    size_t *at = malloc((n ? n : 1) * sizeof *at);
+    if (!at)
+        return SR_E_NOMEM;
+    n = 0;
+    for (size_t v = 0; v < total; v++)
+        if (m[v])
+            at[n++] = v;
+    *out = at;
+    *count = n;
+    return SR_OK;
+}
+
+/* The erosion, in place: a missing voxel whose six neighbours are all missing (bit 1: of
+ * the strong and weak voxels together, bits 0 and 2; bit 3: of the strong alone, bit 0).
+ * It reads bits 0 and 2 and writes bits 1 and 3, so the order of the voxels does not
+ * matter. Voxels on the grid's border keep no core. */
+static void erode(const sr_voxels *g, uint8_t *m, const size_t *at, size_t at_n)
+{
+    size_t nx = g->nx, ny = g->ny, nz = g->nz, sx = 1, sy = nx, sz = nx * ny;
+    for (size_t q = 0; q < at_n; q++) {
+        size_t v = at[q], i = v % nx, j = (v / nx) % ny, k = v / sz;
+        if (i < 1 || j < 1 || k < 1 || i + 1 >= nx || j + 1 >= ny || k + 1 >= nz)
+            continue;
+        uint8_t all = m[v] & m[v - sx] & m[v + sx] & m[v - sy] & m[v + sy] & m[v - sz] & m[v + sz];
+        uint8_t any = (m[v] & 5) && (m[v - sx] & 5) && (m[v + sx] & 5) && (m[v - sy] & 5) &&
+                      (m[v + sy] & 5) && (m[v - sz] & 5) && (m[v + sz] & 5);
+        m[v] |= (uint8_t)((any ? 2 : 0) | (all & 1 ? 8 : 0));
+    }
+}
+
+/* The label of the first labelled voxel among v's 26 neighbours (0: none). */
+static int labelled_neighbour(const sr_voxels *g, const int *label, size_t v)
+{
+    size_t nx = g->nx, ny = g->ny, nz = g->nz;
+    long i = (long)(v % nx), j = (long)((v / nx) % ny), k = (long)(v / (nx * ny));
+    for (long dk = -1; dk <= 1; dk++)
+        for (long dj = -1; dj <= 1; dj++)
+            for (long di = -1; di <= 1; di++) {
+                long ii = i + di, jj = j + dj, kk = k + dk;
+                if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
+                    kk >= (long)nz)
+                    continue;
+                int w = label[sr_voxel_index(g, (size_t)ii, (size_t)jj, (size_t)kk)];
+                if (w > 0)
+                    return w;
+            }
+    return 0;
+}
+
+/* The eroded cores (bit 1), 26-connected, numbered 1.. in the order of their first
+ * voxel; *ncomp of them. */
+static sr_status group_cores(const sr_voxels *g, const uint8_t *m, const size_t *at, size_t at_n,
+                             int *label, size_t *ncomp, sr_err *err)
+{
+    size_t nx = g->nx, ny = g->ny, nz = g->nz, sz = nx * ny;
+    size_t cap = 1024, nc = 0;
+    size_t *stack = malloc(cap * sizeof *stack);
+    if (!stack)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    for (size_t q = 0; q < at_n; q++) {
+        size_t v0 = at[q];
+        if (!(m[v0] & 2) || label[v0])
+            continue;
+        nc++;
+        size_t top = 0;
+        stack[top++] = v0;
+        label[v0] = (int)nc;
+        while (top) {
+            size_t v = stack[--top];
+            size_t i = v % nx, j = (v / nx) % ny, k = v / sz;
+            for (int dk = -1; dk <= 1; dk++)
+                for (int dj = -1; dj <= 1; dj++)
+                    for (int di = -1; di <= 1; di++) {
+                        long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
+                        if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
+                            kk >= (long)nz)
+                            continue;
+                        size_t w = sr_voxel_index(g, (size_t)ii, (size_t)jj, (size_t)kk);
+                        if (!(m[w] & 2) || label[w])
+                            continue;
+                        label[w] = (int)nc;
+                        size_t *grown = sr_grow(stack, top, &cap, sizeof *stack);
+                        if (!grown) {
+                            free(stack);
+                            return sr_err_set(err, SR_E_NOMEM,
+                                              "out of memory grouping missing voxels");
+                        }
+                        stack = grown;
+                        stack[top++] = w;
+                    }
+        }
+    }
+    free(stack);
+    *ncomp = nc;
+    return SR_OK;
+}
+
+/* The cores grown back inside the missing set (bits 0 and 2), GROW_BACK steps,
+ * 26-connected: one undoes the erosion, the rest take back the thin edges of a chip the
+ * erosion cut off. Each step reads the labels before it and sets its own after. */
+static sr_status grow_back(const sr_voxels *g, const uint8_t *m, const size_t *at, size_t at_n,
+                           int *label, int nt)
+{
+    int *grow = malloc((at_n ? at_n : 1) * sizeof *grow);
+    if (!grow)
+        return SR_E_NOMEM;
+    for (int step = 0; step < GROW_BACK; step++) {
+#pragma omp parallel for num_threads(nt) schedule(static)
+        for (size_t q = 0; q < at_n; q++) {
+            size_t v = at[q];
+            grow[q] = (m[v] & 5) && !label[v] ? labelled_neighbour(g, label, v) : 0;
+        }
+        for (size_t q = 0; q < at_n; q++)
+            if (grow[q])
+                label[at[q]] = grow[q];
+    }
+    free(grow);
+    return SR_OK;
+}
+
+/* The sections with at least min_voxels voxels, renumbered 1.. largest first, into
+ * out (voxels, sections, weak_only from strong[core]: 1 when the core has a strong
+ * voxel, NULL but on a glide); the others' labels to 0, and *at_n cut to the labelled
+ * voxels. */
+static sr_status keep_large(size_t *at, size_t *at_n, int *label, size_t ncomp, size_t min_voxels,
+                            const uint8_t *strong, sr_vote_result *out, sr_err *err)
+{
+    comp *cs = calloc(ncomp + 1, sizeof *cs);
+    int *remap = calloc(ncomp + 1, sizeof *remap);
+    if (!cs || !remap) {
+        free(cs);
+        free(remap);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    }
+    for (size_t c = 0; c <= ncomp; c++)
+        cs[c].label = c;
+    for (size_t q = 0; q < *at_n; q++)
+        if (label[at[q]] > 0)
+            cs[label[at[q]]].count++;
+    qsort(cs + 1, ncomp, sizeof *cs, cmp_comp);
+    size_t kept = 0;
+    for (size_t c = 1; c <= ncomp; c++)
+        if (cs[c].count >= min_voxels && cs[c].count > 0)
+            remap[cs[c].label] = (int)++kept;
+    size_t *counts = calloc(kept ? kept : 1, sizeof *counts);
+    uint8_t *weak_only = calloc(kept ? kept : 1, 1);
+    if (!counts || !weak_only) {
+        free(counts);
+        free(weak_only);
+        free(cs);
+        free(remap);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    }
+    for (size_t c = 1; strong && c <= ncomp; c++)
+        if (remap[c] > 0)
+            weak_only[remap[c] - 1] = !strong[c];
+    size_t n = 0;
+    for (size_t q = 0; q < *at_n; q++) {
+        size_t v = at[q];
+        if (label[v] > 0)
+            label[v] = remap[label[v]];
+        if (label[v] > 0) {
+            counts[label[v] - 1]++;
+            at[n++] = v;
+        }
+    }
+    *at_n = n;
+    free(cs);
+    free(remap);
+    out->sections = kept;
+    out->voxels = counts;
+    out->weak_only = weak_only;
+    return SR_OK;
+}
+
+sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo, double z_hi,
+                          size_t min_voxels, int threads, sr_vote_result *out, sr_err *err)
 {
     sr_image *im = NULL;
     size_t n = 0;
@@ -251,7 +452,6 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     size_t nx = scan->nx, ny = scan->ny, nz = scan->nz, total = nx * ny * nz;
     uint8_t *m = calloc(total, 1);      /* bit 0 missing, bit 1 eroded core */
     int *label = calloc(total, sizeof *label);
-    size_t *stack = NULL;
     if (!m || !label) {
         free(im);
         free(m);
@@ -263,6 +463,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     /* each voxel's vote reads the scan alone and writes its own byte: layers spread
      * over the threads give the same votes for any number of them */
     int nt = threads > 0 ? threads : omp_get_max_threads();
+    double inv_h = 1.0 / scan->h;
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 4)
     for (size_t k = 0; k < nz; k++)
         for (size_t j = 0; j < ny; j++)
@@ -273,9 +474,9 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
                 double c[3] = {scan->origin[0] + (double)i * scan->h,
                                scan->origin[1] + (double)j * scan->h,
                                scan->origin[2] + (double)k * scan->h};
-                if (ring && ring_empty(ring, nb, k, hypot(c[0], c[1]) / scan->h))
+                if (ring && ring_empty(ring, nb, k, sqrt(c[0] * c[0] + c[1] * c[1]) * inv_h))
                     continue; /* every turn lands in the same empty ring: air */
-                int e = vote(scan, im, n, sym, c, z_lo, z_hi);
+                int e = vote(scan, im, n, sym, c, k, z_lo, z_hi);
                 m[v] = e == 2 ? 1 : e == 1 ? 4 : 0;
             }
     free(ring);
@@ -338,209 +539,63 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
     free(miss);
     free(seen);
     free(share);
+    /* the later steps touch the voxels the vote marked, and only them */
+    size_t *at = NULL, at_n = 0;
+    if (missing_list(m, total, &at, &at_n) != SR_OK) {
+        free(im);
+        free(m);
+        free(label);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory for the missing voxels");
+    }
+    free(im);
     /* n-fold: the majority's weak evidence only where the turns fit the scan (its
      * misfit explained by what the strong vote finds missing, as reconstruct.c's
      * poor-fit test reads it): a wrong order's turns agree by majority across the
      * roots of every gap (a 15-tooth star read with order 14: 11 sections, 1.4 cm3) */
     if (sym->kind == SR_SYM_AXIAL && sym->order >= 2) {
         size_t strong_n = 0, scan_n = 0;
-        for (size_t v = 0; v < total; v++) {
-            strong_n += m[v] == 1;
+        for (size_t q = 0; q < at_n; q++)
+            strong_n += m[at[q]] == 1;
+        for (size_t v = 0; v < total; v++)
             scan_n += scan->v[v] & 1;
-        }
         double explained = scan_n ? 2.0 * (double)strong_n / (double)scan_n : 0;
         if (!(out->misfit <= WEAK_FIT_FLOOR + explained))
-            for (size_t v = 0; v < total; v++)
-                if (m[v] == 4)
-                    m[v] = 0;
+            for (size_t q = 0; q < at_n; q++)
+                if (m[at[q]] == 4)
+                    m[at[q]] = 0;
     }
-    /* erosion: a missing voxel whose six neighbours are all missing (bit 1: of the
-     * strong and weak voxels together; bit 3: of the strong alone) */
-    size_t sx = 1, sy = nx, sz = nx * ny;
-    /* marked apart, then set: the threads read m while none writes it */
-    uint8_t *er = calloc(total, 1);
-    if (!er) {
-        free(im);
-        free(m);
-        free(label);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory for %zu voxels", total);
-    }
-#pragma omp parallel for num_threads(nt) schedule(static)
-    for (long kl = 1; kl < (long)nz - 1; kl++)
-        for (size_t j = 1; j + 1 < ny; j++)
-            for (size_t i = 1; i + 1 < nx; i++) {
-                size_t v = sr_voxel_index(scan, i, j, (size_t)kl);
-                uint8_t all = m[v] & m[v - sx] & m[v + sx] & m[v - sy] & m[v + sy] &
-                              m[v - sz] & m[v + sz];
-                uint8_t any = (m[v] & 5) && (m[v - sx] & 5) && (m[v + sx] & 5) &&
-                              (m[v - sy] & 5) && (m[v + sy] & 5) && (m[v - sz] & 5) &&
-                              (m[v + sz] & 5);
-                er[v] = (uint8_t)((any ? 2 : 0) | (all & 1 ? 8 : 0));
-            }
-    for (size_t v = 0; v < total; v++)
-        m[v] |= er[v];
-    free(er);
-    /* the eroded cores, 26-connected */
-    size_t cap = 1024, ncomp = 0;
-    stack = malloc(cap * sizeof *stack);
-    if (!stack) {
-        free(im);
-        free(m);
-        free(label);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
-    }
-    for (size_t v0 = 0; v0 < total; v0++) {
-        if (!(m[v0] & 2) || label[v0])
-            continue;
-        ncomp++;
-        size_t top = 0;
-        stack[top++] = v0;
-        label[v0] = (int)ncomp;
-        while (top) {
-            size_t v = stack[--top];
-            size_t i = v % nx, j = (v / nx) % ny, k = v / sz;
-            for (int dk = -1; dk <= 1; dk++)
-                for (int dj = -1; dj <= 1; dj++)
-                    for (int di = -1; di <= 1; di++) {
-                        long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
-                        if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
-                            kk >= (long)nz)
-                            continue;
-                        size_t w = sr_voxel_index(scan, (size_t)ii, (size_t)jj, (size_t)kk);
-                        if (!(m[w] & 2) || label[w])
-                            continue;
-                        label[w] = (int)ncomp;
-                        if (top == cap) {
-                            size_t *s2 = realloc(stack, 2 * cap * sizeof *stack);
-                            if (!s2) {
-                                free(im);
-                                free(stack);
-                                free(m);
-                                free(label);
-                                return sr_err_set(err, SR_E_NOMEM,
-                                                  "out of memory grouping missing voxels");
-                            }
-                            stack = s2;
-                            cap *= 2;
-                        }
-                        stack[top++] = w;
-                    }
-        }
-    }
-    free(stack);
+    erode(scan, m, at, at_n);
+    size_t ncomp = 0;
+    st = group_cores(scan, m, at, at_n, label, &ncomp, err);
     /* a core with no strong voxel is only an end of a pattern (dropped), or, on a glide,
      * a feature of the ends broken off: kept as a section said to be weak only, for
      * the caller to tell by the scan's surface round it (section_kind.c) */
-    uint8_t *weak = NULL; /* glide: per core, 1 when it has a strong voxel */
-    if (ncomp) {
-        uint8_t *strong = calloc(ncomp + 1, 1);
-        if (!strong) {
-            free(im);
-            free(m);
-            free(label);
-            return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
-        }
-        for (size_t v = 0; v < total; v++)
-            if (label[v] > 0 && (m[v] & 8))
-                strong[label[v]] = 1;
-        if (sym->kind == SR_SYM_GLIDE)
-            weak = strong; /* kept, and said to be weak only (after the remap below) */
-        else {
-            for (size_t v = 0; v < total; v++)
-                if (label[v] > 0 && !strong[label[v]])
-                    label[v] = 0;
-            free(strong);
-        }
+    uint8_t *strong = st == SR_OK ? calloc(ncomp + 1, 1) : NULL;
+    if (st == SR_OK && !strong)
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+    if (st == SR_OK) {
+        for (size_t q = 0; q < at_n; q++)
+            if (label[at[q]] > 0 && (m[at[q]] & 8))
+                strong[label[at[q]]] = 1;
+        if (sym->kind != SR_SYM_GLIDE)
+            for (size_t q = 0; q < at_n; q++)
+                if (label[at[q]] > 0 && !strong[label[at[q]]])
+                    label[at[q]] = 0;
+        if (grow_back(scan, m, at, at_n, label, nt) != SR_OK)
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory for %zu voxels", at_n);
     }
-    /* grown back inside the missing set, GROW_BACK steps (26-connected): one undoes
-     * the erosion, the rest take back the thin edges of a chip the erosion cut off */
-    int *grow = calloc(total, sizeof *grow); /* a step's new labels, set after it */
-    for (int step = 0; grow && step < GROW_BACK; step++) {
-#pragma omp parallel for num_threads(nt) schedule(static)
-        for (size_t k = 0; k < nz; k++)
-            for (size_t j = 0; j < ny; j++)
-                for (size_t i = 0; i < nx; i++) {
-                    size_t v = sr_voxel_index(scan, i, j, k);
-                    if (!(m[v] & 5) || label[v])
-                        continue;
-                    int l = 0;
-                    for (int dk = -1; dk <= 1 && !l; dk++)
-                        for (int dj = -1; dj <= 1 && !l; dj++)
-                            for (int di = -1; di <= 1 && !l; di++) {
-                                long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
-                                if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx ||
-                                    jj >= (long)ny || kk >= (long)nz)
-                                    continue;
-                                int w = label[sr_voxel_index(scan, (size_t)ii, (size_t)jj,
-                                                             (size_t)kk)];
-                                if (w > 0)
-                                    l = w;
-                            }
-                    grow[v] = l;
-                }
-        for (size_t v = 0; v < total; v++)
-            if (grow[v]) {
-                label[v] = grow[v];
-                grow[v] = 0;
-            }
-    }
-    if (!grow) {
-        free(im);
-        free(weak);
-        free(m);
-        free(label);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory for %zu voxels", total);
-    }
-    free(grow);
-    free(im);
-    comp *cs = calloc(ncomp + 1, sizeof *cs);
-    int *remap = calloc(ncomp + 1, sizeof *remap);
-    if (!cs || !remap) {
-        free(cs);
-        free(remap);
-        free(weak);
-        free(m);
-        free(label);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
-    }
-    for (size_t c = 0; c <= ncomp; c++)
-        cs[c].label = c;
-    for (size_t v = 0; v < total; v++)
-        if (label[v] > 0)
-            cs[label[v]].count++;
-    qsort(cs + 1, ncomp, sizeof *cs, cmp_comp);
-    size_t kept = 0;
-    for (size_t c = 1; c <= ncomp; c++)
-        if (cs[c].count >= min_voxels && cs[c].count > 0)
-            remap[cs[c].label] = (int)++kept;
-    size_t *counts = calloc(kept ? kept : 1, sizeof *counts);
-    uint8_t *weak_only = calloc(kept ? kept : 1, 1);
-    if (!counts || !weak_only) {
-        free(counts);
-        free(weak_only);
-        free(weak);
-        free(cs);
-        free(remap);
-        free(m);
-        free(label);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
-    }
-    for (size_t c = 1; weak && c <= ncomp; c++)
-        if (remap[c] > 0)
-            weak_only[remap[c] - 1] = !weak[c];
-    free(weak);
-    for (size_t v = 0; v < total; v++) {
-        if (label[v] > 0)
-            label[v] = remap[label[v]];
-        if (label[v] > 0)
-            counts[label[v] - 1]++;
-    }
-    free(cs);
-    free(remap);
+    if (st == SR_OK)
+        st = keep_large(at, &at_n, label, ncomp, min_voxels,
+                        sym->kind == SR_SYM_GLIDE ? strong : NULL, out, err);
+    free(strong);
     free(m);
+    if (st != SR_OK) {
+        free(at);
+        free(label);
+        return st;
+    }
     out->label = label;
-    out->sections = kept;
-    out->voxels = counts;
-    out->weak_only = weak_only;
+    out->at = at;
+    out->at_count = at_n;
     return SR_OK;
 }

@@ -47,6 +47,10 @@ typedef struct sr_vote_result {
     int *label;          /* per voxel: 0 = not missing, k >= 1 = section k */
     size_t sections;     /* labels 1..sections, largest first */
     size_t *voxels;      /* per section (index k - 1): its voxel count */
+    size_t *at;          /* the voxels labelled (> 0) when the vote returned, ascending:
+                          * every voxel a section holds is among them, also after the
+                          * caller sets labels to -1 or renumbers them */
+    size_t at_count;
     uint8_t *weak_only;  /* per section: 1 = a glide core of weak evidence alone (the
                           * image from the middle's side): an end of the pattern or a
                           * feature of the ends broken off; the caller decides */

@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "images/image_restore.h"
+#include "images/image_vote.h"
 #include "images/voxels.h"
 
 #define HULL_GROW 4.5           /* hull corners: voxel half-size + four voxels, in pitches */
@@ -46,9 +47,9 @@ static inline size_t sr_img_lidx(const local_box *b, size_t i, size_t j, size_t 
     return (k * b->ny + j) * b->nx + i;
 }
 
-/* The box round section s of label (label[v] == s) with its band; b->sec allocated (the
- * caller frees it). SR_E_RANGE when no voxel is labelled s, SR_E_NOMEM. */
-sr_status sr_img_box_make(const sr_voxels *g, const int *label, int s, local_box *b);
+/* The box round section s of the vote (vr->label[v] == s) with its band; b->sec
+ * allocated (the caller frees it). SR_E_RANGE when no voxel is labelled s, SR_E_NOMEM. */
+sr_status sr_img_box_make(const sr_voxels *g, const sr_vote_result *vr, int s, local_box *b);
 
 /* The section's hull: the convex hull of its voxels' corners grown by HULL_GROW
  * pitches, z clamped to [z_min, z_max]. */
@@ -59,7 +60,7 @@ sr_status sr_img_hull_make(const sr_voxels *g, const local_box *b, double z_min,
 
 /* Axial: 1 when the scan's surface round section s is a recess of the design (a hole,
  * a slot, a keyway) rather than a fracture. */
-int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const int *label, int s);
+int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const sr_vote_result *vr, int s);
 
 /* Glide: 1 when the scan's surface facing section s (of weak evidence alone) is mostly
  * fracture, so the section is built; 1 too when the images cannot be had. */

@@ -30,11 +30,12 @@ static void dilate_line(const uint8_t *in, uint8_t *out, size_t len, size_t stri
     }
 }
 
-sr_status sr_img_box_make(const sr_voxels *g, const int *label, int s, local_box *b)
+sr_status sr_img_box_make(const sr_voxels *g, const sr_vote_result *vr, int s, local_box *b)
 {
+    const int *label = vr->label;
     size_t lo[3] = {SIZE_MAX, SIZE_MAX, SIZE_MAX}, hi[3] = {0, 0, 0};
-    size_t total = g->nx * g->ny * g->nz;
-    for (size_t v = 0; v < total; v++) {
+    for (size_t q = 0; q < vr->at_count; q++) {
+        size_t v = vr->at[q];
         if (label[v] != s)
             continue;
         size_t ijk[3] = {v % g->nx, (v / g->nx) % g->ny, v / (g->nx * g->ny)};

@@ -27,13 +27,14 @@
                                  * keyway's walls scatter by several degrees) */
 #define DESIGN_BINS 12          /* a hole's walls face (nearly) every 30 degrees round */
 #define DESIGN_BIN_SHARE 0.01
-int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const int *label, int s)
+int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const sr_vote_result *vr, int s)
 {
+    const int *label = vr->label;
     /* the radial direction at the section's centre (a radial hole's axis) */
     double cen[2] = {0, 0};
-    size_t total_v = g->nx * g->ny * g->nz;
-    for (size_t v = 0; v < total_v; v++)
-        if (label[v] == s) {
+    for (size_t q = 0; q < vr->at_count; q++)
+        if (label[vr->at[q]] == s) {
+            size_t v = vr->at[q];
             double c[3];
             sr_img_voxel_centre(g, v, c);
             cen[0] += c[0];
