@@ -66,16 +66,17 @@ static char **wrap_words(char **copy, size_t *count)
     return words;
 }
 
-int sr_test_run(const char *const argv[], const char *stdin_text, char **out, char **err)
+static int run_command(const char *const argv[], int wrapped, const char *stdin_text, char **out,
+                       char **err)
 {
     if (out)
         *out = NULL;
     if (err)
         *err = NULL;
 
-    char *wrap_copy;
-    size_t wrap_count;
-    char **wrap = wrap_words(&wrap_copy, &wrap_count);
+    char *wrap_copy = NULL;
+    size_t wrap_count = 0;
+    char **wrap = wrapped ? wrap_words(&wrap_copy, &wrap_count) : NULL;
     size_t argc = 0;
     while (argv[argc])
         argc++;
@@ -224,4 +225,14 @@ cleanup:
     free(wrap);
     free(wrap_copy);
     return status;
+}
+
+int sr_test_run(const char *const argv[], const char *stdin_text, char **out, char **err)
+{
+    return run_command(argv, 1, stdin_text, out, err);
+}
+
+int sr_test_run_native(const char *const argv[], const char *stdin_text, char **out, char **err)
+{
+    return run_command(argv, 0, stdin_text, out, err);
 }

@@ -20,4 +20,8 @@ const char *sr_test_bin(void);
  * and *err are NULL). */
 int sr_test_run(const char *const argv[], const char *stdin_text, char **out, char **err);
 
+/* sr_test_run without $SYMREC_WRAP: for the commands that only set a test up (fill a
+ * catalogue with runs) and are tested under the wrap by tests of their own. */
+int sr_test_run_native(const char *const argv[], const char *stdin_text, char **out, char **err);
+
 #endif
