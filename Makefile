@@ -61,7 +61,9 @@ ifneq ($(V),1)
 endif
 
 LIB_C_SRC   := $(wildcard src/*.c $(filter-out src/bridge/%,$(wildcard src/*/*.c)))
-CGAL_SRC    := $(wildcard src/bridge/*_cgal.cpp)
+# the longest to compile (about 40 s) first
+CGAL_SRC    := src/bridge/union_local_cgal.cpp \
+               $(filter-out src/bridge/union_local_cgal.cpp,$(wildcard src/bridge/*_cgal.cpp))
 LIB_CXX_SRC := $(filter-out $(CGAL_SRC),$(wildcard src/bridge/*.cpp))
 CLI_SRC     := $(wildcard cli/*.c)
 SQL_SRC     := $(sort $(wildcard sql/*.sql))
@@ -73,7 +75,8 @@ GEN_SQL := $(BUILD)/gen/sql_embedded.c
 REPORT_ASSETS := src/report/report.css src/report/report.js
 GEN_REPORT := $(BUILD)/gen/report_assets.c
 CGAL_OBJ := $(CGAL_SRC:%.cpp=build/cgal/%.o)
-LIB_OBJ := $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(CGAL_OBJ) $(GEN_SQL:.c=.o) $(GEN_REPORT:.c=.o)
+# the CGAL objects first: `make -j` starts them first, the quick C files fill in beside
+LIB_OBJ := $(CGAL_OBJ) $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(GEN_SQL:.c=.o) $(GEN_REPORT:.c=.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libsymrec.a
 BIN     := $(BUILD)/symrec
@@ -205,7 +208,7 @@ VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-
 valgrind: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
 	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_WRAP="$(VALGRIND)" SYMREC_TEST_WRAP="$(VALGRIND)" \
-	  SYMREC_TEST_SKIP="$(VALGRIND_SKIP)" \
+	  SYMREC_TEST_SKIP="$(VALGRIND_SKIP)" SYMREC_CLI_SHARDS=6 \
 	  sh tests/run_tests.sh build/debug test_cli,test_boolean,test_stack_mesh
 
 # Accuracy on generated parts: a fixed sample of ../shared/partgen (two per family)

@@ -13,8 +13,9 @@
 # if cmocka's own counts look clean. The binaries share nothing: each test makes its own
 # mkdtemp directory.
 #
-# test_cli runs as four shards (tags shard1..shard4: SYMREC_TEST_SHARD=K/4, see
-# tests/support/test_select.h), which matters under Valgrind. test_accuracy, by far the
+# test_cli runs as SYMREC_CLI_SHARDS shards, default 4 (tags shard1..shardN:
+# SYMREC_TEST_SHARD=K/N, see tests/support/test_select.h), which matters under Valgrind
+# (make valgrind runs 6: its long cases then spread over both CPUs). test_accuracy, by far the
 # longest, runs as four shards side by side (tags scan1, scan2: the noisy scans' cases;
 # posed: the posed parts' robust cases; rest: all others).
 # With SYMREC_ACCURACY_BUILD=DIR (make test: the release build) the shards run DIR's
@@ -87,13 +88,16 @@ trap 'exit 130' INT TERM
 # one job (tag all). Each job leaves NAME.TAG.out, .err, .rc (exit status) and .secs in
 # $logs.
 jobs=${SYMREC_TEST_JOBS:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)}
+cli_shards=${SYMREC_CLI_SHARDS:-4}
+case $cli_shards in ''|*[!0-9]*|0) echo "run_tests.sh: SYMREC_CLI_SHARDS must be a count, not '$cli_shards'" >&2; exit 2 ;; esac
+export cli_shards
 case $jobs in ''|*[!0-9]*|0) jobs=1 ;; esac
 # the tags of a binary's jobs
 tags_of() {
     case $1 in
         */test_accuracy) if [ "$acc_build" = "$build" ]; then echo "scan1 scan2 posed rest"
                          else echo "scan1 scan2 posed rest smoke"; fi ;;
-        */test_cli) echo "shard1 shard2 shard3 shard4" ;;
+        */test_cli) k=1; while [ "$k" -le "$cli_shards" ]; do printf 'shard%d ' "$k"; k=$((k + 1)); done ;;
         *) echo all ;;
     esac
 }
@@ -103,10 +107,18 @@ job_list() {
             if [ "$tag" = smoke ]; then echo "$bin $tag"; else echo "$acc_build/tests/test_accuracy $tag"; fi
         done ;;
     esac; done
+    # then the binaries that take about a minute under ASan, before test_cli's shards
+    # (a long one started last leaves the other CPU idle at the end)
+    for bin in $bins; do case $bin in */test_union_local|*/test_image|*/test_align)
+        echo "$bin all" ;;
+    esac; done
     for bin in $bins; do case $bin in */test_cli)
         for tag in $(tags_of "$bin"); do echo "$bin $tag"; done ;;
     esac; done
-    for bin in $bins; do case $bin in */test_accuracy|*/test_cli) ;; *) echo "$bin all" ;; esac; done
+    for bin in $bins; do case $bin in
+        */test_accuracy|*/test_cli|*/test_union_local|*/test_image|*/test_align) ;;
+        *) echo "$bin all" ;;
+    esac; done
 }
 job_list | xargs -P "$jobs" -L 1 sh -c '
     logs=$1; bin=$2; tag=$3; name=$(basename "$bin")
@@ -123,7 +135,7 @@ job_list | xargs -P "$jobs" -L 1 sh -c '
         posed) SYMREC_TEST_FILTER="*_posed_robust_*" ;;
         rest)  SYMREC_TEST_SKIP="*_robust_restored_within_bounds" ;;
         smoke) SYMREC_TEST_FILTER="$smoke" ;;
-        shard[1-4]) SYMREC_TEST_SHARD="${tag#shard}/4"; export SYMREC_TEST_SHARD ;;
+        shard*) SYMREC_TEST_SHARD="${tag#shard}/$cli_shards"; export SYMREC_TEST_SHARD ;;
     esac
     export SYMREC_TEST_FILTER SYMREC_TEST_SKIP
     wrap=
