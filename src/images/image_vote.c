@@ -38,6 +38,7 @@ sr_status sr_images_of(const sr_symmetry *sym, sr_image **out, size_t *count, sr
             double m[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
             memcpy(im[0].xf, m, sizeof m);
             memcpy(im[0].inv, m, sizeof m);
+            im[0].form = SR_IMAGE_REFLECT_X;
         }
     } else if (sym->kind == SR_SYM_GLIDE) {
         if (!(sym->shift_mm > 0) || !isfinite(sym->shift_mm))
@@ -50,6 +51,7 @@ sr_status sr_images_of(const sr_symmetry *sym, sr_image **out, size_t *count, sr
             double v[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -s};
             memcpy(im[k].xf, m, sizeof m);
             memcpy(im[k].inv, v, sizeof v);
+            im[k].form = SR_IMAGE_REFLECT_X;
         }
     } else if (sym->kind == SR_SYM_AXIAL) {
         size_t turns = sym->order >= 2 ? (size_t)sym->order : AXIAL_TURNS;
@@ -59,6 +61,7 @@ sr_status sr_images_of(const sr_symmetry *sym, sr_image **out, size_t *count, sr
             double a = 2.0 * M_PI * (double)k / (double)turns;
             rot_z(im[k - 1].xf, a);
             rot_z(im[k - 1].inv, -a);
+            im[k - 1].form = SR_IMAGE_TURN_Z;
         }
     } else {
         return sr_err_set(err, SR_E_RANGE, "no symmetry to restore by");
@@ -75,9 +78,19 @@ int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[
 {
     double p[3];
     const double *m = im->inv;
-    p[0] = m[0] * c[0] + m[1] * c[1] + m[2] * c[2] + m[3];
-    p[1] = m[4] * c[0] + m[5] * c[1] + m[6] * c[2] + m[7];
-    p[2] = m[8] * c[0] + m[9] * c[1] + m[10] * c[2] + m[11];
+    if (im->form == SR_IMAGE_REFLECT_X) { /* the rows' zero and unit terms, left out */
+        p[0] = -c[0];
+        p[1] = c[1];
+        p[2] = c[2] + m[11];
+    } else if (im->form == SR_IMAGE_TURN_Z) {
+        p[0] = m[0] * c[0] + m[1] * c[1];
+        p[1] = m[4] * c[0] + m[5] * c[1];
+        p[2] = c[2];
+    } else {
+        p[0] = m[0] * c[0] + m[1] * c[1] + m[2] * c[2] + m[3];
+        p[1] = m[4] * c[0] + m[5] * c[1] + m[6] * c[2] + m[7];
+        p[2] = m[8] * c[0] + m[9] * c[1] + m[10] * c[2] + m[11];
+    }
     if (glide && (p[2] < z_lo || p[2] > z_hi))
         return -1;
     long v = sr_voxels_locate(scan, p);

@@ -27,9 +27,17 @@
 
 /* One image of the symmetry: p -> R p + t (3x4 row-major), a rigid motion of the
  * aligned frame that maps the intact part onto itself. */
+typedef enum sr_image_form {
+    SR_IMAGE_GENERAL = 0, /* any rigid motion */
+    SR_IMAGE_TURN_Z,      /* a turn about z: inv's z row and z column are (0 0 1 0) */
+    SR_IMAGE_REFLECT_X    /* x -> -x, then a shift along z (inv[11]; 0 for a mirror) */
+} sr_image_form;
+
 typedef struct sr_image {
     double xf[12];       /* the image: a point of the part -> its image */
     double inv[12];      /* its inverse: where a voxel's material comes from */
+    sr_image_form form;  /* what inv is, so sr_image_material skips its zero terms (the
+                          * same sums: a zero or unit term changes no bit of them) */
 } sr_image;
 
 /* The images the vote uses for `sym` (aligned frame: axis z, plane x = 0, shift along
