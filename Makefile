@@ -248,17 +248,20 @@ bench: deps
 
 bench-built: $(BENCH)
 
-# clang-format (.clang-format) on the files named, `make format FILES="src/a.c src/a.h"`;
-# without FILES, on the C/C++ files that differ from HEAD (changed, staged or new). Never
-# the whole tree: a reformat of everything would bury the history.
+# clang-format (.clang-format) on the files named, `make format FILES="src/a.c src/a.h"`
+# (whole files); without FILES, on the lines changed since HEAD (git clang-format) and
+# on new files whole. Never the whole tree, nor the untouched lines of a changed file: a
+# reformat of old code would bury the history (much of the tree predates the config).
 FORMAT_EXT := '*.c' '*.h' '*.cpp' '*.hpp'
 format: deps
-	$(Q)files="$(FILES)"; \
-	if [ -z "$$files" ]; then \
-	  files=$$( { git diff --name-only --diff-filter=d HEAD -- $(FORMAT_EXT); \
-	              git ls-files --others --exclude-standard -- $(FORMAT_EXT); } | sort -u); \
-	fi; \
-	if [ -n "$$files" ]; then echo "  FORMAT $$files" | tr '\n' ' '; echo; clang-format -i $$files; fi
+	$(Q)if [ -n "$(FILES)" ]; then \
+	  echo "  FORMAT $(FILES)"; clang-format -i $(FILES); \
+	else \
+	  git clang-format --force --quiet --extensions c,h,cpp,hpp HEAD >/dev/null || true; \
+	  new=$$(git ls-files --others --exclude-standard -- $(FORMAT_EXT)); \
+	  if [ -n "$$new" ]; then echo "  FORMAT $$new" | tr '\n' ' '; echo; clang-format -i $$new; fi; \
+	  git diff --name-only HEAD -- $(FORMAT_EXT) | sed 's/^/  FORMAT (changed lines) /'; \
+	fi
 
 # compile_commands.json for editors and tools, from the commands make would run for
 # config=$(config) (make -n -B: nothing is compiled).
