@@ -534,7 +534,7 @@ static void glide_rack_restores_its_first_tooth_broken_off(void **state)
 }
 
 /* The vote spread over two threads gives what one gives, to the bit (every voxel's
- * label); the reconstructions from either give the same sections and volumes. (The
+ * label, and the list of the labelled ones); the reconstructions from either give the same sections and volumes. (The
  * patches' triangulations are not compared: CGAL's booleans may number and split the
  * same surface differently from run to run, 2 runs in about 15 here.) */
 static void one_thread_and_two_give_the_same_result(void **state)
@@ -556,6 +556,19 @@ static void one_thread_and_two_give_the_same_result(void **state)
     assert_true(v1.sections >= 1);
     assert_int_equal(v1.sections, v2.sections);
     assert_memory_equal(v1.label, v2.label, n[0] * n[1] * n[2] * sizeof *v1.label);
+    /* at: exactly the labelled voxels, ascending (what the later steps read) */
+    size_t labelled = 0;
+    for (size_t v = 0; v < n[0] * n[1] * n[2]; v++)
+        labelled += v1.label[v] > 0;
+    assert_true(labelled > 0);
+    assert_int_equal(v1.at_count, labelled);
+    for (size_t q = 0; q < v1.at_count; q++) {
+        assert_true(v1.label[v1.at[q]] > 0);
+        if (q)
+            assert_true(v1.at[q - 1] < v1.at[q]);
+    }
+    assert_int_equal(v1.at_count, v2.at_count);
+    assert_memory_equal(v1.at, v2.at, v1.at_count * sizeof *v1.at);
     sr_vote_result_release(&v1);
     sr_vote_result_release(&v2);
     sr_voxels_release(&g);
