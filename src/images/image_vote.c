@@ -97,29 +97,12 @@ int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[
     return v >= 0 ? (scan->v[v] & 1) : 0;
 }
 
-/* sr_image_material for a turn about z (the axial images): the same arithmetic without
- * the z row (a turn keeps the voxel's layer k) and without the glide's test. Inline: the
- * vote calls it for every turn of every voxel it cannot skip. */
-static inline int turn_material(const sr_voxels *g, const double *m, double x, double y, size_t k)
-{
-    double px = m[0] * x + m[1] * y, py = m[4] * x + m[5] * y; /* m[2], m[3] are 0 */
-    double fi = (px - g->origin[0]) / g->h, fj = (py - g->origin[1]) / g->h;
-    if (!(fi > -0.5 && fj > -0.5 && fi < (double)g->nx - 0.5 && fj < (double)g->ny - 0.5))
-        return 0;
-    size_t i = (size_t)(fi + 0.5), j = (size_t)(fj + 0.5);
-    if (i >= g->nx)
-        i = g->nx - 1;
-    if (j >= g->ny)
-        j = g->ny - 1;
-    return g->v[sr_voxel_index(g, i, j, k)] & 1;
-}
-
 /* The vote at one voxel the scan lacks: 2 when the images say material (strong), 1
  * for a glide voxel that one image says material and the other does not confirm, or
  * an n-fold one that a majority of the turns but not all say material (weak), 0
  * otherwise. */
 static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_symmetry *sym,
-                const double c[3], size_t k, double z_lo, double z_hi)
+                const double c[3], double z_lo, double z_hi)
 {
     if (sym->kind == SR_SYM_MIRROR)
         return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1 ? 2 : 0;
@@ -150,8 +133,8 @@ static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_sy
      * chip beside a broken merlon stood 1.7 mm deep, the images voting 2 of 3) */
     size_t weak_fails = sym->order >= 2 ? (n - 1) / 2 : allowed;
     size_t fails = 0;
-    for (size_t q = 0; q < n; q++)
-        if (!turn_material(scan, im[q].inv, c[0], c[1], k) && ++fails > weak_fails)
+    for (size_t k = 0; k < n; k++)
+        if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 0) != 1 && ++fails > weak_fails)
             return 0;
     return fails <= allowed ? 2 : 1;
 }
@@ -489,7 +472,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
                                scan->origin[2] + (double)k * scan->h};
                 if (ring && ring_empty(ring, nb, k, sqrt(c[0] * c[0] + c[1] * c[1]) * inv_h))
                     continue; /* every turn lands in the same empty ring: air */
-                int e = vote(scan, im, n, sym, c, k, z_lo, z_hi);
+                int e = vote(scan, im, n, sym, c, z_lo, z_hi);
                 m[v] = e == 2 ? 1 : e == 1 ? 4 : 0;
             }
     free(ring);
