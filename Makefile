@@ -27,7 +27,7 @@ PKG_LIBS := sqlite3 openmesh tinygltf polyclipping
 
 CFLAGS_COMMON   := -std=c11 -fopenmp -D_DEFAULT_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
                    -Wno-unused-parameter -Isrc -Icli -Itests -I$(BUILD)/gen -MMD -MP
-CXXFLAGS_COMMON := -std=c++17 -Wall -Wextra -Wno-unused-parameter -Isrc -MMD -MP \
+CXXFLAGS_COMMON := -std=c++17 -fopenmp -Wall -Wextra -Wno-unused-parameter -Isrc -MMD -MP \
                    -DOM_STATIC_BUILD=0 -Wno-deprecated-copy -Wno-class-memaccess
 # werror=1 turns every warning into an error (the tree builds warning-free; CI and a
 # pre-push check may ask for it): `make werror=1 config=debug all tests-built`

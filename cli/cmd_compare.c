@@ -32,7 +32,8 @@ static const char usage[] =
     "  --samples N   at least N sample points per surface, spread by area (default:\n"
     "                the vertices and triangle centroids). Deviations are measured at\n"
     "                the samples, so the maxima are lower bounds; more samples tighten\n"
-    "                them (up to 20000000)\n"
+    "                them (up to 20000000; the distance queries run on every core:\n"
+    "                about 1.2 s per million samples on 2 cores)\n"
     "  --json        one JSON object: {\"a\", \"b\", \"volume_diff_mm3\",\n"
     "                \"volume_diff_pct\", \"a_to_b\", \"b_to_a\", \"hausdorff_mm\"}\n";
 

@@ -3,7 +3,8 @@
  * (deviation 0.1 both ways, Hausdorff 0.1, volume difference 0), a cube against itself
  * (all zero), the volume difference in mm³ and %, denser sampling finding a maximum
  * that vertices and centroids miss (a plate under a pyramid, exact answer known), and
- * the refusals: NaN, no triangle with an area, too many samples.
+ * the refusals: NaN, no triangle with an area, too many samples; and the same figures,
+ * to the last bit, with one thread as with two (the queries run in fixed blocks).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -12,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 #include <cmocka.h>
+#include <omp.h>
 
 #include "mesh/compare.h"
 #include "mesh/shapes.h"
@@ -125,6 +127,34 @@ static void denser_sampling_finds_a_maximum_between_the_vertices(void **state)
     assert_true(dense.a_to_b.samples >= 20000);
 }
 
+/* A cylinder against a box round it: many samples, distances all different. The queries
+ * are spread over threads in fixed blocks combined in order, so one thread and two give
+ * the same bits. */
+static void one_thread_and_two_give_the_same_figures(void **state)
+{
+    (void)state;
+    sr_mesh cyl, box;
+    assert_int_equal(sr_shape_cylinder(4, 0, 10, 48, &cyl, NULL), SR_OK);
+    const double lo[3] = {-5, -5, -1}, hi[3] = {5, 5, 11};
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    sr_compare_opts o = {.samples = 100000};
+    sr_compare_result r[2];
+    sr_err err = {{0}};
+    int threads = omp_get_max_threads();
+    for (int k = 0; k < 2; k++) {
+        omp_set_num_threads(k + 1);
+        assert_int_equal(sr_compare_meshes(&cyl, "cylinder", &box, "box", &o, &r[k], &err), SR_OK);
+    }
+    omp_set_num_threads(threads);
+    assert_true(r[0].a_to_b.samples >= 100000);
+    assert_true(r[0].a_to_b.mean_mm > 0.5);
+    assert_memory_equal(&r[0].a_to_b, &r[1].a_to_b, sizeof r[0].a_to_b);
+    assert_memory_equal(&r[0].b_to_a, &r[1].b_to_a, sizeof r[0].b_to_a);
+    assert_true(r[0].hausdorff_mm == r[1].hausdorff_mm);
+    sr_mesh_release(&cyl);
+    sr_mesh_release(&box);
+}
+
 static void a_mesh_with_nan_is_refused_by_name(void **state)
 {
     (void)state;
@@ -181,6 +211,7 @@ int main(void)
         cmocka_unit_test(a_cube_against_itself_is_zero_everywhere),
         cmocka_unit_test(volume_difference_is_b_minus_a_in_mm3_and_percent_of_a),
         cmocka_unit_test(denser_sampling_finds_a_maximum_between_the_vertices),
+        cmocka_unit_test(one_thread_and_two_give_the_same_figures),
         cmocka_unit_test(a_mesh_with_nan_is_refused_by_name),
         cmocka_unit_test(a_mesh_without_area_is_refused),
         cmocka_unit_test(too_many_samples_are_refused),
