@@ -13,7 +13,7 @@
 static const char usage_part[] =
     "usage: symrec [--db FILE] part add --number P --name N --material M --mesh FILE\n"
     "                               [--notes T] [--symmetry axial|mirror|glide]\n"
-    "                               [--order N] [--shift MM] [--json]\n"
+    "                               [--order N] [--shift MM] [--allow-open] [--json]\n"
     "       symrec [--db FILE] part list [--name S] [--number S] [--material M] [--json]\n"
     "       symrec [--db FILE] part show P [--json]\n"
     "\n"
@@ -24,9 +24,11 @@ static const char usage_part[] =
 static const char usage_add[] =
     "usage: symrec [--db FILE] part add --number P --name N --material M --mesh FILE\n"
     "                               [--notes T] [--symmetry axial|mirror|glide]\n"
-    "                               [--order N] [--shift MM] [--json]\n"
+    "                               [--order N] [--shift MM] [--allow-open] [--json]\n"
     "\n"
-    "Adds a part (a model) with its intact mesh and prints the new part's id.\n"
+    "Adds a part (a model) with its intact mesh and prints the new part's id. The mesh\n"
+    "must be a closed solid (every edge shared by two triangles, consistently oriented,\n"
+    "enclosing a positive volume): otherwise the part is refused, naming what is wrong.\n"
     "\n"
     "  --number P     the part number, unique in the catalogue (1..63 characters)\n"
     "  --name N       what the part is called (1..127 characters)\n"
@@ -36,6 +38,8 @@ static const char usage_add[] =
     "  --symmetry K   how the part is restored: axial, mirror or glide\n"
     "  --order N      axial only: n-fold order 2..360, or 0 for continuous (default 0)\n"
     "  --shift MM     glide only: the shift along the plane in mm (default 0 = search)\n"
+    "  --allow-open   store a mesh that is not a closed solid anyway, with a warning\n"
+    "                 (its volume is then not meaningful)\n"
     "  --json         print the new part as a JSON object instead of its id\n";
 
 static const char usage_list[] =
@@ -61,13 +65,19 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *number = NULL, *name = NULL, *material = NULL, *mesh_path = NULL;
     const char *notes = NULL, *sym_kind = NULL, *order = NULL, *shift = NULL;
-    bool json = false;
+    bool json = false, allow_open = false;
     const cli_opt opts[] = {
-        {"--number", &number, NULL},   {"--name", &name, NULL},
-        {"--material", &material, NULL}, {"--mesh", &mesh_path, NULL},
-        {"--notes", &notes, NULL},     {"--symmetry", &sym_kind, NULL},
-        {"--order", &order, NULL},     {"--shift", &shift, NULL},
-        {"--json", NULL, &json},       {NULL, NULL, NULL},
+        {"--allow-open", NULL, &allow_open},
+        {"--number", &number, NULL},
+        {"--name", &name, NULL},
+        {"--material", &material, NULL},
+        {"--mesh", &mesh_path, NULL},
+        {"--notes", &notes, NULL},
+        {"--symmetry", &sym_kind, NULL},
+        {"--order", &order, NULL},
+        {"--shift", &shift, NULL},
+        {"--json", NULL, &json},
+        {NULL, NULL, NULL},
     };
     const cli_spec spec = {"part add", usage_add, opts, 0, 0, NULL};
     int rc;
@@ -93,9 +103,20 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
     sr_status st = sr_mesh_read(mesh_path, &mesh, &err);
     if (st == SR_OK) {
         sr_part_new part = {
-            .number = number, .name = name, .material = material, .notes = notes,
-            .mesh = &mesh, .source_file = mesh_path, .symmetry = sym,
+            .number = number,
+            .name = name,
+            .material = material,
+            .notes = notes,
+            .mesh = &mesh,
+            .source_file = mesh_path,
+            .symmetry = sym,
+            .allow_open = allow_open,
         };
+        if (allow_open && !sr_mesh_is_closed(&mesh))
+            cli_note(
+                "warning: part '%s': '%s' is not a closed solid; stored as asked (--allow-open), "
+                "its volume is not meaningful",
+                number, mesh_path);
         st = sr_catalog_part_add(cat, &part, &id, &err);
     }
     if (st == SR_OK)

@@ -1335,6 +1335,56 @@ static void part_add_refuses_a_truncated_binary_stl(void **state)
     expect_part_add_refuses(e, path, "truncated");
 }
 
+/* A catalogue part is its intact model: an open box (one face left off), one triangle,
+ * and a box whose triangles face inward are refused, each saying why; --allow-open
+ * stores the open box with a warning. */
+static void part_add_refuses_a_mesh_that_is_not_a_closed_solid(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    /* a 10 mm cube's 12 triangles, outward */
+    static const char *cube =
+        "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\nv 0 0 10\nv 10 0 10\nv 10 10 10\nv 0 10 10\n";
+    static const char *faces[] = {"f 1 3 2\nf 1 4 3\n", "f 5 6 7\nf 5 7 8\n", "f 1 2 6\nf 1 6 5\n",
+                                  "f 2 3 7\nf 2 7 6\n", "f 3 4 8\nf 3 8 7\n", "f 4 1 5\nf 4 5 8\n"};
+    char open_box[1024], inward[1024], path[128];
+    snprintf(open_box, sizeof open_box, "%s", cube);
+    for (int i = 1; i < 6; i++) /* no bottom */
+        strncat(open_box, faces[i], sizeof open_box - strlen(open_box) - 1);
+    path_in(e, "open_box.obj", path, sizeof path);
+    write_bytes(path, open_box, strlen(open_box));
+    expect_part_add_refuses(e, path, "not a closed solid (4 boundary, 0 non-manifold");
+
+    path_in(e, "one_triangle.obj", path, sizeof path);
+    const char tri[] = "v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n";
+    write_bytes(path, tri, sizeof tri - 1);
+    expect_part_add_refuses(e, path, "not a closed solid (3 boundary");
+
+    /* every face reversed: closed and consistent, but inside out */
+    snprintf(inward, sizeof inward, "%s", cube);
+    static const char *reversed[] = {"f 1 2 3\nf 1 3 4\n", "f 5 7 6\nf 5 8 7\n",
+                                     "f 1 6 2\nf 1 5 6\n", "f 2 7 3\nf 2 6 7\n",
+                                     "f 3 8 4\nf 3 7 8\n", "f 4 5 1\nf 4 8 5\n"};
+    for (int i = 0; i < 6; i++)
+        strncat(inward, reversed[i], sizeof inward - strlen(inward) - 1);
+    path_in(e, "inward.obj", path, sizeof path);
+    write_bytes(path, inward, strlen(inward));
+    expect_part_add_refuses(e, path, "encloses no volume (-1000 mm³: its triangles face inward)");
+
+    /* the same open box, stored as asked */
+    path_in(e, "open_box.obj", path, sizeof path);
+    result r;
+    RUN(&r, "--db", e->db, "part", "add", "--number", "OPEN-1", "--name", "open box", "--material",
+        "steel", "--mesh", path, "--allow-open");
+    expect_ok(&r);
+    expect_contains(r.err, "warning: part 'OPEN-1'");
+    expect_contains(r.err, "not a closed solid");
+    result_free(&r);
+    char *list = part_list_json(e);
+    expect_contains(list, "\"OPEN-1\"");
+    free(list);
+}
+
 static void part_add_refuses_an_unknown_extension(void **state)
 {
     const env *e = *state;
@@ -3234,6 +3284,7 @@ int main(void)
         T(part_add_refuses_an_empty_mesh_file),
         T(part_add_refuses_a_garbage_mesh_file),
         T(part_add_refuses_a_truncated_binary_stl),
+        T(part_add_refuses_a_mesh_that_is_not_a_closed_solid),
         T(part_add_refuses_an_unknown_extension),
         T(instance_add_list_and_show),
         T(instance_add_for_an_unknown_part_fails),

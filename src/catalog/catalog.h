@@ -82,9 +82,14 @@ typedef struct sr_part_new {
     const sr_mesh *mesh;        /* optional intact model (validated before storing) */
     const char *source_file;    /* optional: where the mesh came from */
     sr_symmetry symmetry;       /* optional: kind SR_SYM_NONE = not set */
+    int allow_open;             /* non-zero: store a mesh that is not a closed solid */
 } sr_part_new;
 
-/* Adds a part (and its mesh) in one transaction. SR_E_EXISTS if the number is taken. */
+/* Adds a part (and its mesh) in one transaction. SR_E_EXISTS if the number is taken.
+ * A part's mesh is its intact model, so it must be a closed solid: every edge shared by
+ * two triangles traversed in opposite directions, enclosing a positive volume. Any
+ * other mesh is refused (SR_E_INVALID, the edge counts or the volume named) unless
+ * allow_open is set. */
 sr_status sr_catalog_part_add(sr_catalog *cat, const sr_part_new *part, int64_t *out_id,
                               sr_err *err);
 

@@ -155,6 +155,35 @@ static sr_status material_id(sr_catalog *cat, const char *name, int64_t *out_id,
     return st;
 }
 
+/* A part's intact model must enclose its volume: closed, consistently oriented, its
+ * volume positive (outward). Says what is wrong and how to store it anyway. */
+static sr_status check_closed_solid(const sr_part_new *p, sr_err *err)
+{
+    const char *what = p->source_file && *p->source_file ? p->source_file : "its mesh";
+    sr_status st = sr_mesh_validate(p->mesh, what, NULL, err);
+    if (st != SR_OK)
+        return st;
+    sr_mesh_edges e;
+    st = sr_mesh_edge_stats(p->mesh, &e);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "cannot check the mesh of part '%s'", p->number);
+    if (e.boundary_edges || e.nonmanifold_edges || e.misoriented_edges)
+        return sr_err_set(err, SR_E_INVALID,
+                          "part '%s': '%s' is not a closed solid (%zu boundary, %zu "
+                          "non-manifold, %zu misoriented edges); a part's mesh is its intact "
+                          "model (store it anyway with --allow-open)",
+                          p->number, what, e.boundary_edges, e.nonmanifold_edges,
+                          e.misoriented_edges);
+    double volume = sr_mesh_volume(p->mesh);
+    if (!(volume > 0))
+        return sr_err_set(err, SR_E_INVALID,
+                          "part '%s': '%s' encloses no volume (%.6g mm³: %s); a part's mesh is "
+                          "its intact model (store it anyway with --allow-open)",
+                          p->number, what, volume,
+                          volume < 0 ? "its triangles face inward" : "it is flat");
+    return SR_OK;
+}
+
 static sr_status check_part_new(const sr_part_new *p, sr_err *err)
 {
     if (!p->number || !*p->number)
@@ -173,9 +202,12 @@ static sr_status check_part_new(const sr_part_new *p, sr_err *err)
     if (!sr_cat_len_ok(p->notes, 0, 511))
         return sr_err_set(err, SR_E_RANGE, "bad notes of part '%s': longer than 511 bytes",
                           p->number);
-    if (p->symmetry.kind != SR_SYM_NONE)
-        return sr_symmetry_check(&p->symmetry, err);
-    return SR_OK;
+    if (p->symmetry.kind != SR_SYM_NONE) {
+        sr_status st = sr_symmetry_check(&p->symmetry, err);
+        if (st != SR_OK)
+            return st;
+    }
+    return p->mesh && !p->allow_open ? check_closed_solid(p, err) : SR_OK;
 }
 
 sr_status sr_catalog_part_add(sr_catalog *cat, const sr_part_new *part, int64_t *out_id,
