@@ -20,8 +20,9 @@
 static const char usage[] =
     "usage: symrec [--db FILE] plan RUN --out DIR [--section K] [--step-over MM]\n"
     "              [--allowance MM] [--layer-mm MM] [--pattern P] [--raster-angle DEG]\n"
-    "              [--density G_CM3] [--rate CM3_MIN] [--feed MM_MIN]\n"
-    "              [--travel-height MM] [--on-code CODE] [--off-code CODE] [--json]\n"
+    "              [--density G_CM3] [--rate CM3_MIN] [--feed MM_MIN] [--rapid MM_MIN]\n"
+    "              [--travel-height MM] [--on-code CODE] [--off-code CODE]\n"
+    "              [--ignore-advice] [--json]\n"
     "\n"
     "Plans the rebuilding of one missing section of run RUN layer by layer (directed\n"
     "energy deposition or spray forming): per layer the missing region (restored minus\n"
@@ -31,24 +32,37 @@ static const char usage[] =
     "symmetry axis). Writes DIR/plan.json, DIR/layer_NNN.svg (one per layer) and\n"
     "DIR/plan.gcode (G21 mm, G90 absolute, aligned frame). Units: mm, mm2, mm3, g, min.\n"
     "\n"
+    "The plan follows the advice the run's rules gave the section: its process, layer\n"
+    "height, step-over, machining allowance and deposition rate (the rule's\n"
+    "deposition_rate_g_min x efficiency / density), and the preheat of the process on\n"
+    "the part's material. An option given here overrides the advice. A section advised\n"
+    "a process that builds nothing up (replace, inspect, manual_review) has no plan\n"
+    "unless --ignore-advice. The build time is the time of the G-code's moves: the\n"
+    "deposition path at the feed plus the travel moves at the rapid rate.\n"
+    "\n"
     "  RUN                a run id from the catalogue\n"
     "  --out DIR          folder to write into (created if missing)\n"
     "  --section K        the section's number as 'run show' lists it (default 1)\n"
-    "  --step-over MM     bead spacing (default 1.0 mm)\n"
-    "  --allowance MM     machining allowance (default 0.5 mm)\n"
-    "  --layer-mm MM      layer thickness (default: the run's layer spacing)\n"
+    "  --step-over MM     bead spacing (default: the advice's, else 1.0 mm)\n"
+    "  --allowance MM     machining allowance (default: the advice's, else 0.5 mm)\n"
+    "  --layer-mm MM      layer thickness (default: the advice's, else the run's layer\n"
+    "                     spacing)\n"
     "  --pattern P        contour+raster (default), contour or raster\n"
     "  --raster-angle DEG raster angle of the first layer; +90 every other layer (0)\n"
     "  --density G_CM3    deposit density (default: the part's material's density from\n"
     "                     the catalogue, else 7.85 g/cm3, steel)\n"
-    "  --rate CM3_MIN     deposition rate for the build time (default 1.0 cm3/min)\n"
-    "  --feed MM_MIN      deposition feed in the G-code (default 600 mm/min)\n"
+    "  --rate CM3_MIN     deposition rate (default: the advice's, else 1.0 cm3/min)\n"
+    "  --feed MM_MIN      deposition feed in the G-code (default: the rate laid down as\n"
+    "                     beads, rate / (step-over x layer))\n"
+    "  --rapid MM_MIN     speed of the travel moves, for the build time (default 5000)\n"
     "  --travel-height MM clearance above the layer for travel moves (default 5 mm)\n"
     "  --on-code CODE     code that starts deposition (default M3)\n"
     "  --off-code CODE    code that stops it (default M5)\n"
+    "  --ignore-advice    plan with the defaults and the options given, whatever the\n"
+    "                     advice says\n"
     "  --json             print the plan's figures as one JSON object\n";
 
-static void print_human(const sr_plan *p, const char *dir)
+static void print_human(const sr_plan *p, const char *advice_note, const char *dir)
 {
     printf("build plan of run %lld section %zu (%s)\n", (long long)p->run_id,
            p->section_index + 1, sr_sym_kind_name(p->kind));
@@ -66,13 +80,30 @@ static void print_human(const sr_plan *p, const char *dir)
     printf("  missing %.1f mm3, deposit %.1f mm3 = %.2f g at %.3f g/cm3\n",
            p->missing_volume_mm3, p->deposit_volume_mm3, p->deposit_mass_g,
            p->opts.density_g_cm3);
-    printf("  estimated build time %.1f min at %.3f cm3/min, path %.1f mm\n",
-           p->build_time_min, p->opts.rate_cm3_min, p->path_length_mm);
+    if (p->process[0])
+        printf("  process %s, as advised by rule %s%s\n", p->process,
+               p->rule[0] ? p->rule : "(unknown)", advice_note);
+    if (isfinite(p->preheat_c))
+        printf("  preheat the part to %.0f C\n", p->preheat_c);
+    printf("  build time %.1f min: path %.1f mm at %.1f mm/min (%.1f min, deposition rate "
+           "%.3f cm3/min), travel %.1f mm (%.1f min)\n",
+           p->build_time_min, p->path_length_mm, p->feed_mm_min, p->deposit_time_min,
+           p->opts.rate_cm3_min, p->travel_length_mm, p->travel_time_min);
     printf("  wrote %s/plan.json, %s/layer_001.svg..layer_%03zu.svg, %s/plan.gcode\n", dir,
            dir, p->layer_count, dir);
 }
 
-static int print_json(const sr_plan *p, const sr_plan_machine *m, const char *dir)
+/* The settings an advice can give, by the names plan.json and --json use. */
+static const struct {
+    unsigned bit;
+    const char *key;
+} advice_keys[] = {{SR_PLAN_FROM_LAYER, "layer_mm"},
+                   {SR_PLAN_FROM_STEP_OVER, "step_over_mm"},
+                   {SR_PLAN_FROM_ALLOWANCE, "allowance_mm"},
+                   {SR_PLAN_FROM_RATE, "rate_cm3_min"}};
+
+static int print_json(const sr_plan *p, const sr_plan_machine *m, unsigned from_advice,
+                      const char *dir)
 {
     json_out j;
     json_init(&j, stdout);
@@ -105,10 +136,36 @@ static int print_json(const sr_plan *p, const sr_plan_machine *m, const char *di
     json_number(&j, p->deposit_mass_g);
     json_key(&j, "build_time_min");
     json_number(&j, p->build_time_min);
+    json_key(&j, "deposit_time_min");
+    json_number(&j, p->deposit_time_min);
+    json_key(&j, "travel_time_min");
+    json_number(&j, p->travel_time_min);
+    json_key(&j, "travel_length_mm");
+    json_number(&j, p->travel_length_mm);
+    json_key(&j, "rate_cm3_min");
+    json_number(&j, p->opts.rate_cm3_min);
+    json_key(&j, "process");
+    if (p->process[0])
+        json_string(&j, p->process);
+    else
+        json_null(&j);
+    json_key(&j, "advised_by_rule");
+    if (p->process[0])
+        json_string(&j, p->rule);
+    else
+        json_null(&j);
+    json_key(&j, "from_advice");
+    json_array_begin(&j);
+    for (size_t i = 0; i < sizeof advice_keys / sizeof advice_keys[0]; i++)
+        if (from_advice & advice_keys[i].bit)
+            json_string(&j, advice_keys[i].key);
+    json_array_end(&j);
     json_key(&j, "path_length_mm");
     json_number(&j, p->path_length_mm);
     json_key(&j, "feed_mm_min");
-    json_number(&j, m->feed_mm_min);
+    json_number(&j, p->feed_mm_min);
+    json_key(&j, "rapid_mm_min");
+    json_number(&j, m->rapid_mm_min);
     json_key(&j, "out");
     json_string(&j, dir);
     json_object_end(&j);
@@ -124,10 +181,10 @@ static bool number_opt(const char *opt, const char *text, double min, double max
 
 int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *out = NULL, *section = NULL, *step = NULL, *allowance = NULL,
-               *layer_mm = NULL, *pattern = NULL, *angle = NULL, *density = NULL,
-               *rate = NULL, *feed = NULL, *travel = NULL, *on_code = NULL, *off_code = NULL;
-    bool json = false;
+    const char *out = NULL, *section = NULL, *step = NULL, *allowance = NULL, *layer_mm = NULL,
+               *pattern = NULL, *angle = NULL, *density = NULL, *rate = NULL, *feed = NULL,
+               *rapid = NULL, *travel = NULL, *on_code = NULL, *off_code = NULL;
+    bool json = false, ignore_advice = false;
     const cli_opt opts[] = {{"--out", &out, NULL},
                             {"--section", &section, NULL},
                             {"--step-over", &step, NULL},
@@ -138,9 +195,11 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
                             {"--density", &density, NULL},
                             {"--rate", &rate, NULL},
                             {"--feed", &feed, NULL},
+                            {"--rapid", &rapid, NULL},
                             {"--travel-height", &travel, NULL},
                             {"--on-code", &on_code, NULL},
                             {"--off-code", &off_code, NULL},
+                            {"--ignore-advice", NULL, &ignore_advice},
                             {"--json", NULL, &json},
                             {NULL, NULL, NULL}};
     const cli_spec spec = {"plan", usage, opts, 1, 1, "RUN"};
@@ -158,26 +217,26 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
                                   &k))
         return CLI_USAGE;
 
-    sr_plan_opts po;
-    sr_plan_opts_init(&po);
+    /* the options given, checked before anything is read; applied over the advice */
+    sr_plan_opts given;
+    sr_plan_opts_init(&given);
     sr_plan_machine m;
     sr_plan_machine_init(&m);
     sr_err err;
     sr_err_clear(&err);
-    if (!number_opt("--step-over", step, 1e-3, 1e4, "a step-over > 0 mm", &po.step_over_mm) ||
+    if (!number_opt("--step-over", step, 1e-3, 1e4, "a step-over > 0 mm", &given.step_over_mm) ||
         !number_opt("--allowance", allowance, 0, 1e4, "an allowance >= 0 mm",
-                    &po.allowance_mm) ||
-        !number_opt("--layer-mm", layer_mm, 1e-3, 1e4, "a thickness > 0 mm", &po.layer_mm) ||
+                    &given.allowance_mm) ||
+        !number_opt("--layer-mm", layer_mm, 1e-3, 1e4, "a thickness > 0 mm", &given.layer_mm) ||
         !number_opt("--raster-angle", angle, -360, 360, "an angle -360..360 deg",
-                    &po.raster_angle_deg) ||
-        !number_opt("--density", density, 1e-3, 100, "a density > 0 g/cm3",
-                    &po.density_g_cm3) ||
-        !number_opt("--rate", rate, 1e-6, 1e6, "a rate > 0 cm3/min", &po.rate_cm3_min) ||
+                    &given.raster_angle_deg) ||
+        !number_opt("--density", density, 1e-3, 100, "a density > 0 g/cm3", &given.density_g_cm3) ||
+        !number_opt("--rate", rate, 1e-6, 1e6, "a rate > 0 cm3/min", &given.rate_cm3_min) ||
         !number_opt("--feed", feed, 1e-3, 1e6, "a feed > 0 mm/min", &m.feed_mm_min) ||
-        !number_opt("--travel-height", travel, 0, 1e4, "a height >= 0 mm",
-                    &m.travel_height_mm))
+        !number_opt("--rapid", rapid, 1e-3, 1e6, "a speed > 0 mm/min", &m.rapid_mm_min) ||
+        !number_opt("--travel-height", travel, 0, 1e4, "a height >= 0 mm", &m.travel_height_mm))
         return CLI_USAGE;
-    if (pattern && sr_plan_pattern_parse(pattern, "--pattern", &po.pattern, &err) != SR_OK)
+    if (pattern && sr_plan_pattern_parse(pattern, "--pattern", &given.pattern, &err) != SR_OK)
         return cli_usage_error("%s", err.msg);
     if (on_code)
         snprintf(m.on_code, sizeof m.on_code, "%s", on_code);
@@ -195,6 +254,11 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
     sr_run run;
     memset(&run, 0, sizeof run);
     sr_status st = sr_catalog_run_get(cat, run_id, SR_RUN_WITH_LAYERS, &run, &err);
+    sr_plan_opts po;
+    sr_plan_opts_init(&po);
+    po.pattern = given.pattern;
+    po.raster_angle_deg = given.raster_angle_deg;
+    po.density_g_cm3 = given.density_g_cm3;
     /* without --density, the density of the part's material when the catalogue knows it */
     if (st == SR_OK && !density) {
         sr_part_info part;
@@ -209,19 +273,57 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
+    /* the advice's settings, then the options given over them */
+    sr_plan_advice adv;
+    memset(&adv, 0, sizeof adv);
+    adv.preheat_c = NAN;
+    if (!ignore_advice) {
+        st = sr_plan_follow_advice(&run, (size_t)(k - 1), &po, &adv, &err);
+        if (st == SR_OK && adv.found && !adv.builds)
+            st = sr_err_set(&err, SR_E_INVALID,
+                            "run %lld section %d was advised '%s' (rule %s): nothing to build "
+                            "up, so no plan (plan it anyway with --ignore-advice)",
+                            (long long)run_id, k, adv.process, adv.rule[0] ? adv.rule : "?");
+        if (st != SR_OK) {
+            sr_run_release(&run);
+            return cli_fail(st, &err);
+        }
+    }
+    unsigned taken = adv.taken;
+    if (step)
+        po.step_over_mm = given.step_over_mm, taken &= ~SR_PLAN_FROM_STEP_OVER;
+    if (allowance)
+        po.allowance_mm = given.allowance_mm, taken &= ~SR_PLAN_FROM_ALLOWANCE;
+    if (layer_mm)
+        po.layer_mm = given.layer_mm, taken &= ~SR_PLAN_FROM_LAYER;
+    if (rate)
+        po.rate_cm3_min = given.rate_cm3_min, taken &= ~SR_PLAN_FROM_RATE;
     sr_plan plan;
     st = sr_plan_build(&run, (size_t)(k - 1), &po, &plan, &err);
     sr_run_release(&run);
+    if (st == SR_OK) {
+        if (adv.builds) {
+            snprintf(plan.process, sizeof plan.process, "%s", adv.process);
+            snprintf(plan.rule, sizeof plan.rule, "%s", adv.rule);
+        }
+        plan.preheat_c = adv.builds ? adv.preheat_c : NAN;
+        st = sr_plan_time(&plan, &m, &err);
+        if (st != SR_OK)
+            sr_plan_release(&plan);
+    }
     if (st != SR_OK)
         return cli_fail(st, &err);
+    char note[96] = "";
+    if (adv.builds && adv.taken != taken)
+        snprintf(note, sizeof note, " (options given override part of it)");
     st = sr_plan_export(&plan, &m, out, &err);
     rc = CLI_OK;
     if (st != SR_OK)
         rc = cli_fail(st, &err);
     else if (json)
-        rc = print_json(&plan, &m, out);
+        rc = print_json(&plan, &m, taken, out);
     else
-        print_human(&plan, out);
+        print_human(&plan, note, out);
     sr_plan_release(&plan);
     return rc;
 }

@@ -2865,11 +2865,25 @@ static void compare_refuses_missing_and_garbage_files(void **state)
 /* Stores a run of the cylinder part through the library: 10 layers of 1 mm, 72 sectors
  * (5 degrees), restored radius 10, a 2 mm deep chip over 10..50 degrees in layers 2..7
  * (section 1). Returns the run id. */
+/* add_chipped_run with one advice for its section (process, details JSON) when process
+ * is not NULL; into a new catalogue when first, else beside the runs already there. */
+static long add_chipped_run_advised(const env *e, const char *process, const char *details,
+                                    bool first);
+
 static long add_chipped_run(const env *e)
 {
-    init_catalog(e);
-    add_part(e, "SH-1", "shaft", "steel", e->cyl);
-    long inst = add_instance(e, "SH-1", e->cyl, "S-1");
+    return add_chipped_run_advised(e, NULL, NULL, true);
+}
+
+static long add_chipped_run_advised(const env *e, const char *process, const char *details,
+                                    bool first)
+{
+    static long inst;
+    if (first) {
+        init_catalog(e);
+        add_part(e, "SH-1", "shaft", "steel", e->cyl);
+        inst = add_instance(e, "SH-1", e->cyl, "S-1");
+    }
     enum { L = 10, S = 72 };
     static double z[L], dmg[L * S * 2], rst[L * S * 2];
     for (size_t l = 0; l < L; l++) {
@@ -2911,6 +2925,15 @@ static long add_chipped_run(const env *e)
     run.restored_xy = rst;
     run.sections = &sec;
     run.section_count = 1;
+    sr_run_advice adv;
+    memset(&adv, 0, sizeof adv);
+    if (process) {
+        snprintf(adv.process, sizeof adv.process, "%s", process);
+        snprintf(adv.reason, sizeof adv.reason, "test advice");
+        adv.details_json = (char *)details;
+        run.advice = &adv;
+        run.advice_count = 1;
+    }
     sr_catalog *cat = NULL;
     sr_err err;
     sr_err_clear(&err);
@@ -2973,6 +2996,73 @@ static void plan_writes_json_svg_per_layer_and_gcode(void **state)
     expect_ok(&r);
     expect_contains(r.out, "6 layers of 1.000 mm");
     expect_contains(r.out, "pattern contour,");
+    result_free(&r);
+}
+
+/* The plan takes its settings from the section's advice (the rule's layer, step-over,
+ * allowance and rate), an option given overrides one of them, a 'replace' advice has
+ * no plan unless --ignore-advice, and the build time is the path's, moves included. */
+static void plan_follows_the_advice_of_its_section(void **state)
+{
+    const env *e = *state;
+    long id = add_chipped_run_advised(
+        e, "ded",
+        "{\"parameters\":{\"layer_mm\":0.8,\"step_over_mm\":1.2,\"allowance_mm\":0.8,"
+        "\"deposition_rate_g_min\":10,\"efficiency\":0.8},\"preheat_c\":250}",
+        true);
+    char idtext[32], out[128];
+    snprintf(idtext, sizeof idtext, "%ld", id);
+    path_in(e, "plan", out, sizeof out);
+    result r;
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_true(jnum(&v, "layer_mm") == 0.8);
+    assert_int_equal((int)jnum(&v, "layer_count"), 8); /* 6 mm of section in 0.8 mm */
+    assert_true(jnum(&v, "step_over_mm") == 1.2);
+    assert_true(jnum(&v, "allowance_mm") == 0.8);
+    double rate = 10 * 0.8 / 7.85; /* 'steel' has no density here: 7.85 */
+    assert_true(fabs(jnum(&v, "rate_cm3_min") - rate) < 1e-12);
+    assert_true(fabs(jnum(&v, "feed_mm_min") - rate * 1000 / (1.2 * 0.8)) < 1e-9);
+    assert_string_equal(jstr(&v, "process"), "ded");
+    double build = jnum(&v, "build_time_min"), dep = jnum(&v, "deposit_time_min"),
+           travel = jnum(&v, "travel_time_min");
+    assert_true(travel > 0 && dep > 0);
+    assert_true(fabs(build - (dep + travel)) < 1e-12);
+    assert_true(fabs(dep - jnum(&v, "path_length_mm") / jnum(&v, "feed_mm_min")) < 1e-12);
+    jv_release(&v);
+    expect_contains(r.out, "\"from_advice\":[\"layer_mm\",\"step_over_mm\",\"allowance_mm\","
+                           "\"rate_cm3_min\"]");
+    result_free(&r);
+    char path[192];
+    snprintf(path, sizeof path, "%s/plan.gcode", out);
+    char *gcode = read_text(path);
+    assert_non_null(gcode);
+    expect_contains(gcode, "; process ded");
+    expect_contains(gcode, "; preheat the part to 250 C");
+    free(gcode);
+
+    /* an option given wins over the advice's */
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--layer-mm", "0.5");
+    expect_ok(&r);
+    expect_contains(r.out, "12 layers of 0.500 mm");
+    expect_contains(r.out, "step-over 1.200 mm, machining allowance 0.800 mm");
+    expect_contains(r.out, "process ded, as advised by rule");
+    expect_contains(r.out, "(options given override part of it)");
+    result_free(&r);
+
+    /* a section advised 'replace' */
+    long rid = add_chipped_run_advised(e, "replace", "{}", false);
+    snprintf(idtext, sizeof idtext, "%ld", rid);
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out);
+    expect_error(&r, "was advised 'replace'");
+    expect_contains(r.err, "--ignore-advice");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "plan", idtext, "--out", out, "--ignore-advice", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_true(jnum(&v, "layer_mm") == 1.0); /* the run's spacing */
+    jv_release(&v);
     result_free(&r);
 }
 
@@ -3321,6 +3411,7 @@ int main(void)
         T(report_writes_a_self_contained_page_of_the_run),
         T(report_refuses_a_wrong_run_and_bad_arguments),
         T(plan_writes_json_svg_per_layer_and_gcode),
+        T(plan_follows_the_advice_of_its_section),
         T(plan_of_an_unknown_run_or_section_fails),
         T(plan_bad_options_are_usage_errors),
     };

@@ -228,7 +228,13 @@ static void axial_chip_plan_has_section_layers_and_exact_areas(void **state)
     assert_near(plan.missing_volume_mm3, 6.0 * area, 6e-3);
     assert_near(plan.deposit_volume_mm3, deposit, 1e-9);
     assert_near(plan.deposit_mass_g, deposit / 1000.0 * 7.85, 1e-12);
-    assert_near(plan.build_time_min, deposit / 1000.0 / 1.0, 1e-12);
+    /* the default feed lays 1 cm3/min down as 1 mm x 1 mm beads: 1000 mm/min; the build
+     * time is that path's time plus the travel between paths at 5000 mm/min */
+    assert_near(plan.feed_mm_min, 1000.0, 1e-9);
+    assert_near(plan.deposit_time_min, plan.path_length_mm / 1000.0, 1e-12);
+    assert_true(plan.travel_length_mm > 6 * 2 * 5.0); /* up and down 5 mm per path at least */
+    assert_near(plan.travel_time_min, plan.travel_length_mm / 5000.0, 1e-12);
+    assert_near(plan.build_time_min, plan.deposit_time_min + plan.travel_time_min, 1e-12);
     assert_true(check_paths_inside(&run, &plan) > 100);
     sr_plan_release(&plan);
     free_run(&run);
@@ -388,6 +394,23 @@ static int gcode_word(const char *line, char letter, double *out)
     return 0;
 }
 
+/* Length of the move on a G-code line from *at (NaN where not known yet), updating *at
+ * with the words it gives; 0 while any coordinate is unknown. */
+static double move_length(const char *line, double at[3])
+{
+    double to[3] = {at[0], at[1], at[2]}, v;
+    const char axes[3] = {'X', 'Y', 'Z'};
+    for (int i = 0; i < 3; i++)
+        if (gcode_word(line, axes[i], &v))
+            to[i] = v;
+    double len = 0;
+    if (isfinite(at[0]) && isfinite(at[1]) && isfinite(at[2]))
+        len = sqrt((to[0] - at[0]) * (to[0] - at[0]) + (to[1] - at[1]) * (to[1] - at[1]) +
+                   (to[2] - at[2]) * (to[2] - at[2]));
+    memcpy(at, to, sizeof to);
+    return len;
+}
+
 static void export_writes_json_svg_per_layer_and_parsable_gcode(void **state)
 {
     sr_run run;
@@ -429,6 +452,9 @@ static void export_writes_json_svg_per_layer_and_parsable_gcode(void **state)
     size_t layer = 0, g1 = 0, g1_in_layer[7] = {0};
     int units = 0, absolute = 0, on = 0;
     double z_layer = NAN, v;
+    /* the machine's clock: each move's length at its feed (G0 at the 5000 mm/min rapid
+     * rate the plan assumes), counted once the tool's position is known */
+    double at[3] = {NAN, NAN, NAN}, minutes = 0;
     for (char *line = strtok(gcode, "\n"); line; line = strtok(NULL, "\n")) {
         if (strncmp(line, "; layer ", 8) == 0) {
             layer++;
@@ -456,10 +482,12 @@ static void export_writes_json_svg_per_layer_and_parsable_gcode(void **state)
             assert_near(v, z_layer, 1e-9);
             assert_true(gcode_word(line, 'F', &v));
             assert_near(v, 450.0, 0);
+            minutes += move_length(line, at) / v;
             g1++;
             g1_in_layer[layer]++;
         } else if (strncmp(line, "G0 ", 3) == 0) {
             assert_true(units && absolute && !on); /* travel with deposition off */
+            minutes += move_length(line, at) / 5000.0;
         } else {
             assert_string_equal(line, "M2");
         }
@@ -468,7 +496,18 @@ static void export_writes_json_svg_per_layer_and_parsable_gcode(void **state)
     for (size_t k = 1; k <= 6; k++)
         assert_true(g1_in_layer[k] > 10);
     assert_true(g1 > 60);
+    /* the build time written is the time of these moves (to the 5 decimals written) */
+    sr_plan timed = plan;
+    assert_int_equal(sr_plan_time(&timed, &m, NULL), SR_OK);
+    assert_near(timed.feed_mm_min, 450.0, 0);
+    assert_near(minutes, timed.build_time_min, 1e-6 * timed.build_time_min);
+    assert_true(timed.build_time_min > plan.path_length_mm / 450.0);
     free(gcode);
+    char *head = read_text(&d, "out/plan.gcode");
+    char want[64];
+    snprintf(want, sizeof want, "; build time %.2f min:", timed.build_time_min);
+    assert_non_null(strstr(head, want));
+    free(head);
     tmpdir_remove(&d);
     sr_plan_release(&plan);
     free_run(&run);
@@ -576,9 +615,15 @@ static void bad_machine_settings_refused_naming_field(void **state)
     sr_err err = {{0}};
     sr_plan_machine_init(&m);
     assert_int_equal(sr_plan_machine_check(&m, &err), SR_OK);
-    m.feed_mm_min = 0;
+    m.feed_mm_min = 0; /* the rate's feed */
+    assert_int_equal(sr_plan_machine_check(&m, &err), SR_OK);
+    m.feed_mm_min = -1;
     assert_int_equal(sr_plan_machine_check(&m, &err), SR_E_RANGE);
     assert_msg_has(err, "feed_mm_min");
+    sr_plan_machine_init(&m);
+    m.rapid_mm_min = 0;
+    assert_int_equal(sr_plan_machine_check(&m, &err), SR_E_RANGE);
+    assert_msg_has(err, "rapid_mm_min");
     sr_plan_machine_init(&m);
     m.travel_height_mm = -1;
     assert_int_equal(sr_plan_machine_check(&m, &err), SR_E_RANGE);
@@ -591,6 +636,91 @@ static void bad_machine_settings_refused_naming_field(void **state)
     m.on_code[0] = 0;
     assert_int_equal(sr_plan_machine_check(&m, &err), SR_E_RANGE);
     assert_msg_has(err, "on_code must be 1..31 characters");
+}
+
+/* The advice of a run's section sets the plan's settings: the rule's layer, step-over,
+ * allowance and fed rate x efficiency / density; a section without advice takes the
+ * whole part's; a process that builds nothing is reported, not followed; a parameter
+ * that is not a number is refused naming the rule. */
+static void a_plan_follows_the_advice_of_its_section(void **state)
+{
+    sr_run run;
+    make_axial_run(&run);
+    sr_run_advice adv[2];
+    memset(adv, 0, sizeof adv);
+    adv[0].section_index = -1;
+    strcpy(adv[0].process, "spray_forming");
+    strcpy(adv[0].rule_name, "spray-small-loss");
+    adv[0].details_json = (char *)"{\"parameters\":{\"layer_mm\":0.25,\"step_over_mm\":2.0,"
+                                  "\"allowance_mm\":0.5,\"deposition_rate_g_min\":30,"
+                                  "\"efficiency\":0.6},\"preheat_c\":null}";
+    adv[1].section_index = 0;
+    strcpy(adv[1].process, "ded");
+    strcpy(adv[1].rule_name, "shoulder-ded");
+    adv[1].details_json = (char *)"{\"applied\":\"shoulder-ded\",\"parameters\":{\"layer_mm\":0.8,"
+                                  "\"step_over_mm\":1.2,\"allowance_mm\":0.8,"
+                                  "\"deposition_rate_g_min\":10,\"efficiency\":0.8},"
+                                  "\"preheat_c\":250}";
+    run.advice = adv;
+    run.advice_count = 2;
+    sr_plan_opts o;
+    sr_plan_opts_init(&o);
+    o.density_g_cm3 = 8.0;
+    sr_plan_advice a;
+    sr_err err = {{0}};
+    assert_int_equal(sr_plan_follow_advice(&run, 0, &o, &a, &err), SR_OK);
+    assert_true(a.found && a.builds);
+    assert_string_equal(a.process, "ded");
+    assert_string_equal(a.rule, "shoulder-ded");
+    assert_int_equal(a.taken, SR_PLAN_FROM_LAYER | SR_PLAN_FROM_STEP_OVER | SR_PLAN_FROM_ALLOWANCE |
+                                  SR_PLAN_FROM_RATE);
+    assert_near(o.layer_mm, 0.8, 0);
+    assert_near(o.step_over_mm, 1.2, 0);
+    assert_near(o.allowance_mm, 0.8, 0);
+    assert_near(o.rate_cm3_min, 10 * 0.8 / 8.0, 1e-15);
+    assert_near(a.preheat_c, 250, 0);
+    /* the plan built with them: 0.8 mm layers over the 6 mm slab, the feed laying 1
+     * cm3/min down as 1.2 x 0.8 mm beads */
+    sr_plan plan;
+    assert_int_equal(sr_plan_build(&run, 0, &o, &plan, &err), SR_OK);
+    assert_int_equal(plan.layer_count, 8);
+    assert_near(plan.feed_mm_min, 1000.0 / (1.2 * 0.8), 1e-9);
+    sr_plan_release(&plan);
+
+    /* no advice for section 1 (0-based): the whole part's */
+    run.sections[0].index = 1;
+    sr_plan_opts_init(&o);
+    assert_int_equal(sr_plan_follow_advice(&run, 1, &o, &a, &err), SR_OK);
+    assert_string_equal(a.rule, "spray-small-loss");
+    assert_near(o.layer_mm, 0.25, 0);
+    assert_near(o.rate_cm3_min, 30 * 0.6 / 7.85, 1e-15);
+    assert_true(isnan(a.preheat_c));
+    run.sections[0].index = 0;
+
+    /* replace: found, builds nothing, settings untouched */
+    strcpy(adv[1].process, "replace");
+    sr_plan_opts_init(&o);
+    sr_plan_opts before = o;
+    assert_int_equal(sr_plan_follow_advice(&run, 0, &o, &a, &err), SR_OK);
+    assert_true(a.found && !a.builds);
+    assert_int_equal(a.taken, 0);
+    assert_memory_equal(&o, &before, sizeof o);
+
+    /* a rule edited into nonsense */
+    strcpy(adv[1].process, "ded");
+    adv[1].details_json = (char *)"{\"parameters\":{\"layer_mm\":\"thick\"}}";
+    assert_int_equal(sr_plan_follow_advice(&run, 0, &o, &a, &err), SR_E_RANGE);
+    assert_msg_has(err, "rule 'shoulder-ded' gives layer_mm that is not a number");
+    adv[1].details_json = (char *)"{\"parameters\":{\"step_over_mm\":-2}}";
+    assert_int_equal(sr_plan_follow_advice(&run, 0, &o, &a, &err), SR_E_RANGE);
+    assert_msg_has(err, "step_over_mm -2");
+    adv[1].details_json = (char *)"{\"parameters\":{\"efficiency\":1.5,"
+                                  "\"deposition_rate_g_min\":10}}";
+    assert_int_equal(sr_plan_follow_advice(&run, 0, &o, &a, &err), SR_E_RANGE);
+    assert_msg_has(err, "efficiency 1.5");
+    run.advice = NULL;
+    run.advice_count = 0;
+    free_run(&run);
 }
 
 static void unknown_section_refused(void **state)
@@ -652,6 +782,7 @@ int main(void)
         cmocka_unit_test(contour_pattern_gives_closed_rings_only),
         cmocka_unit_test(sector_without_damaged_point_is_bridged),
         cmocka_unit_test(export_writes_json_svg_per_layer_and_parsable_gcode),
+        cmocka_unit_test(a_plan_follows_the_advice_of_its_section),
         cmocka_unit_test(zeroed_opts_plan_with_the_defaults_and_no_allowance),
         cmocka_unit_test(negative_step_over_refused_naming_field),
         cmocka_unit_test(negative_allowance_refused_naming_field),

@@ -6,6 +6,7 @@
  * are Clipper's (bridge/polygon.h); this file only decides what to ask for and orders
  * the result.
  */
+#include "plan/plan_export.h"
 #include "plan/plan_int.h"
 
 #include <math.h>
@@ -401,7 +402,8 @@ sr_status sr_plan_build(const sr_run *run, size_t section_index, const sr_plan_o
     }
     if (st == SR_OK) {
         p.deposit_mass_g = p.deposit_volume_mm3 / 1000.0 * o.density_g_cm3;
-        p.build_time_min = p.deposit_volume_mm3 / 1000.0 / o.rate_cm3_min;
+        p.preheat_c = NAN;
+        st = sr_plan_time(&p, NULL, err);
     }
 
 cleanup:

@@ -45,7 +45,17 @@
  *
  * Figures: missing volume = sum of area(M) x thickness; deposit volume = sum of
  * area(G) x thickness (what is built, allowance included); deposit mass = deposit
- * volume x density; build time = deposit volume / deposition rate.
+ * volume x density. Build time = the time of the moves the G-code makes
+ * (plan_export.h's sr_plan_time): deposition length / feed plus travel length / rapid
+ * rate. The feed, unless the machine settings give one, is the one that lays the
+ * deposition rate down as beads of step-over x layer: rate / (step-over x layer), so
+ * the path deposits the volume the rate says in the time it takes.
+ *
+ * Settings from the advice (plan_advice.c): the rule that advised a section gives its
+ * process and its parameters (rule parameters_json, copied into the advice): layer_mm,
+ * step_over_mm, allowance_mm, and deposition_rate_g_min x efficiency / density as the
+ * rate. sr_plan_follow_advice puts them into the options; what the user gives on top
+ * overrides them.
  */
 #ifndef SR_PLAN_H
 #define SR_PLAN_H
@@ -124,9 +134,46 @@ typedef struct sr_plan {
     sr_plan_layer *layers;
     double missing_volume_mm3, deposit_volume_mm3; /* mm^3 */
     double deposit_mass_g;
-    double build_time_min;
+    double build_time_min;   /* deposit_time_min + travel_time_min */
+    double deposit_time_min; /* path_length_mm / feed_mm_min */
+    double travel_time_min;  /* travel_length_mm / the rapid rate */
+    double travel_length_mm; /* the G0 moves between paths */
+    double feed_mm_min;      /* deposition feed as used */
     double path_length_mm;
+    /* what the plan follows (sr_plan_follow_advice; set by the caller): "" = none */
+    char process[64], rule[64];
+    double preheat_c; /* NaN = none */
 } sr_plan;
+
+/* Where a plan's settings came from: the advice for its section (or the whole part). */
+typedef struct sr_plan_advice {
+    int found;        /* an advice for the section (or the whole part) exists */
+    int builds;       /* its process builds material up (spray_forming, ded,
+                                 weld_buildup): a plan can follow it */
+    char process[64]; /* "" when none */
+    char rule[64];    /* the rule that gave it, "" when unknown */
+    unsigned taken;   /* SR_PLAN_FROM_* bits of the settings taken from it */
+    double preheat_c; /* preheat of the process on the material; NaN = none */
+} sr_plan_advice;
+
+enum {
+    SR_PLAN_FROM_LAYER = 1u << 0,
+    SR_PLAN_FROM_STEP_OVER = 1u << 1,
+    SR_PLAN_FROM_ALLOWANCE = 1u << 2,
+    SR_PLAN_FROM_RATE = 1u << 3,
+};
+
+/* True for the processes that build material up and so have a build plan. */
+int sr_plan_process_builds(const char *process);
+
+/* Reads the advice for run section `section_index` (0-based; a whole-part advice when
+ * the section has none) into *out, and, when its process builds up, sets opts'
+ * layer_mm, step_over_mm, allowance_mm and rate_cm3_min from its parameters (the rate
+ * from deposition_rate_g_min x efficiency, default 1, / opts->density_g_cm3, so set
+ * the density first). A parameter the advice lacks is left as it is. SR_E_RANGE naming
+ * the rule and the key when a parameter is not a number in range. */
+sr_status sr_plan_follow_advice(const sr_run *run, size_t section_index, sr_plan_opts *opts,
+                                sr_plan_advice *out, sr_err *err);
 
 /* Builds the plan of the section whose sr_run_section.index is `section_index`. The
  * run must carry its layers (SR_RUN_WITH_LAYERS): SR_E_INVALID "run N has no layer

@@ -20,7 +20,8 @@
 void sr_plan_machine_init(sr_plan_machine *m)
 {
     memset(m, 0, sizeof *m);
-    m->feed_mm_min = 600;
+    m->feed_mm_min = 0;
+    m->rapid_mm_min = 5000;
     m->travel_height_mm = 5;
     strcpy(m->on_code, "M3");
     strcpy(m->off_code, "M5");
@@ -44,9 +45,13 @@ static sr_status check_code(const char *code, size_t cap, const char *field, sr_
 
 sr_status sr_plan_machine_check(const sr_plan_machine *m, sr_err *err)
 {
-    if (!(m->feed_mm_min > 0 && m->feed_mm_min <= 1e6))
-        return sr_err_set(err, SR_E_RANGE, "feed_mm_min must be > 0 and <= 1e6, got %g",
+    if (!(m->feed_mm_min >= 0 && m->feed_mm_min <= 1e6))
+        return sr_err_set(err, SR_E_RANGE,
+                          "feed_mm_min must be > 0 (or 0 for the rate's) and <= 1e6, got %g",
                           m->feed_mm_min);
+    if (!(m->rapid_mm_min > 0 && m->rapid_mm_min <= 1e6))
+        return sr_err_set(err, SR_E_RANGE, "rapid_mm_min must be > 0 and <= 1e6, got %g",
+                          m->rapid_mm_min);
     if (!(m->travel_height_mm >= 0 && m->travel_height_mm <= 1e4))
         return sr_err_set(err, SR_E_RANGE,
                           "travel_height_mm must be >= 0 and <= 10000, got %g",
@@ -212,11 +217,22 @@ sr_status sr_plan_write_json(const sr_plan *p, const sr_plan_machine *machine,
     jkey_num(f, "missing_volume_mm3", p->missing_volume_mm3, 1);
     jkey_num(f, "deposit_volume_mm3", p->deposit_volume_mm3, 1);
     jkey_num(f, "deposit_mass_g", p->deposit_mass_g, 1);
-    jkey_num(f, "build_time_min", p->build_time_min, 1);
+    sr_plan timed = *p; /* the figures only; the arrays stay p's */
+    sr_plan_time(&timed, &m, NULL);
+    jkey_num(f, "build_time_min", timed.build_time_min, 1);
+    jkey_num(f, "deposit_time_min", timed.deposit_time_min, 1);
+    jkey_num(f, "travel_time_min", timed.travel_time_min, 1);
     jkey_num(f, "path_length_mm", p->path_length_mm, 1);
-    jkey_num(f, "path_time_min", p->path_length_mm / m.feed_mm_min, 1);
+    jkey_num(f, "travel_length_mm", timed.travel_length_mm, 1);
+    if (p->process[0]) {
+        jkey_str(f, "process", p->process);
+        jkey_str(f, "advised_by_rule", p->rule);
+    }
+    if (isfinite(p->preheat_c))
+        jkey_num(f, "preheat_c", p->preheat_c, 1);
     fputs(",\"machine\":{", f);
-    jkey_num(f, "feed_mm_min", m.feed_mm_min, 0);
+    jkey_num(f, "feed_mm_min", timed.feed_mm_min, 0);
+    jkey_num(f, "rapid_mm_min", m.rapid_mm_min, 1);
     jkey_num(f, "travel_height_mm", m.travel_height_mm, 1);
     jkey_str(f, "on_code", m.on_code);
     jkey_str(f, "off_code", m.off_code);
@@ -371,7 +387,98 @@ sr_status sr_plan_write_svg(const sr_plan *p, size_t layer, const char *path, sr
     return outfile_close(&o, SR_OK, err);
 }
 
-/* ---- G-code ---- */
+/* ---- G-code and its time ---- */
+
+double sr_plan_feed(const sr_plan *p, const sr_plan_machine *m)
+{
+    if (m && m->feed_mm_min > 0)
+        return m->feed_mm_min;
+    double bead = p->opts.step_over_mm * p->opts.layer_mm; /* mm^2 */
+    return bead > 0 ? p->opts.rate_cm3_min * 1000.0 / bead : 0;
+}
+
+/* What the moves add up to. */
+typedef struct move_totals {
+    double deposit_mm, travel_mm;
+} move_totals;
+
+/* Walks the moves of plan.gcode (plan_export.h) after its header, writing them to f
+ * when f is not NULL, and sums the deposition and travel lengths: the G-code and the
+ * build time come from this one walk. The first travel starts at the first path's
+ * start, travel height up (where a set-up leaves the tool). */
+static void walk_moves(const sr_plan *p, const sr_plan_machine *m, double feed, FILE *f,
+                       move_totals *t)
+{
+    memset(t, 0, sizeof *t);
+    double at[3] = {0, 0, 0};
+    int placed = 0;
+#define TRAVEL(x, y, z)                                                                            \
+    do {                                                                                           \
+        if (placed)                                                                                \
+            t->travel_mm += sqrt(((x)-at[0]) * ((x)-at[0]) + ((y)-at[1]) * ((y)-at[1]) +           \
+                                 ((z)-at[2]) * ((z)-at[2]));                                       \
+        at[0] = (x), at[1] = (y), at[2] = (z);                                                     \
+        placed = 1;                                                                                \
+    } while (0)
+    if (f)
+        fprintf(f, "G21\nG90\n%s\n", m->off_code);
+    double top = p->z_min_mm;
+    for (size_t k = 0; k < p->layer_count; k++) {
+        const sr_plan_layer *L = &p->layers[k];
+        double z = L->z_top_mm;
+        top = z;
+        if (f)
+            fprintf(f, "; layer %zu z=%.5f\n", k + 1, z);
+        for (size_t c = 0; c < L->paths.contour_count; c++) {
+            const double *q = L->paths.xy + 2 * L->paths.start[c];
+            size_t n = L->paths.start[c + 1] - L->paths.start[c];
+            double up = z + m->travel_height_mm;
+            if (!placed)
+                TRAVEL(q[0], q[1], up);
+            TRAVEL(at[0], at[1], up);
+            TRAVEL(q[0], q[1], up);
+            TRAVEL(q[0], q[1], z);
+            if (f)
+                fprintf(f, "G0 Z%.5f\nG0 X%.5f Y%.5f\nG0 Z%.5f\n%s\n", up, q[0], q[1], z,
+                        m->on_code);
+            for (size_t i = 1; i < n; i++) {
+                double dx = q[2 * i] - at[0], dy = q[2 * i + 1] - at[1];
+                t->deposit_mm += sqrt(dx * dx + dy * dy);
+                at[0] = q[2 * i], at[1] = q[2 * i + 1];
+                if (f)
+                    fprintf(f, "G1 X%.5f Y%.5f Z%.5f F%.1f\n", q[2 * i], q[2 * i + 1], z, feed);
+            }
+            if (f)
+                fprintf(f, "%s\n", m->off_code);
+        }
+    }
+    TRAVEL(at[0], at[1], top + m->travel_height_mm);
+    if (f)
+        fprintf(f, "%s\nG0 Z%.5f\nM2\n", m->off_code, top + m->travel_height_mm);
+#undef TRAVEL
+}
+
+sr_status sr_plan_time(sr_plan *p, const sr_plan_machine *machine, sr_err *err)
+{
+    sr_plan_machine m;
+    if (machine) {
+        m = *machine;
+        sr_status st = sr_plan_machine_check(&m, err);
+        if (st != SR_OK)
+            return st;
+    } else {
+        sr_plan_machine_init(&m);
+    }
+    move_totals t;
+    double feed = sr_plan_feed(p, &m);
+    walk_moves(p, &m, feed, NULL, &t);
+    p->feed_mm_min = feed;
+    p->deposit_time_min = feed > 0 ? t.deposit_mm / feed : 0;
+    p->travel_length_mm = t.travel_mm;
+    p->travel_time_min = t.travel_mm / m.rapid_mm_min;
+    p->build_time_min = p->deposit_time_min + p->travel_time_min;
+    return SR_OK;
+}
 
 sr_status sr_plan_write_gcode(const sr_plan *p, const sr_plan_machine *machine,
                               const char *path, sr_err *err)
@@ -382,37 +489,29 @@ sr_status sr_plan_write_gcode(const sr_plan *p, const sr_plan_machine *machine,
     if (st != SR_OK)
         return st;
     FILE *f = o.f;
+    sr_plan timed = *p; /* the figures only; the arrays stay p's */
+    sr_plan_time(&timed, &m, NULL);
     fprintf(f, "; symrec %s build plan: run %lld section %zu (%s)\n", SR_VERSION,
             (long long)p->run_id, p->section_index + 1, sr_sym_kind_name(p->kind));
+    if (p->process[0])
+        fprintf(f, "; process %s, as advised by rule %s\n", p->process,
+                p->rule[0] ? p->rule : "(unknown)");
+    if (isfinite(p->preheat_c))
+        fprintf(f, "; preheat the part to %.0f C before depositing\n", p->preheat_c);
     fprintf(f, "; build direction %s\n", build_direction(p));
     fprintf(f, "; %zu layers of %.4f mm, step-over %.4f mm, allowance %.4f mm, pattern %s\n",
             p->layer_count, p->opts.layer_mm, p->opts.step_over_mm, p->opts.allowance_mm,
             sr_plan_pattern_name(p->opts.pattern));
+    fprintf(f, "; deposit %.3f mm3 = %.3f g at %.3f g/cm3\n", p->deposit_volume_mm3,
+            p->deposit_mass_g, p->opts.density_g_cm3);
     fprintf(f,
-            "; deposit %.3f mm3 = %.3f g at %.3f g/cm3, about %.1f min at %.3f cm3/min\n",
-            p->deposit_volume_mm3, p->deposit_mass_g, p->opts.density_g_cm3,
-            p->build_time_min, p->opts.rate_cm3_min);
+            "; build time %.2f min: deposition %.1f mm at F%.1f mm/min (%.2f min), travel "
+            "%.1f mm at %.0f mm/min (%.2f min)\n",
+            timed.build_time_min, timed.path_length_mm, timed.feed_mm_min, timed.deposit_time_min,
+            timed.travel_length_mm, m.rapid_mm_min, timed.travel_time_min);
     fputs("; coordinates: the run's aligned frame, z along the symmetry axis\n", f);
-    fputs("G21\nG90\n", f);
-    fprintf(f, "%s\n", m.off_code);
-    double top = p->z_min_mm;
-    for (size_t k = 0; k < p->layer_count; k++) {
-        const sr_plan_layer *L = &p->layers[k];
-        double z = L->z_top_mm;
-        top = z;
-        fprintf(f, "; layer %zu z=%.5f\n", k + 1, z);
-        for (size_t c = 0; c < L->paths.contour_count; c++) {
-            const double *q = L->paths.xy + 2 * L->paths.start[c];
-            size_t n = L->paths.start[c + 1] - L->paths.start[c];
-            fprintf(f, "G0 Z%.5f\nG0 X%.5f Y%.5f\nG0 Z%.5f\n%s\n", z + m.travel_height_mm,
-                    q[0], q[1], z, m.on_code);
-            for (size_t i = 1; i < n; i++)
-                fprintf(f, "G1 X%.5f Y%.5f Z%.5f F%.1f\n", q[2 * i], q[2 * i + 1], z,
-                        m.feed_mm_min);
-            fprintf(f, "%s\n", m.off_code);
-        }
-    }
-    fprintf(f, "%s\nG0 Z%.5f\nM2\n", m.off_code, top + m.travel_height_mm);
+    move_totals t;
+    walk_moves(p, &m, timed.feed_mm_min, f, &t);
     return outfile_close(&o, SR_OK, err);
 }
 

@@ -9,8 +9,10 @@
  * one block per layer opened by a comment "; layer N z=Z" where Z is the layer's top
  * (z_top_mm: the deposition height). Each path: G0 up to Z + travel height, G0 to its
  * first point, G0 down to Z, the "on" code, one "G1 X Y Z F" per further point (every G1
- * carries X, Y and the layer's Z), the "off" code. The program ends with the off code,
- * G0 up by the travel height and M2. Coordinates are the aligned frame of the run (the
+ * carries X, Y and the layer's Z and the feed), the "off" code. The program ends with
+ * the off code, G0 up by the travel height and M2. The header comments give the build
+ * time: exactly these moves, the G1 at their feed and the G0 at the rapid rate the
+ * settings assume (sr_plan_time; the writer and the timer walk the same moves). Coordinates are the aligned frame of the run (the
  * symmetry axis or in-plane axis is z): set the part up with that axis along the
  * machine's z and the work zero on it.
  */
@@ -22,7 +24,10 @@
 
 /* Machine settings. Start from sr_plan_machine_init (a zeroed struct is not valid). */
 typedef struct sr_plan_machine {
-    double feed_mm_min;        /* deposition feed, > 0; default 600 mm/min */
+    double feed_mm_min;        /* deposition feed, > 0; default 0 = the plan's rate laid
+                                  down as beads: rate / (step-over x layer) */
+    double rapid_mm_min;       /* speed of the G0 travel moves, for the build time, > 0;
+                                  default 5000 mm/min */
     double travel_height_mm;   /* clearance above the layer for travel, >= 0; default 5 */
     char on_code[32];          /* starts deposition (laser/spray on); default "M3" */
     char off_code[32];         /* stops it; default "M5" */
@@ -30,7 +35,17 @@ typedef struct sr_plan_machine {
 
 void sr_plan_machine_init(sr_plan_machine *m);
 
-/* Range checks naming the field: feed_mm_min in (0, 1e6], travel_height_mm in
+/* The deposition feed of plan p under machine m (NULL = defaults): m's feed when set,
+ * else p's rate over the bead cross-section (step-over x layer), in mm/min. */
+double sr_plan_feed(const sr_plan *p, const sr_plan_machine *m);
+
+/* Sets p's feed_mm_min, deposit_time_min, travel_length_mm, travel_time_min and
+ * build_time_min to those of the moves plan.gcode makes under m (NULL = defaults).
+ * SR_E_RANGE from sr_plan_machine_check. */
+sr_status sr_plan_time(sr_plan *p, const sr_plan_machine *m, sr_err *err);
+
+/* Range checks naming the field: feed_mm_min in [0, 1e6] (0 = from the rate),
+ * rapid_mm_min in (0, 1e6], travel_height_mm in
  * [0, 1e4], codes 1..31 printable characters without ';', '(' or ')'. SR_E_RANGE. */
 sr_status sr_plan_machine_check(const sr_plan_machine *m, sr_err *err);
 

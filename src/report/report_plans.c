@@ -72,7 +72,26 @@ sr_status rp_plans_build(const sr_run *r, const sr_plan_opts *opts, report_plan 
             continue;
         sr_err e;
         sr_err_clear(&e);
-        sr_status st = sr_plan_build(r, r->sections[i].index, opts, &p[i].plan, &e);
+        /* the section's advice gives the settings, as `symrec plan` takes them */
+        sr_plan_opts o;
+        if (opts)
+            o = *opts;
+        else
+            sr_plan_opts_init(&o);
+        sr_plan_advice a;
+        sr_status st = sr_plan_follow_advice(r, r->sections[i].index, &o, &a, &e);
+        if (st == SR_OK && a.found && !a.builds) {
+            snprintf(p[i].why, sizeof p[i].why, "the advice is '%s': nothing to build up",
+                     a.process);
+            continue;
+        }
+        if (st == SR_OK)
+            st = sr_plan_build(r, r->sections[i].index, &o, &p[i].plan, &e);
+        if (st == SR_OK && a.builds) {
+            snprintf(p[i].plan.process, sizeof p[i].plan.process, "%s", a.process);
+            snprintf(p[i].plan.rule, sizeof p[i].plan.rule, "%s", a.rule);
+            p[i].plan.preheat_c = a.preheat_c;
+        }
         if (st == SR_E_NOMEM) {
             rp_plans_release(p, r->section_count);
             return sr_err_set(err, SR_E_NOMEM, "out of memory building the report's plans");
@@ -106,11 +125,14 @@ void rp_plan_table(sb *b, const sr_run *r, const report_plan *p)
         if (p[i].built)
             any = &p[i].plan;
     if (any)
-        sb_printf(b, "<p class=\"note\">Per section, layer by layer along +z of the aligned "
-                     "frame, as <code>symrec plan RUN --section K</code> writes it: pattern %s, "
-                     "step-over %.3g mm, machining allowance %.3g mm, density %.3g g/cm³, "
-                     "deposition rate %.3g cm³/min. The paths of the selected layer are "
-                     "drawn in the plot above.</p>\n",
+        sb_printf(b,
+                  "<p class=\"note\">Per section, layer by layer along +z of the aligned "
+                  "frame, as <code>symrec plan RUN --section K</code> writes it, with the "
+                  "settings of the section's advice (the first plan: pattern %s, "
+                  "step-over %.3g mm, machining allowance %.3g mm, density %.3g g/cm³, "
+                  "deposition rate %.3g cm³/min). The build time is the time of the "
+                  "plan's tool path, travel moves included. The paths of the selected "
+                  "layer are drawn in the plot above.</p>\n",
                   sr_plan_pattern_name(any->opts.pattern), any->opts.step_over_mm,
                   any->opts.allowance_mm, any->opts.density_g_cm3, any->opts.rate_cm3_min);
     sb_put(b, "<table id=\"plan-table\"><thead><tr><th>section</th><th>advice</th>"
