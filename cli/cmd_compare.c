@@ -10,12 +10,13 @@
 
 #include "bridge/mesh_io.h"
 #include "catalog/catalog_runs.h"
+#include "align/register.h"
 #include "cli.h"
 #include "mesh/compare.h"
 #include "json_out.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] compare A B [--samples N] [--json]\n"
+    "usage: symrec [--db FILE] compare A B [--samples N] [--align | --no-align] [--json]\n"
     "\n"
     "Compares mesh B with mesh A (the reference): the volume of each (mm³, meaningful\n"
     "for closed meshes), the volume difference B - A (mm³ and % of A), the surface\n"
@@ -34,8 +35,16 @@ static const char usage[] =
     "                the samples, so the maxima are lower bounds; more samples tighten\n"
     "                them (up to 20000000; the distance queries run on every core:\n"
     "                about 1.2 s per million samples on 2 cores)\n"
-    "  --json        one JSON object: {\"a\", \"b\", \"volume_diff_mm3\",\n"
-    "                \"volume_diff_pct\", \"a_to_b\", \"b_to_a\", \"hausdorff_mm\"}\n";
+    "  --align       register B to A first (a rigid transform; robust, so a damaged\n"
+    "                scan or extra stock does not pull it), whatever their frames\n"
+    "  --no-align    compare B as it is placed\n"
+    "                Default: B is registered to A when they are not in the same frame\n"
+    "                (under half of B's surface within 0.5 % of A's size of A), as a run's\n"
+    "                restored mesh (the scan's pose) and its catalogue part are not.\n"
+    "                The output says which, the transform and how much of B lies on A.\n"
+    "  --json        one JSON object: {\"a\", \"b\", \"registration\",\n"
+    "                \"volume_diff_mm3\", \"volume_diff_pct\", \"a_to_b\", \"b_to_a\",\n"
+    "                \"hausdorff_mm\"}\n";
 
 /* Opens the catalogue on first use. */
 static bool need_catalog(const cli_ctx *ctx, sr_catalog **cat)
@@ -126,11 +135,107 @@ static void print_side(const char *label, const char *what, const sr_mesh *m, do
     printf("   volume %.3f mm³, area %.3f mm²\n", volume, area);
 }
 
+/* Whether and how B was registered to A. */
+typedef struct registration {
+    bool applied;
+    const char *why;             /* "asked", "not in the same frame", "same frame", "off" */
+    sr_register_result in_place; /* how B lies on A as given */
+    sr_register_result reg;      /* the registration (when applied) */
+    double bbox_overlap;
+} registration;
+
+/* Registers b to a (moving b) as asked: align 1 = always, 0 = never, -1 = when b is not
+ * in a's frame. Returns an exit code (errors printed). */
+static int register_b(sr_mesh *b, const sr_mesh *a, int align, registration *g)
+{
+    memset(g, 0, sizeof *g);
+    g->bbox_overlap = sr_bbox_overlap(a, b);
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st = SR_OK;
+    if (align != 0)
+        st = sr_register_check(b, a, NULL, &g->in_place, &err);
+    if (st == SR_OK) {
+        if (align == 0) {
+            g->why = "off";
+        } else if (align == 1) {
+            g->why = "asked";
+        } else {
+            g->why = g->in_place.coverage >= 0.5 ? "same frame" : "not in the same frame";
+        }
+        g->applied = align == 1 || (align < 0 && g->in_place.coverage < 0.5);
+    }
+    if (st == SR_OK && g->applied)
+        st = sr_register(b, a, NULL, &g->reg, &err);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    if (g->applied)
+        sr_mesh_transform(b, g->reg.mat);
+    return CLI_OK;
+}
+
+static void json_registration(json_out *j, const registration *g)
+{
+    json_object_begin(j);
+    json_key(j, "applied");
+    json_bool(j, g->applied);
+    json_key(j, "why");
+    json_string(j, g->why);
+    json_key(j, "bbox_overlap");
+    json_number(j, g->bbox_overlap);
+    if (strcmp(g->why, "off") != 0) {
+        json_key(j, "in_place_coverage");
+        json_number(j, g->in_place.coverage);
+    }
+    if (g->applied) {
+        json_key(j, "matrix");
+        json_array_begin(j);
+        for (int i = 0; i < 12; i++)
+            json_number(j, g->reg.mat[i]);
+        json_array_end(j);
+        json_key(j, "rotation_deg");
+        json_number(j, g->reg.rotation_deg);
+        json_key(j, "translation_mm");
+        json_number(j, g->reg.translation_mm);
+        json_key(j, "coverage");
+        json_number(j, g->reg.coverage);
+        json_key(j, "rms_mm");
+        json_number(j, g->reg.rms_mm);
+        json_key(j, "tol_mm");
+        json_number(j, g->reg.tol_mm);
+    }
+    json_object_end(j);
+}
+
+static void print_registration(const registration *g)
+{
+    if (g->bbox_overlap < 0.5)
+        printf("note: the bounding boxes of A and B overlap by %.0f %% (of the smaller): "
+               "not in the same frame\n",
+               100 * g->bbox_overlap);
+    if (g->applied) {
+        printf("B registered to A (%s): rotated %.2f deg, moved %.3f mm; %.1f %% of B "
+               "within %.3f mm of A (RMS %.4f mm)\n",
+               g->why, g->reg.rotation_deg, g->reg.translation_mm, 100 * g->reg.coverage,
+               g->reg.tol_mm, g->reg.rms_mm);
+        if (g->reg.coverage < 0.5)
+            printf("warning: only %.0f %% of B lies on A after registration: are they the "
+                   "same part?\n",
+                   100 * g->reg.coverage);
+    } else if (strcmp(g->why, "same frame") == 0) {
+        printf("B is in A's frame (%.1f %% of B within %.3f mm of A): not registered "
+               "(--align to register it)\n",
+               100 * g->in_place.coverage, g->in_place.tol_mm);
+    }
+}
+
 int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *samples_text = NULL;
-    bool json = false;
+    bool json = false, align = false, no_align = false;
     const cli_opt opts[] = {{"--samples", &samples_text, NULL},
+                            {"--align", NULL, &align},
+                            {"--no-align", NULL, &no_align},
                             {"--json", NULL, &json},
                             {NULL, NULL, NULL}};
     const cli_spec spec = {"compare", usage, opts, 2, 2, "mesh (file or instance:N, part:P, run:N)"};
@@ -138,6 +243,8 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
     int npos = 0, rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, pos, &npos, &rc))
         return rc;
+    if (align && no_align)
+        return cli_usage_error("'compare' takes --align or --no-align, not both");
     sr_compare_opts co = {0};
     if (samples_text) {
         int n;
@@ -158,6 +265,10 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
         goto done;
     sr_catalog_close(cat);
     cat = NULL;
+    registration g;
+    rc = register_b(&b, &a, align ? 1 : no_align ? 0 : -1, &g);
+    if (rc != CLI_OK)
+        goto done;
     sr_err err;
     sr_err_clear(&err);
     sr_compare_result r;
@@ -174,6 +285,8 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
         json_side(&j, what_a, &a, r.volume_a_mm3, r.area_a_mm2, r.closed_a);
         json_key(&j, "b");
         json_side(&j, what_b, &b, r.volume_b_mm3, r.area_b_mm2, r.closed_b);
+        json_key(&j, "registration");
+        json_registration(&j, &g);
         json_key(&j, "volume_diff_mm3");
         json_number(&j, r.volume_diff_mm3);
         json_key(&j, "volume_diff_pct");
@@ -190,6 +303,7 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
         rc = CLI_OK;
         print_side("A", what_a, &a, r.volume_a_mm3, r.area_a_mm2, r.closed_a);
         print_side("B", what_b, &b, r.volume_b_mm3, r.area_b_mm2, r.closed_b);
+        print_registration(&g);
         if (r.volume_diff_pct == r.volume_diff_pct)
             printf("volume difference B - A: %.3f mm³ (%+.4f %% of A)\n", r.volume_diff_mm3,
                    r.volume_diff_pct);

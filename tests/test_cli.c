@@ -34,6 +34,7 @@
 #include "mesh/mesh.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
+#include "support/json_query.h"
 #include "support/run_cmd.h"
 #include "support/test_select.h"
 #include "base/version.h"
@@ -2798,6 +2799,98 @@ static void compare_gives_volumes_and_deviations(void **state)
     result_free(&r);
 }
 
+/* A damaged part turned and moved away is registered to its intact mesh before the
+ * deviations (the default when the two are not in the same frame): what is left is the
+ * damage alone. --no-align compares it where it lies; a mesh in place is not moved. */
+static void compare_registers_a_moved_scan_to_its_part(void **state)
+{
+    const env *e = *state;
+    sr_mesh intact, damaged;
+    sr_err err;
+    sr_err_clear(&err);
+    assert_int_equal(sr_demo_part_build(0, &intact, &damaged, &err), SR_OK); /* the shaft */
+    double missing = sr_mesh_volume(&intact) - sr_mesh_volume(&damaged);
+    char in_place[128];
+    path_in(e, "in_place.stl", in_place, sizeof in_place);
+    write_mesh_file(in_place, &damaged);
+    const double m[12] = {0, -1, 0, 150, 0, 0, -1, -40, 1, 0, 0, 25}; /* a proper turn */
+    sr_mesh_transform(&damaged, m);
+    char a[128], b[128];
+    path_in(e, "intact.stl", a, sizeof a);
+    path_in(e, "moved.stl", b, sizeof b);
+    write_mesh_file(a, &intact);
+    write_mesh_file(b, &damaged);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&damaged);
+
+    /* the answer: the damaged mesh where it belongs, not registered */
+    result r;
+    RUN(&r, "compare", a, in_place, "--no-align", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    double want_hausdorff = jnum(&v, "hausdorff_mm");
+    double want_mean = jnum(jget(&v, "b_to_a"), "mean_mm");
+    assert_true(want_hausdorff > 2); /* the chip */
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "compare", a, b, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    const jv *g = jget(&v, "registration");
+    assert_true(jget(g, "applied")->b);
+    assert_string_equal(jstr(g, "why"), "not in the same frame");
+    assert_true(jnum(g, "in_place_coverage") < 0.2);
+    assert_true(jnum(g, "coverage") > 0.9);
+    assert_true(jnum(g, "rms_mm") < 0.05);
+    /* the shaft turns freely about its axis: what must come back is the axis, z of A.
+     * Its points (0, 0, z) went to m's (150, -40 - z, 25); the registration puts them
+     * back on A's z axis at the same z */
+    double reg[12];
+    for (int i = 0; i < 12; i++) {
+        char path[32];
+        snprintf(path, sizeof path, "$.registration.matrix[%d]", i);
+        reg[i] = jq_num(r.out, path);
+    }
+    for (double z = 0; z <= 100; z += 50) {
+        const double p[3] = {150, -40 - z, 25};
+        double q[3];
+        sr_xform_apply(reg, p, q);
+        if (!(hypot(q[0], q[1]) < 0.05 && fabs(q[2] - z) < 0.05))
+            fail_msg("the axis point z = %g came back at (%g, %g, %g)", z, q[0], q[1], q[2]);
+    }
+    /* the volumes do not move; A's samples that miss B are the chipped shoulder's */
+    assert_near(jnum(&v, "volume_diff_mm3"), -missing, 1e-3 * missing);
+    double aligned = jnum(&v, "hausdorff_mm");
+    assert_near(aligned, want_hausdorff, 0.05);
+    assert_near(jnum(jget(&v, "b_to_a"), "mean_mm"), want_mean, 0.01);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "compare", a, b, "--no-align", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_false(jget(jget(&v, "registration"), "applied")->b);
+    assert_true(jnum(&v, "hausdorff_mm") > 10 * aligned);
+    jv_release(&v);
+    result_free(&r);
+
+    RUN(&r, "compare", a, b);
+    expect_ok(&r);
+    expect_contains(r.out, "note: the bounding boxes of A and B overlap by ");
+    expect_contains(r.out, "B registered to A (not in the same frame): rotated ");
+    result_free(&r);
+
+    RUN(&r, "compare", a, a);
+    expect_ok(&r);
+    expect_contains(r.out, "B is in A's frame (100.0 % of B within ");
+    result_free(&r);
+
+    RUN(&r, "compare", a, b, "--align", "--no-align");
+    expect_usage(&r, "--align or --no-align, not both");
+    result_free(&r);
+}
+
 static void compare_takes_stored_meshes(void **state)
 {
     const env *e = *state;
@@ -3404,6 +3497,7 @@ int main(void)
         T(run_commands_refuse_wrong_ids_and_filters),
         T(run_list_filters_by_instance_and_part),
         T(compare_gives_volumes_and_deviations),
+        T(compare_registers_a_moved_scan_to_its_part),
         T(compare_takes_stored_meshes),
         T(compare_refuses_missing_and_garbage_files),
         T(history_filters_return_exactly_the_runs_made),

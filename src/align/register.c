@@ -1,0 +1,373 @@
+/*
+ * register.c: rigid registration of one mesh to another, robust to damage and extra
+ * stock (register.h says the method). Uses the alignment's surface machinery
+ * (align_surface.c: closest points on a grid, area-uniform samples, principal axes).
+ */
+#include "align/register.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "align/align_internal.h"
+
+#define TUKEY 4.685
+#define MAD_SCALE 1.4826
+
+/* A pose: x' = R x + t. */
+typedef struct pose {
+    double r[9], t[3];
+} pose;
+
+static void pose_apply(const pose *p, const double x[3], double y[3])
+{
+    for (int i = 0; i < 3; i++)
+        y[i] = p->r[3 * i] * x[0] + p->r[3 * i + 1] * x[1] + p->r[3 * i + 2] * x[2] + p->t[i];
+}
+
+static void mat3_mul(const double a[9], const double b[9], double c[9])
+{
+    double m[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            m[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+    memcpy(c, m, sizeof m);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The score of a pose: samples within tol, then their squared distances. */
+typedef struct score {
+    size_t inliers;
+    double sum2;
+    double median;
+} score;
+
+/* Distances of every sample under pose p (capped at cap: farther = cap). */
+static void distances(al_surface *fixed, const al_samples *smp, const pose *p, double cap,
+                      double *d)
+{
+    for (size_t i = 0; i < smp->count; i++) {
+        double x[3], q[3], n[3], dist;
+        pose_apply(p, smp->p + 3 * i, x);
+        d[i] = al_surface_closest(fixed, x, cap, q, n, &dist) ? dist : cap;
+    }
+}
+
+static score score_of(al_surface *fixed, const al_samples *smp, const pose *p, double tol,
+                      double *scratch)
+{
+    score s = {0, 0, 0};
+    distances(fixed, smp, p, 4 * tol + 1e-9, scratch);
+    for (size_t i = 0; i < smp->count; i++)
+        if (scratch[i] <= tol) {
+            s.inliers++;
+            s.sum2 += scratch[i] * scratch[i];
+        }
+    qsort(scratch, smp->count, sizeof *scratch, cmp_double);
+    s.median = smp->count ? scratch[smp->count / 2] : 0;
+    return s;
+}
+
+static bool score_better(const score *a, const score *b)
+{
+    if (a->inliers != b->inliers)
+        return a->inliers > b->inliers;
+    return a->sum2 < b->sum2;
+}
+
+/* Robust point-to-plane ICP from *p: iters steps, the Tukey cut-off annealed from c0
+ * towards 4.685 x the robust scale of the distances (never below floor). */
+static void icp(al_surface *fixed, const al_samples *smp, pose *p, int iters, double c0,
+                double floor, double size, double *scratch)
+{
+    double c = c0;
+    for (int it = 0; it < iters; it++) {
+        double a[36] = {0}, b[6] = {0}, cen[3] = {0, 0, 0};
+        size_t used = 0, found = 0;
+        /* the samples' centre under the pose (the rotation's pivot) */
+        for (size_t i = 0; i < smp->count; i++) {
+            double x[3];
+            pose_apply(p, smp->p + 3 * i, x);
+            for (int k = 0; k < 3; k++)
+                cen[k] += x[k];
+        }
+        for (int k = 0; k < 3 && smp->count; k++)
+            cen[k] /= (double)smp->count;
+        for (size_t i = 0; i < smp->count; i++) {
+            double x[3], q[3], n[3], dist;
+            pose_apply(p, smp->p + 3 * i, x);
+            if (!al_surface_closest(fixed, x, c, q, n, &dist)) {
+                scratch[found++] = c;
+                continue;
+            }
+            scratch[found++] = dist;
+            double u = dist / c, w = (1 - u * u) * (1 - u * u);
+            if (!(w > 0))
+                continue;
+            double r = n[0] * (x[0] - q[0]) + n[1] * (x[1] - q[1]) + n[2] * (x[2] - q[2]);
+            double y[3] = {x[0] - cen[0], x[1] - cen[1], x[2] - cen[2]}, J[6];
+            v3_cross(y, n, J);
+            J[3] = n[0], J[4] = n[1], J[5] = n[2];
+            for (int j = 0; j < 6; j++) {
+                b[j] -= w * J[j] * r;
+                for (int k = 0; k < 6; k++)
+                    a[6 * j + k] += w * J[j] * J[k];
+            }
+            used++;
+        }
+        /* the next cut-off: the robust scale of this step's distances */
+        qsort(scratch, found, sizeof *scratch, cmp_double);
+        double med = found ? scratch[found / 2] : c;
+        double next = TUKEY * MAD_SCALE * med;
+        if (next < c / 2)
+            next = c / 2;
+        if (next < floor)
+            next = floor;
+        if (used < 6) {
+            c = fmin(2 * c, c0);
+            continue;
+        }
+        /* damped: rotations about a symmetry axis are free (singular) */
+        double trace = 0;
+        for (int j = 0; j < 6; j++)
+            trace += a[7 * j];
+        for (int j = 0; j < 6; j++)
+            a[7 * j] += 1e-9 * trace + 1e-12;
+        double d[6];
+        if (!al_solve_spd(6, a, b, d))
+            break;
+        /* no sample moves by more than half the cut-off */
+        double rot = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        double move = rot * size + sqrt(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
+        if (move > c / 2) {
+            double f = c / 2 / move;
+            for (int j = 0; j < 6; j++)
+                d[j] *= f;
+            rot *= f;
+        }
+        double rr[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        if (rot > 0) {
+            double k[3] = {d[0] / rot, d[1] / rot, d[2] / rot};
+            al_rot_axis(k, rot, rr);
+        }
+        /* x' = Rr (x - cen) + cen + d[3..5], with x = R p + t */
+        double tc[3] = {p->t[0] - cen[0], p->t[1] - cen[1], p->t[2] - cen[2]}, nt[3];
+        for (int i = 0; i < 3; i++)
+            nt[i] = rr[3 * i] * tc[0] + rr[3 * i + 1] * tc[1] + rr[3 * i + 2] * tc[2] + cen[i] +
+                    d[3 + i];
+        mat3_mul(rr, p->r, p->r);
+        memcpy(p->t, nt, sizeof nt);
+        c = next;
+        if (move < 1e-7 * size && it > 2)
+            break;
+    }
+}
+
+/* The principal frame of a surface: columns = eigenvectors, ascending. */
+static void principal(const al_surface *s, double e[9], double w[3])
+{
+    al_eig_sym(3, s->cov, w, e);
+}
+
+static double det3(const double m[9])
+{
+    return m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +
+           m[2] * (m[3] * m[7] - m[4] * m[6]);
+}
+
+/* The start poses: the identity, then E_F S E_M^T for the proper sign choices S, each
+ * turned about the fixed principal axes in 30 degree steps. Returns the count. */
+static size_t starts(const al_surface *fix, const al_surface *mov, pose *out, size_t cap)
+{
+    double ef[9], em[9], wf[3], wm[3];
+    principal(fix, ef, wf);
+    principal(mov, em, wm);
+    double want = det3(ef) * det3(em) > 0 ? 1 : -1;
+    size_t n = 0;
+    pose id = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
+    out[n++] = id;
+    for (int sgn = 0; sgn < 8; sgn++) {
+        double s[3] = {sgn & 1 ? -1 : 1, sgn & 2 ? -1 : 1, sgn & 4 ? -1 : 1};
+        if (s[0] * s[1] * s[2] != want)
+            continue;
+        /* R0 = EF diag(s) EM^T */
+        double r0[9];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double v = 0;
+                for (int k = 0; k < 3; k++)
+                    v += ef[3 * i + k] * s[k] * em[3 * j + k];
+                r0[3 * i + j] = v;
+            }
+        for (int axis = 0; axis < 3; axis++)
+            for (int step = axis ? 1 : 0; step < 12 && n < cap; step++) {
+                double k[3] = {ef[axis], ef[3 + axis], ef[6 + axis]}, rr[9];
+                al_rot_axis(k, step * (M_PI / 6), rr);
+                pose p = {{0}, {0}};
+                mat3_mul(rr, r0, p.r);
+                double c[3];
+                for (int i = 0; i < 3; i++)
+                    c[i] = p.r[3 * i] * mov->centroid[0] + p.r[3 * i + 1] * mov->centroid[1] +
+                           p.r[3 * i + 2] * mov->centroid[2];
+                for (int i = 0; i < 3; i++)
+                    p.t[i] = fix->centroid[i] - c[i];
+                out[n++] = p;
+            }
+    }
+    return n;
+}
+
+typedef struct reg_ctx {
+    al_surface fix, mov;
+    al_samples coarse, medium, fine;
+    double *scratch;
+} reg_ctx;
+
+static void ctx_release(reg_ctx *c)
+{
+    al_surface_release(&c->fix);
+    al_surface_release(&c->mov);
+    al_samples_release(&c->coarse);
+    al_samples_release(&c->medium);
+    al_samples_release(&c->fine);
+    free(c->scratch);
+}
+
+static sr_status ctx_make(reg_ctx *c, const sr_mesh *moving, const sr_mesh *fixed,
+                          size_t fine_count, sr_err *err)
+{
+    memset(c, 0, sizeof *c);
+    sr_status st = sr_mesh_validate(moving, "moving mesh", NULL, err);
+    if (st == SR_OK)
+        st = sr_mesh_validate(fixed, "fixed mesh", NULL, err);
+    if (st == SR_OK)
+        st = al_surface_build(&c->fix, fixed, err);
+    if (st == SR_OK)
+        st = al_surface_build(&c->mov, moving, err);
+    if (st == SR_OK && (al_samples_make(&c->mov, 256, 11, &c->coarse) != SR_OK ||
+                        al_samples_make(&c->mov, 1024, 12, &c->medium) != SR_OK ||
+                        al_samples_make(&c->mov, fine_count, 13, &c->fine) != SR_OK ||
+                        !(c->scratch = malloc(fine_count * sizeof *c->scratch))))
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory registering meshes");
+    if (st != SR_OK)
+        ctx_release(c);
+    return st;
+}
+
+static void fill_result(reg_ctx *c, const pose *p, double tol, sr_register_result *out)
+{
+    score s = score_of(&c->fix, &c->fine, p, tol, c->scratch);
+    memset(out, 0, sizeof *out);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            out->mat[4 * i + j] = p->r[3 * i + j];
+        out->mat[4 * i + 3] = p->t[i];
+    }
+    double tr = (p->r[0] + p->r[4] + p->r[8] - 1) / 2;
+    out->rotation_deg = acos(fmax(-1.0, fmin(1.0, tr))) * 180 / M_PI;
+    out->translation_mm = sqrt(p->t[0] * p->t[0] + p->t[1] * p->t[1] + p->t[2] * p->t[2]);
+    out->tol_mm = tol;
+    out->samples = c->fine.count;
+    out->coverage = c->fine.count ? (double)s.inliers / (double)c->fine.count : 0;
+    out->rms_mm = s.inliers ? sqrt(s.sum2 / (double)s.inliers) : 0;
+    out->median_mm = s.median;
+}
+
+static double tol_of(const sr_register_opts *o, const al_surface *fix)
+{
+    return o && o->tol_mm > 0 ? o->tol_mm : 0.005 * fix->diag;
+}
+
+sr_status sr_register_check(const sr_mesh *moving, const sr_mesh *fixed,
+                            const sr_register_opts *opts, sr_register_result *out, sr_err *err)
+{
+    reg_ctx c;
+    size_t n = opts && opts->samples ? opts->samples : 4000;
+    sr_status st = ctx_make(&c, moving, fixed, n, err);
+    if (st != SR_OK)
+        return st;
+    pose id = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
+    fill_result(&c, &id, tol_of(opts, &c.fix), out);
+    ctx_release(&c);
+    return SR_OK;
+}
+
+#define MAX_STARTS 160
+#define KEEP 4
+
+sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_register_opts *opts,
+                      sr_register_result *out, sr_err *err)
+{
+    reg_ctx c;
+    size_t n = opts && opts->samples ? opts->samples : 4000;
+    sr_status st = ctx_make(&c, moving, fixed, n, err);
+    if (st != SR_OK)
+        return st;
+    double size = c.fix.diag, tol = tol_of(opts, &c.fix);
+    double floor = fmax(tol / 4, 1e-6 * size);
+    pose *cand = malloc(MAX_STARTS * sizeof *cand);
+    score *sc = malloc(MAX_STARTS * sizeof *sc);
+    if (!cand || !sc) {
+        free(cand);
+        free(sc);
+        ctx_release(&c);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory registering meshes");
+    }
+    size_t count = starts(&c.fix, &c.mov, cand, MAX_STARTS);
+    /* every start, briefly, on a few hundred samples */
+    for (size_t i = 0; i < count; i++) {
+        icp(&c.fix, &c.coarse, &cand[i], 12, 0.25 * size, floor, size, c.scratch);
+        sc[i] = score_of(&c.fix, &c.coarse, &cand[i], 4 * tol, c.scratch);
+    }
+    /* the best few again on a thousand */
+    size_t keep = count < KEEP ? count : KEEP;
+    for (size_t k = 0; k < keep; k++) {
+        size_t best = k;
+        for (size_t i = k + 1; i < count; i++)
+            if (score_better(&sc[i], &sc[best]))
+                best = i;
+        pose tp = cand[k];
+        cand[k] = cand[best];
+        cand[best] = tp;
+        score ts = sc[k];
+        sc[k] = sc[best];
+        sc[best] = ts;
+    }
+    size_t winner = 0;
+    for (size_t k = 0; k < keep; k++) {
+        icp(&c.fix, &c.medium, &cand[k], 20, 0.05 * size, floor, size, c.scratch);
+        sc[k] = score_of(&c.fix, &c.medium, &cand[k], tol, c.scratch);
+        if (k && score_better(&sc[k], &sc[winner]))
+            winner = k;
+    }
+    pose p = cand[winner];
+    icp(&c.fix, &c.fine, &p, 40, 0.02 * size, floor, size, c.scratch);
+    fill_result(&c, &p, tol, out);
+    free(cand);
+    free(sc);
+    ctx_release(&c);
+    return SR_OK;
+}
+
+double sr_bbox_overlap(const sr_mesh *a, const sr_mesh *b)
+{
+    double amin[3], amax[3], bmin[3], bmax[3];
+    sr_mesh_bbox(a, amin, amax);
+    sr_mesh_bbox(b, bmin, bmax);
+    double inter = 1, va = 1, vb = 1;
+    for (int k = 0; k < 3; k++) {
+        /* a flat box still has a size: 1e-6 of the largest side */
+        double pad = 1e-6 * fmax(amax[k] - amin[k], bmax[k] - bmin[k]) + 1e-12;
+        double lo = fmax(amin[k], bmin[k]), hi = fmin(amax[k], bmax[k]);
+        inter *= hi > lo ? hi - lo + pad : 0;
+        va *= amax[k] - amin[k] + pad;
+        vb *= bmax[k] - bmin[k] + pad;
+    }
+    double small = fmin(va, vb);
+    return small > 0 ? fmin(1.0, inter / small) : 0;
+}
