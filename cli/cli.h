@@ -30,6 +30,7 @@ enum {
 /* Global options, parsed by main.c before the command. */
 typedef struct cli_ctx {
     const char *db_path;        /* --db, else $SYMREC_DB, else CLI_DEFAULT_DB */
+    bool read_only;             /* --read-only: open the catalogue read-only, refuse writes */
 } cli_ctx;
 
 #define CLI_DEFAULT_DB "./symrec.db"
@@ -135,9 +136,19 @@ int cli_run_subcommand(const cli_ctx *ctx, const char *cmd, const char *usage,
 
 /* ---- catalogue (cli/open.c) ---- */
 
-/* Opens ctx's catalogue. Without `create`, a missing file is an error that says how
- * to create one. Prints the error and returns false on failure. */
-bool cli_open(const cli_ctx *ctx, bool create, sr_catalog **out);
+/* What a command does with the catalogue. */
+typedef enum cli_access {
+    CLI_READ,   /* only reads: opened read-only (an older schema is migrated first) */
+    CLI_WRITE,  /* writes: refused in one line when the catalogue is read-only */
+    CLI_CREATE, /* writes, and creates the file when missing */
+} cli_access;
+
+/* Opens ctx's catalogue for `access`. Except with CLI_CREATE a missing file is an
+ * error that says how to create one. For CLI_WRITE/CLI_CREATE, `why` says what the
+ * command would write ("record the run"): a catalogue that cannot be written (file,
+ * folder or --read-only) is refused as "catalogue 'X' is read-only: cannot <why>"
+ * before anything else is done. Prints the error and returns false on failure. */
+bool cli_open(const cli_ctx *ctx, cli_access access, const char *why, sr_catalog **out);
 
 /* ---- records gathered in memory (cli/collect.c) ----
  * The catalogue hands records to a callback; commands that print tables or look other

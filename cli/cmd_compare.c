@@ -39,7 +39,7 @@ static const char usage[] =
 /* Opens the catalogue on first use. */
 static bool need_catalog(const cli_ctx *ctx, sr_catalog **cat)
 {
-    return *cat || cli_open(ctx, false, cat);
+    return *cat || cli_open(ctx, CLI_READ, NULL, cat);
 }
 
 /* Loads `ref` into *out and describes it in `what`. Returns an exit code; on failure

@@ -46,7 +46,7 @@ int cmd_export(const cli_ctx *ctx, int argc, char **argv)
                                ".off, .gltf or .glb", out);
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

@@ -331,7 +331,7 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("bad dates: --since %s is after --until %s", since, until);
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

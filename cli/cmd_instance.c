@@ -146,7 +146,7 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "add the instance", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -198,7 +198,7 @@ static int instance_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -266,7 +266,7 @@ static int instance_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse_id("ID", key, &id))
         return CLI_USAGE;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

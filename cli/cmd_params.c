@@ -97,7 +97,7 @@ static int params_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     params_vec pv = {NULL, 0, 0, false};
     sr_err err;
@@ -155,7 +155,7 @@ static int params_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, &name, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -219,7 +219,7 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "set the parameter set", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

@@ -82,7 +82,7 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "add the part", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -250,7 +250,7 @@ static int part_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     rc = cli_part_list_print(cat, &filter, json);
     sr_catalog_close(cat);
@@ -267,7 +267,7 @@ static int part_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     rc = cli_part_show_print(cat, key, json);
     sr_catalog_close(cat);

@@ -190,7 +190,7 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
                                err.msg[0] ? err.msg : "at most 31 characters");
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_run run;
     memset(&run, 0, sizeof run);

@@ -556,7 +556,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_instance_info inst;
     memset(&inst, 0, sizeof inst);
     if (!mesh_file || params_name) {
-        if (!cli_open(ctx, false, &cat))
+        /* a run to record checks now, before the time is spent, that it can be */
+        bool record = !mesh_file && !no_record;
+        if (!cli_open(ctx, record ? CLI_WRITE : CLI_READ, "record the run", &cat))
             return CLI_FAIL;
         st = sr_catalog_params_get(cat, params_name ? params_name : "default", &params, &err);
     }

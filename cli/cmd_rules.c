@@ -165,7 +165,7 @@ static int rules_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -229,7 +229,7 @@ static int rules_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -255,7 +255,7 @@ static int rules_set(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("unknown rule field '%s' (see 'symrec rules set --help')",
                                pos[1]);
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "change the rule", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -305,7 +305,7 @@ static int rules_add(const cli_ctx *ctx, int argc, char **argv)
     if (st != SR_OK)
         return cli_fail(st, &err);
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "add the rule", &cat))
         return CLI_FAIL;
     int64_t id;
     st = sr_catalog_rule_add(cat, &r, &id, &err);
@@ -328,7 +328,7 @@ static int rules_enable(const cli_ctx *ctx, int argc, char **argv, int on)
     if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "change the rule", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

@@ -201,7 +201,7 @@ static int run_list(const cli_ctx *ctx, int argc, char **argv)
     if (part && !*part)
         return cli_usage_error("bad --part '': expected a part number or id");
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -630,7 +630,7 @@ static int run_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse_id("N", key, &id))
         return CLI_USAGE;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
