@@ -14,6 +14,7 @@
 #include "catalog/catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
+#include "outset.h"
 #include "plan/plan.h"
 #include "plan/plan_export.h"
 
@@ -32,7 +33,10 @@ static const char usage[] =
     "DIR/plan.gcode (G21 mm, G90 absolute, aligned frame). Units: mm, mm2, mm3, g, min.\n"
     "\n"
     "  RUN                a run id from the catalogue\n"
-    "  --out DIR          folder to write into (created if missing)\n"
+    "  --out DIR          the folder of the plan's files, written as a set: a new\n"
+    "                     folder, an empty one, or one symrec wrote (its files are\n"
+    "                     all replaced at once; a folder holding other files is\n"
+    "                     refused)\n"
     "  --section K        the section's number as 'run show' lists it (default 1)\n"
     "  --step-over MM     bead spacing (default 1.0 mm)\n"
     "  --allowance MM     machining allowance (default 0.5 mm)\n"
@@ -47,6 +51,10 @@ static const char usage[] =
     "  --on-code CODE     code that starts deposition (default M3)\n"
     "  --off-code CODE    code that stops it (default M5)\n"
     "  --json             print the plan's figures as one JSON object\n";
+
+/* The files a plan writes (outset.h: what may be replaced in an existing DIR). */
+static const char *const plan_names[] = {"plan.json", "plan.gcode", "layer_[0-9][0-9][0-9]*.svg",
+                                         NULL};
 
 static void print_human(const sr_plan *p, const char *dir)
 {
@@ -214,11 +222,19 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
     sr_run_release(&run);
     if (st != SR_OK)
         return cli_fail(st, &err);
-    st = sr_plan_export(&plan, &m, out, &err);
+    cli_outset set;
+    if (!cli_outset_begin(&set, out, "plan", plan_names)) {
+        sr_plan_release(&plan);
+        return CLI_FAIL;
+    }
+    st = sr_plan_export(&plan, &m, set.stage, &err);
     rc = CLI_OK;
-    if (st != SR_OK)
+    if (st != SR_OK) {
+        cli_outset_abort(&set);
         rc = cli_fail(st, &err);
-    else if (json)
+    } else if (!cli_outset_commit(&set)) {
+        rc = CLI_FAIL;
+    } else if (json)
         rc = print_json(&plan, &m, out);
     else
         print_human(&plan, out);
