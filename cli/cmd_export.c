@@ -87,7 +87,7 @@ int cmd_export(const cli_ctx *ctx, int argc, char **argv)
         json_object_end(&j);
         rc = json_finish(&j);
     } else {
-        printf("wrote %s to '%s' (%s, %zu vertices, %zu triangles)\n", what, out,
+        printf("wrote %s to '%s' (%s, %zu vertices, %zu triangles)\n", cli_tx(what), out,
                sr_format_name(fmt), mesh.vertex_count, mesh.tri_count);
         rc = CLI_OK;
     }

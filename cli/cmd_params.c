@@ -55,7 +55,7 @@ static const char usage_set[] =
 
 static void print_params_text(const sr_params *p)
 {
-    printf("parameter set %s\n", p->name);
+    printf("parameter set %s\n", cli_tx(p->name));
     printf("  layers:        %d\n", p->layers);
     printf("  sectors:       %d\n", p->sectors);
     printf("  gamma_axis:    %g\n", p->gamma_axis);
@@ -258,7 +258,7 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
-    cli_note("%s parameter set '%s'", existed ? "updated" : "created", p.name);
+    cli_note("%s parameter set '%s'", existed ? "updated" : "created", cli_tx(p.name));
     if (json) {
         json_out j;
         json_init(&j, stdout);

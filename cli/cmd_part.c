@@ -105,7 +105,7 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         return cli_fail(st, &err);
     }
-    cli_note("added part '%s' (id %lld): %zu triangles, %.1f mm³", info.number,
+    cli_note("added part '%s' (id %lld): %zu triangles, %.1f mm³", cli_tx(info.number),
              (long long)id, info.tri_count, info.volume_mm3);
     if (json) {
         json_out j;
@@ -174,7 +174,7 @@ int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json
 static void print_part_text(const sr_part_info *p)
 {
     char sym[64];
-    printf("part %s (id %lld)\n", p->number, (long long)p->id);
+    printf("part %s (id %lld)\n", cli_tx(p->number), (long long)p->id);
     cli_print_field(stdout, "  name:       ", p->name);
     cli_print_field(stdout, "  material:   ", p->material[0] ? p->material : "-");
     if (p->notes[0])

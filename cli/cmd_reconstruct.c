@@ -105,7 +105,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                         const sr_params *p, int64_t run_id)
 {
     const sr_alignment *a = &r->alignment;
-    printf("reconstruction of %s\n", source);
+    printf("reconstruction of %s\n", cli_tx(source));
     printf("  method:     %s", sr_recon_method_name(r->method));
     if (r->method == SR_METHOD_ROBUST)
         printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
@@ -613,7 +613,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         return CLI_FAIL;
     }
-    cli_note("reconstructing %s (%zu triangles)...", source, scan.tri_count);
+    cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
     char started[32];
     sr_run_utc_time(0, started);
     sr_recon_result r;

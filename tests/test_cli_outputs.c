@@ -2,8 +2,8 @@
  * test_cli_outputs.c: output folders are written as a set (issue 17, item 3; rules in
  * cli/outset.h), and every output file has one mode (0666 & ~umask).
  *
- * A synthetic run (tests/support/synth_run.h) with two dug sections, 10 and 3 layers
- * deep, is stored through the library, so `plan --section 1` writes a long set and
+ * A synthetic run with two dug sections, 10 and 3 layers deep, is stored through the
+ * library (cli_case_synth_catalogue), so `plan --section 1` writes a long set and
  * `--section 2` a short one into the same folder. A failing write is simulated with
  * the SYMREC_TEST_OUTSET_FAIL hook (a full disk just before the set is put in place).
  */
@@ -22,12 +22,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "bridge/mesh_io.h"
-#include "catalog/catalog.h"
-#include "catalog/catalog_runs.h"
-#include "mesh/shapes.h"
 #include "support/cli_case.h"
-#include "support/synth_run.h"
 #include "support/test_select.h"
 #include "support/tmpdir.h"
 
@@ -47,40 +42,7 @@ static int setup(void **state)
     tmpdir_join(&f->dir, "cat.db", f->db);
     tmpdir_join(&f->dir, "cyl.stl", f->cyl);
     tmpdir_join(&f->dir, "out", f->out);
-    sr_mesh m;
-    sr_mesh_init(&m);
-    assert_int_equal(sr_shape_cylinder(10.0, 0.0, 12.0, 32, &m, NULL), SR_OK);
-    assert_int_equal(sr_mesh_write(f->cyl, &m, NULL, NULL), SR_OK);
-
-    sr_catalog *cat = NULL;
-    sr_err err;
-    sr_err_clear(&err);
-    int64_t id;
-    assert_int_equal(sr_catalog_open(f->db, SR_CATALOG_CREATE, &cat, &err), SR_OK);
-    sr_part_new part = {.number = "P1",
-                        .name = "shaft",
-                        .material = "steel",
-                        .mesh = &m,
-                        .symmetry = {SR_SYM_AXIAL, 0, 0}};
-    assert_int_equal(sr_catalog_part_add(cat, &part, &id, &err), SR_OK);
-    sr_instance_new inst = {.part = "P1", .mesh = &m, .serial = "S1"};
-    assert_int_equal(sr_catalog_instance_add(cat, &inst, &id, &err), SR_OK);
-    sr_run run;
-    synth_run_make(&run, 12, 72, 10.0, 10.0, 0.0);
-    run.instance_id = id;
-    run.has_alignment = 1;
-    run.alignment[0] = run.alignment[5] = run.alignment[10] = run.alignment[15] = 1;
-    run.fit_quality = 0.9;
-    synth_run_dig(&run, 1, 10, 2, 8, 2.0, 0); /* section 1: 10 layers */
-    synth_run_dig(&run, 4, 6, 30, 8, 2.0, 0); /* section 2: 3 layers */
-    assert_int_equal(sr_catalog_params_get(cat, "default", &run.params, &err), SR_OK);
-    run.params.layers = 12;
-    run.params.sectors = 72;
-    if (sr_catalog_run_add(cat, &run, &id, &err) != SR_OK)
-        fail_msg("cannot add the run: %s", err.msg);
-    synth_run_free(&run);
-    sr_catalog_close(cat);
-    sr_mesh_release(&m);
+    cli_case_synth_catalogue(f->db, "S1", "steel", f->cyl);
     *state = f;
     return 0;
 }

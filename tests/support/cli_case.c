@@ -15,7 +15,12 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bridge/mesh_io.h"
+#include "catalog/catalog.h"
+#include "catalog/catalog_runs.h"
+#include "mesh/shapes.h"
 #include "support/run_cmd.h"
+#include "support/synth_run.h"
 
 void cli_case_run_under(cli_result *r, const char *const *prefix, const char *const *words)
 {
@@ -86,4 +91,45 @@ int cli_path_mode(const char *path)
 {
     struct stat st;
     return lstat(path, &st) == 0 ? (int)(st.st_mode & 07777) : -1;
+}
+
+void cli_case_synth_catalogue(const char *db, const char *serial, const char *material,
+                              const char *mesh_path)
+{
+    sr_mesh m;
+    sr_mesh_init(&m);
+    assert_int_equal(sr_shape_cylinder(10.0, 0.0, 12.0, 32, &m, NULL), SR_OK);
+    if (mesh_path)
+        assert_int_equal(sr_mesh_write(mesh_path, &m, NULL, NULL), SR_OK);
+    sr_catalog *cat = NULL;
+    sr_err err;
+    sr_err_clear(&err);
+    int64_t id;
+    assert_int_equal(sr_catalog_open(db, SR_CATALOG_CREATE, &cat, &err), SR_OK);
+    sr_part_new part = {.number = "P1",
+                        .name = "shaft",
+                        .material = material,
+                        .mesh = &m,
+                        .symmetry = {SR_SYM_AXIAL, 0, 0}};
+    if (sr_catalog_part_add(cat, &part, &id, &err) != SR_OK)
+        fail_msg("cannot add the part: %s", err.msg);
+    sr_instance_new inst = {.part = "P1", .mesh = &m, .serial = serial};
+    if (sr_catalog_instance_add(cat, &inst, &id, &err) != SR_OK)
+        fail_msg("cannot add the instance: %s", err.msg);
+    sr_run run;
+    synth_run_make(&run, 12, 72, 10.0, 10.0, 0.0);
+    run.instance_id = id;
+    run.has_alignment = 1;
+    run.alignment[0] = run.alignment[5] = run.alignment[10] = run.alignment[15] = 1;
+    run.fit_quality = 0.9;
+    synth_run_dig(&run, 1, 10, 2, 8, 2.0, 0);
+    synth_run_dig(&run, 4, 6, 30, 8, 2.0, 0);
+    assert_int_equal(sr_catalog_params_get(cat, "default", &run.params, &err), SR_OK);
+    run.params.layers = 12;
+    run.params.sectors = 72;
+    if (sr_catalog_run_add(cat, &run, &id, &err) != SR_OK)
+        fail_msg("cannot add the run: %s", err.msg);
+    synth_run_free(&run);
+    sr_catalog_close(cat);
+    sr_mesh_release(&m);
 }
