@@ -120,7 +120,7 @@ void cli_case_synth_catalogue(const char *db, const char *serial, const char *ma
     synth_run_make(&run, 12, 72, 10.0, 10.0, 0.0);
     run.instance_id = id;
     run.has_alignment = 1;
-    run.alignment[0] = run.alignment[5] = run.alignment[10] = run.alignment[15] = 1;
+    run.alignment[0] = run.alignment[5] = run.alignment[10] = 1; /* 3x4, identity */
     run.fit_quality = 0.9;
     synth_run_dig(&run, 1, 10, 2, 8, 2.0, 0);
     synth_run_dig(&run, 4, 6, 30, 8, 2.0, 0);
