@@ -30,6 +30,7 @@ enum {
 /* Global options, parsed by main.c before the command. */
 typedef struct cli_ctx {
     const char *db_path;        /* --db, else $SYMREC_DB, else CLI_DEFAULT_DB */
+    bool read_only;             /* --read-only: open the catalogue read-only, refuse writes */
 } cli_ctx;
 
 #define CLI_DEFAULT_DB "./symrec.db"
@@ -135,9 +136,19 @@ int cli_run_subcommand(const cli_ctx *ctx, const char *cmd, const char *usage,
 
 /* ---- catalogue (cli/open.c) ---- */
 
-/* Opens ctx's catalogue. Without `create`, a missing file is an error that says how
- * to create one. Prints the error and returns false on failure. */
-bool cli_open(const cli_ctx *ctx, bool create, sr_catalog **out);
+/* What a command does with the catalogue. */
+typedef enum cli_access {
+    CLI_READ,   /* only reads: opened read-only (an older schema is migrated first) */
+    CLI_WRITE,  /* writes: refused in one line when the catalogue is read-only */
+    CLI_CREATE, /* writes, and creates the file when missing */
+} cli_access;
+
+/* Opens ctx's catalogue for `access`. Except with CLI_CREATE a missing file is an
+ * error that says how to create one. For CLI_WRITE/CLI_CREATE, `why` says what the
+ * command would write ("record the run"): a catalogue that cannot be written (file,
+ * folder or --read-only) is refused as "catalogue 'X' is read-only: cannot <why>"
+ * before anything else is done. Prints the error and returns false on failure. */
+bool cli_open(const cli_ctx *ctx, cli_access access, const char *why, sr_catalog **out);
 
 /* ---- records gathered in memory (cli/collect.c) ----
  * The catalogue hands records to a callback; commands that print tables or look other
@@ -174,6 +185,24 @@ int cli_part_show_print(sr_catalog *cat, const char *key, bool json);
  * (after an error line) on failure. */
 bool cli_instance_table(sr_catalog *cat, const cli_instances *list, bool with_part, int indent);
 
+/* ---- text of the user's in output (cli/escape.c) ---- */
+
+/* s as it may reach a terminal: control characters (C0, DEL, C1) written as escapes
+ * ("\x1b", "\n", "\u009b"), bytes that are not UTF-8 as "\xHH", printable UTF-8 as it
+ * is. Returns s itself when nothing changes, else one of 8 rotating static buffers
+ * (so up to 8 may appear in one printf; texts over 1100 bytes may be cut). NULL gives
+ * NULL. For every plain-text print of catalogue text; JSON escapes on its own. */
+const char *cli_tx(const char *s);
+
+/* cli_tx into a new malloc'd string of any length (NULL when out of memory). */
+char *cli_tx_dup(const char *s);
+
+/* One CSV cell and its separator (',' or, when last, CRLF), quoted as RFC 4180 wants.
+ * A text cell starting with '=', '+', '-', '@', TAB or CR is written with a leading
+ * "'" so a spreadsheet does not run it as a formula; a number cell never is. */
+void cli_csv_text(FILE *f, const char *s, bool last);
+void cli_csv_number(FILE *f, const char *s, bool last);
+
 /* ---- human output (cli/format.c) ---- */
 
 /* "axial, continuous", "axial, 6-fold", "mirror", "glide, shift 10 mm",
@@ -209,7 +238,7 @@ void cli_print_bbox(FILE *f, const char *label, const double min[3], const doubl
  * line per advice ("  advice:      none" without). */
 void cli_run_advice_print(const sr_run *r);
 
-/* "label value" where a multi-line value keeps its later lines under the first. */
+/* "label value" on one line, the value written with cli_tx (user text). */
 void cli_print_field(FILE *f, const char *label, const char *value);
 
 #endif

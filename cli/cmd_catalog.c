@@ -25,8 +25,8 @@ static const char usage_init[] =
     "usage: symrec [--db FILE] catalog init\n"
     "\n"
     "Creates the catalogue FILE (default $SYMREC_DB, else " CLI_DEFAULT_DB ") if it does\n"
-    "not exist, or migrates an existing one to the current schema. Prints the schema\n"
-    "version. Running it again changes nothing.\n";
+    "not exist (or is an empty file), or migrates an existing one to the current schema.\n"
+    "Prints what it did and the schema version. Running it again changes nothing.\n";
 
 static const char usage_info[] =
     "usage: symrec [--db FILE] catalog info [--json]\n"
@@ -45,12 +45,18 @@ static int catalog_init(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
 
+    /* what was there before decides the message: nothing, an empty file (SQLite takes
+     * a 0-byte file as an empty database, which init fills), or a catalogue */
     struct stat st;
     bool existed = stat(ctx->db_path, &st) == 0;
+    bool was_empty = existed && S_ISREG(st.st_mode) && st.st_size == 0;
     sr_catalog *cat;
-    if (!cli_open(ctx, true, &cat))
+    if (!cli_open(ctx, CLI_CREATE, "create the catalogue", &cat))
         return CLI_FAIL;
-    if (existed)
+    if (was_empty)
+        printf("initialised empty file '%s' as a catalogue (schema version %d)\n",
+               sr_catalog_path(cat), sr_catalog_schema_version(cat));
+    else if (existed)
         printf("catalogue '%s' already exists (schema version %d)\n", sr_catalog_path(cat),
                sr_catalog_schema_version(cat));
     else
@@ -82,7 +88,7 @@ static int catalog_info(const cli_ctx *ctx, int argc, char **argv)
         return rc;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     int64_t parts = 0, instances = 0, runs = 0;
     sr_err err;

@@ -49,7 +49,7 @@ static const char usage[] =
 /* Opens the catalogue on first use. */
 static bool need_catalog(const cli_ctx *ctx, sr_catalog **cat)
 {
-    return *cat || cli_open(ctx, false, cat);
+    return *cat || cli_open(ctx, CLI_READ, NULL, cat);
 }
 
 /* Loads `ref` into *out and describes it in `what`. Returns an exit code; on failure
@@ -130,7 +130,7 @@ static void json_dev(json_out *j, const sr_deviation *d)
 static void print_side(const char *label, const char *what, const sr_mesh *m, double volume,
                        double area, int closed)
 {
-    printf("%s %s: %zu vertices, %zu triangles, %s\n", label, what, m->vertex_count,
+    printf("%s %s: %zu vertices, %zu triangles, %s\n", label, cli_tx(what), m->vertex_count,
            m->tri_count, closed ? "closed" : "not closed (volume not meaningful)");
     printf("   volume %.3f mm³, area %.3f mm²\n", volume, area);
 }

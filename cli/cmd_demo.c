@@ -189,7 +189,7 @@ int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
                                sr_demo_part_get(0)->number);
 
     sr_catalog *cat;
-    if (!cli_open(ctx, true, &cat))
+    if (!cli_open(ctx, CLI_CREATE, "add the demo parts", &cat))
         return CLI_FAIL;
     cli_note("demo: catalogue '%s' (schema version %d)", sr_catalog_path(cat),
              sr_catalog_schema_version(cat));

@@ -46,7 +46,7 @@ int cmd_export(const cli_ctx *ctx, int argc, char **argv)
                                ".off, .gltf or .glb", out);
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -87,7 +87,7 @@ int cmd_export(const cli_ctx *ctx, int argc, char **argv)
         json_object_end(&j);
         rc = json_finish(&j);
     } else {
-        printf("wrote %s to '%s' (%s, %zu vertices, %zu triangles)\n", what, out,
+        printf("wrote %s to '%s' (%s, %zu vertices, %zu triangles)\n", cli_tx(what), out,
                sr_format_name(fmt), mesh.vertex_count, mesh.tri_count);
         rc = CLI_OK;
     }

@@ -37,24 +37,16 @@ static const char usage_history[] =
     "                  class and average missing volume; runs per month (with --csv:\n"
     "                  one CSV row per part)\n"
     "  --json          one JSON object: \"runs\" (array) and \"summary\" (object)\n"
-    "  --csv           CSV with a header row (RFC 4180)\n";
+    "  --csv           CSV with a header row (RFC 4180); a text cell starting with\n"
+    "                  =, +, -, @, TAB or CR gets a leading ' so a spreadsheet shows it\n"
+    "                  as text (numbers are written as they are)\n";
 
 /* ---- CSV ---- */
 
+/* A text cell (formula-leading text neutralised, escape.c). */
 static void csv_field(FILE *f, const char *s, bool last)
 {
-    if (strpbrk(s, ",\"\r\n")) {
-        fputc('"', f);
-        for (const char *p = s; *p; p++) {
-            if (*p == '"')
-                fputc('"', f);
-            fputc(*p, f);
-        }
-        fputc('"', f);
-    } else {
-        fputs(s, f);
-    }
-    fputs(last ? "\r\n" : ",", f);
+    cli_csv_text(f, s, last);
 }
 
 static void csv_fieldf(FILE *f, bool last, const char *fmt, ...)
@@ -66,7 +58,7 @@ static void csv_fieldf(FILE *f, bool last, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
-    csv_field(f, buf, last);
+    cli_csv_number(f, buf, last); /* a number cell: "-1.5" stays a number */
 }
 
 /* ---- rows ---- */
@@ -331,7 +323,7 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("bad dates: --since %s is after --until %s", since, until);
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

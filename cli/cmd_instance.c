@@ -146,7 +146,7 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "add the instance", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -174,7 +174,7 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
         return cli_fail(st, &err);
     }
     cli_note("added instance %lld of part '%s': %zu triangles, %.1f mm³", (long long)id,
-             info.part_number, info.tri_count, info.volume_mm3);
+             cli_tx(info.part_number), info.tri_count, info.volume_mm3);
     if (json) {
         json_out j;
         json_init(&j, stdout);
@@ -198,7 +198,7 @@ static int instance_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -234,9 +234,10 @@ static int instance_list(const cli_ctx *ctx, int argc, char **argv)
 static void print_instance_text(const sr_instance_info *in, const sr_part_info *p)
 {
     char sym[64];
-    printf("instance %lld of part %s (%s)\n", (long long)in->id, p->number, p->name);
-    printf("  serial:     %s\n", in->serial[0] ? in->serial : "-");
-    printf("  received:   %s\n", in->received[0] ? in->received : "-");
+    printf("instance %lld of part %s (%s)\n", (long long)in->id, cli_tx(p->number),
+           cli_tx(p->name));
+    printf("  serial:     %s\n", in->serial[0] ? cli_tx(in->serial) : "-");
+    printf("  received:   %s\n", in->received[0] ? cli_tx(in->received) : "-");
     if (in->notes[0])
         cli_print_field(stdout, "  notes:      ", in->notes);
     printf("  symmetry:   %s\n", cli_sym_str(&in->symmetry, sym, sizeof sym));
@@ -246,7 +247,7 @@ static void print_instance_text(const sr_instance_info *in, const sr_part_info *
     printf("  volume:     %.1f mm³\n", in->volume_mm3);
     if (p->mesh_id && p->volume_mm3 > 0) {
         double missing = p->volume_mm3 - in->volume_mm3;
-        printf("  intact:     %.1f mm³ (part %s)\n", p->volume_mm3, p->number);
+        printf("  intact:     %.1f mm³ (part %s)\n", p->volume_mm3, cli_tx(p->number));
         printf("  missing:    %.1f mm³ (%.2f %% of intact)\n", missing,
                100.0 * missing / p->volume_mm3);
     }
@@ -266,7 +267,7 @@ static int instance_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse_id("ID", key, &id))
         return CLI_USAGE;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

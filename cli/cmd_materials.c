@@ -103,7 +103,7 @@ static int materials_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     material_vec mv = {NULL, 0, 0, false};
     sr_err err;

@@ -55,7 +55,7 @@ static const char usage_set[] =
 
 static void print_params_text(const sr_params *p)
 {
-    printf("parameter set %s\n", p->name);
+    printf("parameter set %s\n", cli_tx(p->name));
     printf("  layers:        %d\n", p->layers);
     printf("  sectors:       %d\n", p->sectors);
     printf("  gamma_axis:    %g\n", p->gamma_axis);
@@ -97,7 +97,7 @@ static int params_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     params_vec pv = {NULL, 0, 0, false};
     sr_err err;
@@ -155,7 +155,7 @@ static int params_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, &name, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -219,7 +219,7 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "set the parameter set", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -258,7 +258,7 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
-    cli_note("%s parameter set '%s'", existed ? "updated" : "created", p.name);
+    cli_note("%s parameter set '%s'", existed ? "updated" : "created", cli_tx(p.name));
     if (json) {
         json_out j;
         json_init(&j, stdout);

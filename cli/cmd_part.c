@@ -92,7 +92,7 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "add the part", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -126,7 +126,7 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         return cli_fail(st, &err);
     }
-    cli_note("added part '%s' (id %lld): %zu triangles, %.1f mm³", info.number,
+    cli_note("added part '%s' (id %lld): %zu triangles, %.1f mm³", cli_tx(info.number),
              (long long)id, info.tri_count, info.volume_mm3);
     if (json) {
         json_out j;
@@ -195,7 +195,7 @@ int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json
 static void print_part_text(const sr_part_info *p)
 {
     char sym[64];
-    printf("part %s (id %lld)\n", p->number, (long long)p->id);
+    printf("part %s (id %lld)\n", cli_tx(p->number), (long long)p->id);
     cli_print_field(stdout, "  name:       ", p->name);
     cli_print_field(stdout, "  material:   ", p->material[0] ? p->material : "-");
     if (p->notes[0])
@@ -271,7 +271,7 @@ static int part_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     rc = cli_part_list_print(cat, &filter, json);
     sr_catalog_close(cat);
@@ -288,7 +288,7 @@ static int part_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     rc = cli_part_show_print(cat, key, json);
     sr_catalog_close(cat);

@@ -14,6 +14,7 @@
 #include "catalog/catalog_rules.h"
 #include "cli.h"
 #include "json_out.h"
+#include "outset.h"
 #include "plan/plan.h"
 #include "plan/plan_export.h"
 
@@ -41,7 +42,10 @@ static const char usage[] =
     "deposition path at the feed plus the travel moves at the rapid rate.\n"
     "\n"
     "  RUN                a run id from the catalogue\n"
-    "  --out DIR          folder to write into (created if missing)\n"
+    "  --out DIR          the folder of the plan's files, written as a set: a new\n"
+    "                     folder, an empty one, or one symrec wrote (its files are\n"
+    "                     all replaced at once; a folder holding other files is\n"
+    "                     refused)\n"
     "  --section K        the section's number as 'run show' lists it (default 1)\n"
     "  --step-over MM     bead spacing (default: the advice's, else 1.0 mm)\n"
     "  --allowance MM     machining allowance (default: the advice's, else 0.5 mm)\n"
@@ -61,6 +65,10 @@ static const char usage[] =
     "  --ignore-advice    plan with the defaults and the options given, whatever the\n"
     "                     advice says\n"
     "  --json             print the plan's figures as one JSON object\n";
+
+/* The files a plan writes (outset.h: what may be replaced in an existing DIR). */
+static const char *const plan_names[] = {"plan.json", "plan.gcode", "layer_[0-9][0-9][0-9]*.svg",
+                                         NULL};
 
 static void print_human(const sr_plan *p, const char *advice_note, const char *dir)
 {
@@ -249,7 +257,7 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
                                err.msg[0] ? err.msg : "at most 31 characters");
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_run run;
     memset(&run, 0, sizeof run);
@@ -316,11 +324,19 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv)
     char note[96] = "";
     if (adv.builds && adv.taken != taken)
         snprintf(note, sizeof note, " (options given override part of it)");
-    st = sr_plan_export(&plan, &m, out, &err);
+    cli_outset set;
+    if (!cli_outset_begin(&set, out, "plan", plan_names)) {
+        sr_plan_release(&plan);
+        return CLI_FAIL;
+    }
+    st = sr_plan_export(&plan, &m, set.stage, &err);
     rc = CLI_OK;
-    if (st != SR_OK)
+    if (st != SR_OK) {
+        cli_outset_abort(&set);
         rc = cli_fail(st, &err);
-    else if (json)
+    } else if (!cli_outset_commit(&set)) {
+        rc = CLI_FAIL;
+    } else if (json)
         rc = print_json(&plan, &m, taken, out);
     else
         print_human(&plan, note, out);

@@ -14,7 +14,6 @@
  * failed reconstruction is not recorded either: the catalogue only holds runs that
  * finished, each complete).
  */
-#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -22,6 +21,7 @@
 #include "bridge/mesh_io.h"
 #include "cli.h"
 #include "json_out.h"
+#include "outset.h"
 #include "reconstruct.h"
 #include "catalog/catalog_record.h"
 #include "run/params_default.h"
@@ -65,7 +65,9 @@ static const char usage[] =
     "                  (overrides the set's)\n"
     "  --min-depth MM  smallest depth counted as damage, mm (overrides the set's)\n"
     "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
-    "                  all in the frame of the input scan\n"
+    "                  all in the frame of the input scan, as a set: DIR is a new\n"
+    "                  folder, an empty one or one symrec wrote, replaced at once\n"
+    "                  (a folder holding other files is refused before the run)\n"
     "  --format F      format of restored/patches (default stl)\n"
     "  --method M      image (default), robust or paper\n"
     "  --no-union      restored = scan + patches as separate shells (no boolean)\n"
@@ -103,7 +105,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                         const sr_params *p, int64_t run_id)
 {
     const sr_alignment *a = &r->alignment;
-    printf("reconstruction of %s\n", source);
+    printf("reconstruction of %s\n", cli_tx(source));
     printf("  method:     %s", sr_recon_method_name(r->method));
     if (r->method == SR_METHOD_ROBUST)
         printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
@@ -394,11 +396,14 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *s
     return json_finish(&j);
 }
 
+/* The files reconstruct writes (outset.h: what may be replaced in an existing DIR). */
+static const char *const out_names[] = {"restored.*", "patches.*", "result.glb", NULL};
+
+/* Writes restored, patches (when there are sections) and result.glb into dir (the
+ * staging folder of the --out set). */
 static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
                          const sr_recon_result *r)
 {
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return cli_error("cannot create '%s': %s", dir, strerror(errno));
     char path[4096];
     sr_err err;
     sr_err_clear(&err);
@@ -416,8 +421,6 @@ static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
     sr_mesh_release(&all);
     if (st != SR_OK)
         return cli_fail(st, &err);
-    if (r->section_count == 0)
-        remove(path); /* nothing to patch: no stale patches file */
 
     size_t n = r->section_count + 1;
     sr_scene_mesh items[256];
@@ -556,7 +559,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_instance_info inst;
     memset(&inst, 0, sizeof inst);
     if (!mesh_file || params_name) {
-        if (!cli_open(ctx, false, &cat))
+        /* a run to record checks now, before the time is spent, that it can be */
+        bool record = !mesh_file && !no_record;
+        if (!cli_open(ctx, record ? CLI_WRITE : CLI_READ, "record the run", &cat))
             return CLI_FAIL;
         st = sr_catalog_params_get(cat, params_name ? params_name : "default", &params, &err);
     }
@@ -601,19 +606,32 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     ro.min_depth_mm = params.min_depth_mm;
     ro.min_volume_mm3 = params.min_volume_mm3;
 
-    cli_note("reconstructing %s (%zu triangles)...", source, scan.tri_count);
+    /* --out is checked (and its staging folder made) before the time is spent */
+    cli_outset set = {0};
+    if (out && !cli_outset_begin(&set, out, "reconstruct", out_names)) {
+        sr_catalog_close(cat);
+        sr_mesh_release(&scan);
+        return CLI_FAIL;
+    }
+    cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
     char started[32];
     sr_run_utc_time(0, started);
     sr_recon_result r;
     st = sr_reconstruct(&scan, &ro, &r, &err);
     if (st != SR_OK) {
+        cli_outset_abort(&set);
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
         return cli_fail(st, &err);
     }
     rc = CLI_OK;
-    if (out)
-        rc = write_outputs(out, fmt, &scan, &r);
+    if (out) {
+        rc = write_outputs(set.stage, fmt, &scan, &r);
+        if (rc != CLI_OK)
+            cli_outset_abort(&set);
+        else if (!cli_outset_commit(&set))
+            rc = CLI_FAIL;
+    }
     int64_t run_id = 0;
     sr_run run;
     memset(&run, 0, sizeof run);

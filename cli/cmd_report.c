@@ -112,7 +112,7 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
 
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

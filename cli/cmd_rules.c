@@ -138,13 +138,13 @@ static void conditions_str(const sr_rule *r, char *out, size_t size)
 
 static void print_rule_text(const sr_rule *r)
 {
-    printf("rule %s (id %lld)\n", r->name, (long long)r->id);
+    printf("rule %s (id %lld)\n", cli_tx(r->name), (long long)r->id);
     for (size_t i = 1; sr_rule_field_name(i); i++) {
         const char *name = sr_rule_field_name(i);
         char buf[1100], label[32];
         sr_rule_get_field(r, name, buf, sizeof buf, NULL);
         snprintf(label, sizeof label, "  %s:", name);
-        printf("%-24s%s\n", label, strcmp(buf, "null") == 0 ? "-" : buf);
+        printf("%-24s%s\n", label, strcmp(buf, "null") == 0 ? "-" : cli_tx(buf));
     }
     printf("%-24s%s\n", "  created:", r->created_at);
     printf("%-24s%s\n", "  updated:", r->updated_at[0] ? r->updated_at : "-");
@@ -165,7 +165,7 @@ static int rules_list(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -229,7 +229,7 @@ static int rules_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -255,7 +255,7 @@ static int rules_set(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("unknown rule field '%s' (see 'symrec rules set --help')",
                                pos[1]);
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "change the rule", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -266,7 +266,7 @@ static int rules_set(const cli_ctx *ctx, int argc, char **argv)
         return cli_fail(st, &err);
     char buf[1100];
     sr_rule_get_field(&r, pos[1], buf, sizeof buf, NULL);
-    cli_note("updated rule '%s': %s = %s", r.name, pos[1], buf);
+    cli_note("updated rule '%s': %s = %s", cli_tx(r.name), pos[1], cli_tx(buf));
     return print_rule(&r, json);
 }
 
@@ -305,7 +305,7 @@ static int rules_add(const cli_ctx *ctx, int argc, char **argv)
     if (st != SR_OK)
         return cli_fail(st, &err);
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "add the rule", &cat))
         return CLI_FAIL;
     int64_t id;
     st = sr_catalog_rule_add(cat, &r, &id, &err);
@@ -314,7 +314,7 @@ static int rules_add(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
-    cli_note("added rule '%s' (id %lld)", r.name, (long long)id);
+    cli_note("added rule '%s' (id %lld)", cli_tx(r.name), (long long)id);
     return print_rule(&r, json);
 }
 
@@ -328,7 +328,7 @@ static int rules_enable(const cli_ctx *ctx, int argc, char **argv, int on)
     if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
         return rc;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_WRITE, "change the rule", &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -336,7 +336,7 @@ static int rules_enable(const cli_ctx *ctx, int argc, char **argv, int on)
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
-    cli_note("%s rule '%s'", on ? "enabled" : "disabled", key);
+    cli_note("%s rule '%s'", on ? "enabled" : "disabled", cli_tx(key));
     return CLI_OK;
 }
 

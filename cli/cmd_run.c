@@ -201,7 +201,7 @@ static int run_list(const cli_ctx *ctx, int argc, char **argv)
     if (part && !*part)
         return cli_usage_error("bad --part '': expected a part number or id");
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);
@@ -517,8 +517,8 @@ void cli_run_advice_print(const sr_run *r)
                 snprintf(where, sizeof where, "section %ld", a->section_index + 1);
             else
                 snprintf(where, sizeof where, "whole part");
-            printf("    %s: %s (rule %s): %s\n", where, a->process,
-                   a->rule_name[0] ? a->rule_name : "-", a->reason);
+            printf("    %s: %s (rule %s): %s\n", where, cli_tx(a->process),
+                   a->rule_name[0] ? cli_tx(a->rule_name) : "-", cli_tx(a->reason));
         }
     }
 }
@@ -527,17 +527,17 @@ static bool print_text(const sr_run *r, bool layers)
 {
     char sym[64];
     const sr_params *p = &r->params;
-    printf("run %lld: instance %lld of part %s, %s\n", (long long)r->id,
-           (long long)r->instance_id, r->part_number, r->ok ? "ok" : "failed");
+    printf("run %lld: instance %lld of part %s, %s\n", (long long)r->id, (long long)r->instance_id,
+           cli_tx(r->part_number), r->ok ? "ok" : "failed");
     if (!r->ok)
         cli_print_field(stdout, "  error:       ", r->error);
     printf("  started:     %s, finished %s\n", r->started_at,
            r->finished_at[0] ? r->finished_at : "-");
-    printf("  software:    symrec %s, method %s\n", r->software_version, r->method);
+    printf("  software:    symrec %s, method %s\n", cli_tx(r->software_version), cli_tx(r->method));
     printf("  symmetry:    %s\n", cli_sym_str(&r->symmetry, sym, sizeof sym));
     printf("  parameters:  set '%s': %d layers, %d sectors, gamma_axis %g, gamma_plane %g,\n"
            "               delta_d %g, min depth %g mm, min volume %g mm³\n",
-           p->name, p->layers, p->sectors, p->gamma_axis, p->gamma_plane, p->delta_d,
+           cli_tx(p->name), p->layers, p->sectors, p->gamma_axis, p->gamma_plane, p->delta_d,
            p->min_depth_mm, p->min_volume_mm3);
     if (r->has_alignment) {
         printf("  alignment:   scan -> aligned frame (%s), 3x4:\n",
@@ -630,7 +630,7 @@ static int run_show(const cli_ctx *ctx, int argc, char **argv)
     if (!cli_parse_id("N", key, &id))
         return CLI_USAGE;
     sr_catalog *cat;
-    if (!cli_open(ctx, false, &cat))
+    if (!cli_open(ctx, CLI_READ, NULL, &cat))
         return CLI_FAIL;
     sr_err err;
     sr_err_clear(&err);

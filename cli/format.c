@@ -1,6 +1,6 @@
 /*
- * format.c: the CLI's human output: aligned text tables, the one way a symmetry is
- * written, and bounding boxes with their unit. Widths count UTF-8 characters, not
+ * format.c: the CLI's human output: aligned text tables (cells escaped as escape.c
+ * says), the one way a symmetry is written, and bounding boxes with their unit. Widths count UTF-8 characters, not
  * bytes, so a header like "volume mm³" lines up.
  */
 #include <assert.h>
@@ -77,11 +77,16 @@ void cli_table_cell(cli_table *t, const char *fmt, ...)
         t->failed = true;
         return;
     }
-    /* A cell is one line of the table: a newline or tab in user text would break it. */
-    for (char *p = s; *p; p++)
-        if (*p == '\n' || *p == '\r' || *p == '\t')
-            *p = ' ';
-    t->cells[t->cell_count++] = s;
+    /* A cell is one line of the table, and user text must not act on the terminal:
+     * control characters become escapes (escape.c). */
+    char *safe = cli_tx(s) == s ? s : cli_tx_dup(s);
+    if (safe != s)
+        free(s);
+    if (!safe) {
+        t->failed = true;
+        return;
+    }
+    t->cells[t->cell_count++] = safe;
 }
 
 static void put_cell(FILE *f, const char *s, size_t width, bool right, bool last)
@@ -143,12 +148,9 @@ void cli_print_bbox(FILE *f, const char *label, const double min[3], const doubl
 
 void cli_print_field(FILE *f, const char *label, const char *value)
 {
-    size_t indent = text_width(label);
+    char *safe = cli_tx_dup(value);
     fputs(label, f);
-    for (const char *p = value; *p; p++) {
-        fputc(*p, f);
-        if (*p == '\n' && p[1] != '\0')
-            fprintf(f, "%*s", (int)indent, "");
-    }
+    fputs(safe ? safe : "(out of memory)", f);
     fputc('\n', f);
+    free(safe);
 }

@@ -14,7 +14,7 @@
 #include "base/version.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] COMMAND [ARGS...]\n"
+    "usage: symrec [--db FILE] [--read-only] COMMAND [ARGS...]\n"
     "       symrec --help | --version | help COMMAND [SUBCOMMAND]\n"
     "\n"
     "Restores damaged mechanical parts by their symmetry, keeping parts, damaged\n"
@@ -22,6 +22,8 @@ static const char usage[] =
     "\n"
     "Global options (before the command):\n"
     "  --db FILE    the catalogue; default: $SYMREC_DB if set, else " CLI_DEFAULT_DB "\n"
+    "  --read-only  open the catalogue read-only: commands that only read work (as they\n"
+    "               do on a catalogue this user cannot write), the others refuse\n"
     "  --help       this text\n"
     "  --version    print the version\n"
     "\n"
@@ -105,6 +107,10 @@ int main(int argc, char **argv)
         if (strcmp(arg, "--version") == 0) {
             printf("symrec %s\n", SR_VERSION);
             return CLI_OK;
+        }
+        if (strcmp(arg, "--read-only") == 0) {
+            ctx.read_only = true;
+            continue;
         }
         if (strcmp(arg, "--db") == 0) {
             if (i + 1 >= argc || argv[i + 1][0] == '\0' || strncmp(argv[i + 1], "--", 2) == 0)

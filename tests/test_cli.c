@@ -2547,16 +2547,27 @@ static void a_failed_reconstruct_records_nothing(void **state)
     make_demo(e);
     char before[256], after[256];
     run_rows(e, before, sizeof before);
-    /* the output folder cannot be made (a file is in the way): fails after the
-     * reconstruction, before anything is recorded */
+    /* the output folder cannot be made (a file is in the way): refused before the
+     * reconstruction */
     char blocker[160], out[200];
     path_in(e, "blocker", blocker, sizeof blocker);
     write_bytes(blocker, "x", 1);
     snprintf(out, sizeof out, "%s/sub", blocker);
     result r;
     RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--out", out);
-    expect_failure_after_progress(&r, "cannot create '");
+    expect_error(&r, "cannot write the output folder '");
     result_free(&r);
+    run_rows(e, after, sizeof after);
+    assert_string_equal(after, before);
+    /* writing the output set fails after the reconstruction (the test hook of
+     * cli/outset.h, as a full disk would): nothing is recorded */
+    path_in(e, "out", out, sizeof out);
+    setenv("SYMREC_TEST_OUTSET_FAIL", "1", 1);
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--out", out);
+    unsetenv("SYMREC_TEST_OUTSET_FAIL");
+    expect_failure_after_progress(&r, "cannot write the output folder '");
+    result_free(&r);
+    assert_false(file_exists(out));
     run_rows(e, after, sizeof after);
     assert_string_equal(after, before);
 

@@ -139,6 +139,11 @@ static void append_quoted(sr_jsonbuf *jb, const char *s)
             if (n == 0) {
                 append_str(jb, "\\ufffd");
                 p++;
+            } else if (n == 2 && p[0] == 0xc2 && p[1] <= 0x9f) {
+                /* a C1 control (U+0080-U+009F, e.g. CSI) acts on some terminals */
+                snprintf(esc, sizeof esc, "\\u%04x", p[1]);
+                append_str(jb, esc);
+                p += 2;
             } else {
                 append(jb, (const char *)p, n);
                 p += n;

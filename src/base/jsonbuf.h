@@ -3,8 +3,9 @@
  * columns (sections.features_json, advice.details_json) and, through the thin layer
  * cli/json_out.h, for the CLI's --json output. It appends to a growable heap string
  * (the library may not print). Commas are placed by the writer; strings are escaped
- * (quotes, backslashes, control characters and DEL: \b \f \n \r \t by name, the rest
- * as \u00XX; invalid UTF-8 bytes become U+FFFD) so the result
+ * (quotes, backslashes, control characters, DEL and the C1 controls U+0080-U+009F:
+ * \b \f \n \r \t by name, the rest as \u00XX; invalid UTF-8 bytes become U+FFFD) so
+ * the result
  * always passes SQLite's json_valid; numbers are written in the shortest form that
  * reads back to the same double, and NaN or infinities as null.
  *

@@ -415,11 +415,6 @@ static sr_status check_identity(sr_catalog *cat, int latest, bool create, int64_
                           "'%s' has schema version %lld, this symrec knows up to %d: upgrade "
                           "symrec",
                           cat->path, (long long)version, latest);
-    if (cat->readonly && version < latest)
-        return sr_err_set(err, SR_E_VERSION,
-                          "'%s' has schema version %lld, this symrec needs %d: open it once "
-                          "read-write to upgrade it",
-                          cat->path, (long long)version, latest);
     *out_version = version;
     return SR_OK;
 }
@@ -460,6 +455,68 @@ static sr_status set_foreign_keys(sr_catalog *cat, sr_err *err)
     return st;
 }
 
+/* Opens cat->db on filename (a path, or a URI with SQLITE_OPEN_URI) with the
+ * sqlite3_open_v2 flags given; messages name cat->path. */
+static sr_status connect(sr_catalog *cat, const char *filename, int oflags, sr_err *err)
+{
+    int rc = sqlite3_open_v2(filename, &cat->db, oflags, NULL);
+    if (rc != SQLITE_OK)
+        return sr_err_set(err, status_of(rc) == SR_E_NOMEM ? SR_E_NOMEM : SR_E_IO,
+                          "cannot open catalogue '%s': %s", cat->path,
+                          cat->db ? sqlite3_errmsg(cat->db) : sqlite3_errstr(rc));
+    sqlite3_extended_result_codes(cat->db, 1);
+    sqlite3_busy_timeout(cat->db, BUSY_TIMEOUT_MS);
+    return SR_OK;
+}
+
+/* Whether a read-only open that failed may be retried as immutable: SQLite said it
+ * could not open or write a side file (the -shm of a WAL catalogue in a read-only
+ * folder), and there is no -wal file (or an empty one) whose committed pages the file
+ * alone would lack. */
+static bool immutable_fits(sr_catalog *cat)
+{
+    int rc = sqlite3_extended_errcode(cat->db) & 0xff;
+    if (rc != SQLITE_CANTOPEN && rc != SQLITE_READONLY)
+        return false;
+    size_t n = strlen(cat->path);
+    char *wal = malloc(n + 5);
+    if (!wal)
+        return false;
+    memcpy(wal, cat->path, n);
+    memcpy(wal + n, "-wal", 5);
+    struct stat sb;
+    bool none = stat(wal, &sb) != 0 ? errno == ENOENT : sb.st_size == 0;
+    free(wal);
+    return none;
+}
+
+/* Opens path read-only through a "file:...?immutable=1" URI (the path
+ * percent-encoded, so '?', '#' and '%' in a name stay part of it). */
+static sr_status connect_immutable(sr_catalog *cat, const char *path, sr_err *err)
+{
+    static const char hex[] = "0123456789ABCDEF";
+    size_t n = strlen(path);
+    char *uri = malloc(3 * n + 32);
+    if (!uri)
+        return sr_err_set(err, SR_E_NOMEM, "cannot open catalogue '%s': out of memory", path);
+    char *u = uri + sprintf(uri, "file:");
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)path[i];
+        if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+            strchr("/-._~", c)) {
+            *u++ = (char)c;
+        } else {
+            *u++ = '%';
+            *u++ = hex[c >> 4];
+            *u++ = hex[c & 15];
+        }
+    }
+    strcpy(u, "?immutable=1");
+    sr_status st = connect(cat, uri, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, err);
+    free(uri);
+    return st;
+}
+
 sr_status sr_cat_open_with(const char *path, unsigned flags, const sr_sql_file *files,
                            sr_catalog **out, sr_err *err)
 {
@@ -495,19 +552,36 @@ sr_status sr_cat_open_with(const char *path, unsigned flags, const sr_sql_file *
 
     int oflags = readonly ? SQLITE_OPEN_READONLY
                           : SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0);
-    int rc = sqlite3_open_v2(path, &cat->db, oflags, NULL);
-    sr_status st;
-    if (rc != SQLITE_OK) {
-        st = sr_err_set(err, status_of(rc) == SR_E_NOMEM ? SR_E_NOMEM : SR_E_IO,
-                        "cannot open catalogue '%s': %s", path,
-                        cat->db ? sqlite3_errmsg(cat->db) : sqlite3_errstr(rc));
+    sr_status st = connect(cat, path, oflags, err);
+    if (st != SR_OK)
         goto fail;
-    }
-    sqlite3_extended_result_codes(cat->db, 1);
-    sqlite3_busy_timeout(cat->db, BUSY_TIMEOUT_MS);
 
     int64_t version;
     st = check_identity(cat, latest, create, &version, err);
+    if (st != SR_OK && readonly && immutable_fits(cat)) {
+        /* A WAL catalogue in a folder this process cannot write, with no -wal file:
+         * SQLite cannot make the -shm file a reader needs, but nothing can be half
+         * written either (a writer needs the -wal file, and there is none or an empty
+         * one), so the file alone is the whole catalogue: read it as immutable. */
+        sqlite3_close_v2(cat->db);
+        cat->db = NULL;
+        sr_err_clear(err);
+        st = connect_immutable(cat, path, err);
+        if (st == SR_OK)
+            st = check_identity(cat, latest, create, &version, err);
+    }
+    if (st == SR_OK && readonly && version < latest) {
+        if (flags & SR_CATALOG_UPGRADE) { /* migrate it once, through a writable handle */
+            sr_catalog_close(cat);
+            return sr_cat_open_with(path,
+                                    flags & ~(unsigned)(SR_CATALOG_READONLY | SR_CATALOG_UPGRADE),
+                                    files, out, err);
+        }
+        st = sr_err_set(err, SR_E_VERSION,
+                        "'%s' has schema version %lld, this symrec needs %d: open it once "
+                        "read-write to upgrade it",
+                        path, (long long)version, latest);
+    }
     if (st != SR_OK)
         goto fail;
     st = set_wal(cat, err);
@@ -541,6 +615,25 @@ fail:
 sr_status sr_catalog_open(const char *path, unsigned flags, sr_catalog **out, sr_err *err)
 {
     return sr_cat_open_with(path, flags, sr_sql_files, out, err);
+}
+
+sr_status sr_catalog_check_writable(sr_catalog *cat, bool *readonly, sr_err *err)
+{
+    *readonly = true;
+    if (cat->readonly || sqlite3_db_readonly(cat->db, "main") == 1)
+        return SR_OK;
+    sr_status st = exec_sql(cat, "BEGIN IMMEDIATE", err, "start a write transaction");
+    if (st != SR_OK) {
+        int rc = sqlite3_extended_errcode(cat->db) & 0xff;
+        if (rc == SQLITE_READONLY || rc == SQLITE_CANTOPEN || rc == SQLITE_PERM) {
+            sr_err_clear(err);
+            return SR_OK;
+        }
+        return st;
+    }
+    sr_cat_rollback(cat);
+    *readonly = false;
+    return SR_OK;
 }
 
 sr_status sr_catalog_open_memory(sr_catalog **out, sr_err *err)

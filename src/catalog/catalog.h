@@ -17,6 +17,7 @@
 #ifndef SR_CATALOG_H
 #define SR_CATALOG_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "mesh/mesh.h"
@@ -33,14 +34,32 @@ int sr_catalog_schema_latest(void);
 #define SR_CATALOG_APP_ID 0x53594d52
 
 enum {
-    SR_CATALOG_CREATE = 1,    /* create the file (and apply all migrations) if missing */
-    SR_CATALOG_READONLY = 2,  /* open read-only; never migrates */
+    SR_CATALOG_CREATE = 1,   /* create the file (and apply all migrations) if missing */
+    SR_CATALOG_READONLY = 2, /* open read-only; never migrates (an older schema is
+                              * refused, SR_E_VERSION) */
+    SR_CATALOG_UPGRADE = 4,  /* with READONLY: a file of an older schema is opened
+                              * read-write instead and migrated (the handle is then
+                              * writable); a current one stays read-only */
 };
 
 /* Opens (and with SR_CATALOG_CREATE creates) a catalogue and brings its schema up to
  * date. Refuses a file that is not SQLite, not a symrec catalogue (application_id), or
- * from a newer schema version (SR_E_VERSION). *out only on success. */
+ * from a newer schema version (SR_E_VERSION). *out only on success.
+ *
+ * Read-only (SR_CATALOG_READONLY) works on a file or folder this process cannot
+ * write: SQLite's reader of a WAL file needs a -shm file beside it, so when that
+ * cannot be made and no -wal file (or an empty one) exists - nothing can be half
+ * written: a writer needs one - the file is read as immutable (SQLite's
+ * "immutable=1"). */
 sr_status sr_catalog_open(const char *path, unsigned flags, sr_catalog **out, sr_err *err);
+
+/* Whether a write transaction can start: *readonly false after a BEGIN IMMEDIATE
+ * that was rolled back at once, true when the handle is read-only, the file cannot
+ * be written, or SQLite cannot write beside it (a read-only folder). Returns SR_OK in
+ * both cases; another failure (busy after the timeout, I/O) is returned as a status
+ * with err set and *readonly true. For a command to refuse before it spends time on
+ * what it would record. */
+sr_status sr_catalog_check_writable(sr_catalog *cat, bool *readonly, sr_err *err);
 
 /* Creates a new catalogue in memory with every migration applied, so it holds only the
  * seeded rows of sql/ (parameter sets, repair rules, materials); it is gone when

@@ -1,7 +1,9 @@
 /*
  * plan_export.c: the writers of a build plan: plan.json, one SVG drawing per layer and
- * plan.gcode (formats in plan_export.h). Each file is written to a temporary file in
- * the same folder and renamed over the target, so a reader never sees half a file.
+ * plan.gcode (formats in plan_export.h). Each file is created in place (mode 0666 &
+ * ~umask, like fopen) and removed when its write fails; the command line writes the
+ * whole set into a staging folder and puts it in place at once (cli/outset.h), so
+ * no reader sees half a file or half a set.
  * Coordinates are written with 5 decimals (the polygon grid is 1e-5 mm, so nothing is
  * lost); figures with 10 significant digits.
  */
@@ -62,51 +64,37 @@ sr_status sr_plan_machine_check(const sr_plan_machine *m, sr_err *err)
     return st;
 }
 
-/* ---- atomic file writing ---- */
+/* ---- file writing ---- */
 
 typedef struct outfile {
     FILE *f;
-    char tmp[4096];
     const char *path;
 } outfile;
 
+/* Creates path like fopen (mode 0666 & ~umask, the rule for every output file). */
 static sr_status outfile_open(outfile *o, const char *path, sr_err *err)
 {
     o->path = path;
-    o->f = NULL;
-    if (snprintf(o->tmp, sizeof o->tmp, "%s.tmp-XXXXXX", path) >= (int)sizeof o->tmp)
-        return sr_err_set(err, SR_E_IO, "cannot write '%s': path too long", path);
-    int fd = mkstemp(o->tmp);
-    if (fd < 0)
+    o->f = fopen(path, "w");
+    if (!o->f)
         return sr_err_set(err, SR_E_IO, "cannot write '%s': %s", path, strerror(errno));
-    o->f = fdopen(fd, "w");
-    if (!o->f) {
-        int e = errno;
-        close(fd);
-        unlink(o->tmp);
-        return sr_err_set(err, SR_E_IO, "cannot write '%s': %s", path, strerror(e));
-    }
     return SR_OK;
 }
 
-/* Closes and renames into place (ok), or removes the temporary file. */
+/* Closes the file, and removes it when anything failed (st or a write error). */
 static sr_status outfile_close(outfile *o, sr_status st, sr_err *err)
 {
     if (!o->f)
         return st;
     int bad = ferror(o->f);
-    int e = errno;
+    int e = bad ? EIO : 0;
     if (fclose(o->f) != 0 && !bad) {
         bad = 1;
         e = errno;
     }
     o->f = NULL;
-    if (st == SR_OK && !bad && rename(o->tmp, o->path) != 0) {
-        bad = 1;
-        e = errno;
-    }
     if (st != SR_OK || bad) {
-        unlink(o->tmp);
+        unlink(o->path);
         if (st == SR_OK)
             st = sr_err_set(err, SR_E_IO, "cannot write '%s': %s", o->path, strerror(e));
     }

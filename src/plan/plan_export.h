@@ -50,8 +50,10 @@ sr_status sr_plan_time(sr_plan *p, const sr_plan_machine *m, sr_err *err);
 sr_status sr_plan_machine_check(const sr_plan_machine *m, sr_err *err);
 
 /* Writes plan.json, layer_001.svg .. layer_NNN.svg and plan.gcode into dir (created
- * when missing; its parent must exist). SR_E_IO naming the file on any failure (files
- * already written are left). machine NULL = defaults. */
+ * when missing; its parent must exist), each file mode 0666 & ~umask. SR_E_IO naming
+ * the file on any failure (a file whose write failed is removed, files already
+ * written are left: write into a folder of its own and put it in place once the
+ * whole set is written, as `symrec plan` does). machine NULL = defaults. */
 sr_status sr_plan_export(const sr_plan *plan, const sr_plan_machine *machine,
                          const char *dir, sr_err *err);
 
