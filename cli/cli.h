@@ -31,6 +31,7 @@ enum {
 typedef struct cli_ctx {
     const char *db_path;        /* --db, else $SYMREC_DB, else CLI_DEFAULT_DB */
     bool read_only;             /* --read-only: open the catalogue read-only, refuse writes */
+    bool quiet;                 /* --quiet: no progress, no notes */
 } cli_ctx;
 
 #define CLI_DEFAULT_DB "./symrec.db"
@@ -72,8 +73,11 @@ int cli_fail(sr_status status, const sr_err *err);
 /* "symrec: usage: <msg>"; returns CLI_USAGE. */
 int cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* "symrec: <msg>": progress and notes. */
+/* "symrec: <msg>": progress and notes; nothing after cli_set_quiet(true). */
 void cli_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* --quiet: cli_note prints nothing (errors and usage lines still do). */
+void cli_set_quiet(bool quiet);
 
 /* ---- arguments (cli/args.c) ---- */
 

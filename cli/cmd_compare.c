@@ -12,6 +12,7 @@
 #include "catalog/catalog_runs.h"
 #include "align/register.h"
 #include "cli.h"
+#include "progress.h"
 #include "mesh/compare.h"
 #include "json_out.h"
 
@@ -266,13 +267,19 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog_close(cat);
     cat = NULL;
     registration g;
+    cli_progress *prog = cli_progress_begin(ctx->quiet, "compare");
+    cli_progress_phase(prog, "register", 0, 2);
     rc = register_b(&b, &a, align ? 1 : no_align ? 0 : -1, &g);
-    if (rc != CLI_OK)
+    if (rc != CLI_OK) {
+        cli_progress_end(prog);
         goto done;
+    }
     sr_err err;
     sr_err_clear(&err);
     sr_compare_result r;
+    cli_progress_phase(prog, "deviations", 1, 2);
     sr_status st = sr_compare_meshes(&a, what_a, &b, what_b, &co, &r, &err);
+    cli_progress_end(prog);
     if (st != SR_OK) {
         rc = cli_fail(st, &err);
         goto done;

@@ -20,6 +20,7 @@
 
 #include "bridge/mesh_io.h"
 #include "cli.h"
+#include "progress.h"
 #include "json_out.h"
 #include "outset.h"
 #include "reconstruct.h"
@@ -617,7 +618,10 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     char started[32];
     sr_run_utc_time(0, started);
     sr_recon_result r;
+    cli_progress *prog = cli_progress_begin(ctx->quiet, "reconstruct");
+    ro.progress = cli_progress_sink(prog);
     st = sr_reconstruct(&scan, &ro, &r, &err);
+    cli_progress_end(prog);
     if (st != SR_OK) {
         cli_outset_abort(&set);
         sr_catalog_close(cat);

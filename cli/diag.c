@@ -10,6 +10,14 @@
 #include <stdio.h>
 
 #include "cli.h"
+#include "progress.h"
+
+static bool quiet_notes;
+
+void cli_set_quiet(bool quiet)
+{
+    quiet_notes = quiet;
+}
 
 static void vline(const char *prefix, const char *fmt, va_list ap)
 {
@@ -19,6 +27,7 @@ static void vline(const char *prefix, const char *fmt, va_list ap)
         if (*p == '\n' || *p == '\r')
             *p = ' ';
     fflush(stdout);     /* keep stdout and stderr in order on a shared terminal */
+    cli_progress_interrupt(); /* a progress bar's line first */
     fprintf(stderr, "symrec: %s%s\n", prefix, msg);
 }
 
@@ -42,6 +51,8 @@ int cli_usage_error(const char *fmt, ...)
 
 void cli_note(const char *fmt, ...)
 {
+    if (quiet_notes)
+        return;
     va_list ap;
     va_start(ap, fmt);
     vline("", fmt, ap);

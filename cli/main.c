@@ -14,7 +14,7 @@
 #include "base/version.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] [--read-only] COMMAND [ARGS...]\n"
+    "usage: symrec [--db FILE] [--read-only] [--quiet] COMMAND [ARGS...]\n"
     "       symrec --help | --version | help COMMAND [SUBCOMMAND]\n"
     "\n"
     "Restores damaged mechanical parts by their symmetry, keeping parts, damaged\n"
@@ -24,6 +24,9 @@ static const char usage[] =
     "  --db FILE    the catalogue; default: $SYMREC_DB if set, else " CLI_DEFAULT_DB "\n"
     "  --read-only  open the catalogue read-only: commands that only read work (as they\n"
     "               do on a catalogue this user cannot write), the others refuse\n"
+    "  --quiet, -q  no progress and no notes on stderr (errors and warnings stay)\n"
+    "               The options above may also follow the command\n"
+    "               ('symrec part list --db shop.db').\n"
     "  --help       this text\n"
     "  --version    print the version\n"
     "\n"
@@ -91,6 +94,38 @@ static int cmd_help(const cli_ctx *ctx, int argc, char **argv)
     return cmd->fn(ctx, argc == 3 ? 3 : 2, args);
 }
 
+/* One global option at argv[0]: the count of words it takes (1 or 2), 0 when it is not
+ * one, -1 after a usage error. */
+static int global_option(cli_ctx *ctx, int argc, char **argv)
+{
+    const char *arg = argv[0];
+    if (strcmp(arg, "--read-only") == 0) {
+        ctx->read_only = true;
+        return 1;
+    }
+    if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0) {
+        ctx->quiet = true;
+        return 1;
+    }
+    if (strcmp(arg, "--db") == 0) {
+        if (argc < 2 || argv[1][0] == '\0' || strncmp(argv[1], "--", 2) == 0) {
+            cli_usage_error("option '--db' needs a file name");
+            return -1;
+        }
+        ctx->db_path = argv[1];
+        return 2;
+    }
+    if (strncmp(arg, "--db=", 5) == 0) {
+        if (arg[5] == '\0') {
+            cli_usage_error("option '--db' needs a file name");
+            return -1;
+        }
+        ctx->db_path = arg + 5;
+        return 1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     cli_ctx ctx = {0};
@@ -108,24 +143,32 @@ int main(int argc, char **argv)
             printf("symrec %s\n", SR_VERSION);
             return CLI_OK;
         }
-        if (strcmp(arg, "--read-only") == 0) {
-            ctx.read_only = true;
-            continue;
-        }
-        if (strcmp(arg, "--db") == 0) {
-            if (i + 1 >= argc || argv[i + 1][0] == '\0' || strncmp(argv[i + 1], "--", 2) == 0)
-                return cli_usage_error("option '--db' needs a file name");
-            ctx.db_path = argv[++i];
-            continue;
-        }
-        if (strncmp(arg, "--db=", 5) == 0) {
-            if (arg[5] == '\0')
-                return cli_usage_error("option '--db' needs a file name");
-            ctx.db_path = arg + 5;
-            continue;
-        }
-        return cli_usage_error("unknown option '%s' (see 'symrec --help')", arg);
+        int used = global_option(&ctx, argc - i, argv + i);
+        if (used < 0)
+            return CLI_USAGE;
+        if (used == 0)
+            return cli_usage_error("unknown option '%s' (see 'symrec --help')", arg);
+        i += used - 1;
     }
+    /* the global options may also follow the command ('symrec part list --db F'):
+     * taken out of its arguments, up to a '--' */
+    int kept = i + 1;
+    for (int k = i + 1; k < argc; k++) {
+        if (strcmp(argv[k], "--") == 0) {
+            while (k < argc)
+                argv[kept++] = argv[k++];
+            break;
+        }
+        int used = global_option(&ctx, argc - k, argv + k);
+        if (used < 0)
+            return CLI_USAGE;
+        if (used == 0)
+            argv[kept++] = argv[k];
+        else
+            k += used - 1;
+    }
+    argc = i < argc ? kept : argc;
+    cli_set_quiet(ctx.quiet);
     if (i >= argc)
         return cli_usage_error("missing command (see 'symrec --help')");
 

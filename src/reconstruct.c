@@ -141,6 +141,34 @@ static void aligned_release(sr_mesh *m)
     memset(m, 0, sizeof *m);
 }
 
+/* The phases a method goes through, in order, as the progress sink is told them. */
+static size_t phase_count(sr_recon_method m)
+{
+    switch (m) {
+    case SR_METHOD_IMAGE:
+        return 7;                   /* unfold, align, slice, sections, continue, union,
+                                        finish */
+    case SR_METHOD_PAPER: return 6; /* align, slice, analyse, patch, union, finish */
+    default: return 5;              /* align, slice, sections, union, finish */
+    }
+}
+
+/* Tells the sink that `phase` starts: the first phase of the method is step 0. */
+static void phase(const sr_recon_opts *o, const char *name)
+{
+    static const char *const image[] = {"unfold",   "align", "slice", "sections",
+                                        "continue", "union", "finish"};
+    static const char *const paper[] = {"align", "slice", "analyse", "patch", "union", "finish"};
+    static const char *const robust[] = {"align", "slice", "sections", "union", "finish"};
+    const char *const *list = o->method == SR_METHOD_IMAGE   ? image
+                              : o->method == SR_METHOD_PAPER ? paper
+                                                             : robust;
+    size_t n = phase_count(o->method), k = 0;
+    while (k < n && strcmp(list[k], name) != 0)
+        k++;
+    sr_progress_step(o->progress, name, k < n ? k : 0, n);
+}
+
 /* Aligns the scan for `sym` (or takes opts->alignment), makes the aligned copy and
  * slices it: r->alignment, *aligned, r->grid, r->timings.align_s and slice_s. On
  * failure the caller releases what was made (aligned_release, the result's grid). */
@@ -150,6 +178,7 @@ static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
 {
     double t = now_s();
     sr_status st;
+    phase(opts, "align");
     if (opts->have_alignment) {
         r->alignment = opts->alignment;
     } else {
@@ -165,6 +194,7 @@ static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
         return sr_err_set(err, st, "out of memory copying the scan");
     r->timings.align_s = now_s() - t;
     t = now_s();
+    phase(opts, "slice");
     sr_slice_opts so = {.layers = opts->layers, .sectors = opts->sectors};
     st = sr_slice_accurate(aligned, &so, &r->grid, err);
     if (st != SR_OK)
@@ -248,6 +278,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     double t0 = now_s();
     if (opts->method == SR_METHOD_IMAGE) {
         double tu = now_s();
+        phase(opts, "unfold");
         /* a noisy scan's folds undone first, where the union would cut them out */
         st = sr_mesh_copy(&unfolded, scan_in);
         if (st != SR_OK)
@@ -305,6 +336,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     if (sym.kind == SR_SYM_GLIDE && sym.shift_mm == 0)
         sym.shift_mm = r.alignment.glide_shift_mm;
     r.method = opts->method;
+    phase(opts, opts->method == SR_METHOD_PAPER ? "analyse" : "sections");
     if (opts->method == SR_METHOD_PAPER) {
         sr_analyse_opts an = {.symmetry = sym,
                               .gamma_axis = opts->gamma_axis,
@@ -315,6 +347,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
             goto fail;
         r.timings.analyse_s = now_s() - t;
         t = now_s();
+        phase(opts, "patch");
         st = sr_patch_build(&r.grid, &r.analysis, &r.sections, &r.section_count, err);
         if (st != SR_OK)
             goto fail;
@@ -333,6 +366,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         r.timings.clip_s = r.image.patch_s;
         r.open_mm = opts->open_mm > 0 ? opts->open_mm : fmax(0.05, 3.0 * r.noise_mm);
         double tc = now_s();
+        phase(opts, "continue");
         sr_continuation_opts co = {.symmetry = sym,
                                    .pitch_mm = r.image.pitch_mm,
                                    .open_mm = r.open_mm,
@@ -364,6 +398,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     r.timings.patch_s = now_s() - t;
     t = now_s();
 
+    phase(opts, "union");
     /* the aligned copy is done with: free it before the restored mesh is made */
     aligned_release(&aligned);
     heap_trim();
@@ -433,6 +468,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
                  used ? "; " : "", late);
     r.timings.union_s = now_s() - t;
     t = now_s();
+    phase(opts, "finish");
     if (opts->method == SR_METHOD_IMAGE) {
         st = analysis_from_restored(&r, err);
         if (st != SR_OK)

@@ -16,6 +16,7 @@
 #include "align/order_detect.h"
 #include "paper/patch.h"
 #include "slice/slice.h"
+#include "base/progress.h"
 #include "base/symmetry.h"
 
 /* Which reconstruction runs between alignment and the union. */
@@ -55,6 +56,7 @@ typedef struct sr_recon_opts {
     int skip_union;             /* 1: restored = scan + patches as separate shells */
     int threads;                /* image: threads of the vote; 0 = all cores. The result
                                  * is the same for any number */
+    const sr_progress *progress; /* told each phase as it starts; NULL = nobody */
 } sr_recon_opts;
 
 /* Seconds per phase. analyse_s covers every method's finding of the sections (for the

@@ -2636,6 +2636,90 @@ static void reconstruct_refuses_bad_input(void **state)
     assert_string_equal(after, before);
 }
 
+/* Long work tells where it is on stderr: one plain line per phase when stderr is not a
+ * terminal (the delay of a second set to 0 here), a bar redrawn in place on a terminal
+ * (a pty through script(1)), nothing with --quiet; the result on stdout is the same. */
+static void reconstruct_shows_progress_by_phase_unless_quiet(void **state)
+{
+    const env *e = *state;
+    setenv("SYMREC_PROGRESS_AFTER", "0", 1);
+    result r;
+    RUN(&r, "reconstruct", "--mesh", e->cyl, "--symmetry", "axial", "--no-record", "--json");
+    expect_ok(&r);
+    const char *phases[] = {"unfold (1/7)",   "align (2/7)", "slice (3/7)", "sections (4/7)",
+                            "continue (5/7)", "union (6/7)", "finish (7/7)"};
+    const char *at = r.err;
+    for (size_t i = 0; i < sizeof phases / sizeof phases[0]; i++) {
+        char want[64];
+        snprintf(want, sizeof want, "symrec: reconstruct: %s at ", phases[i]);
+        const char *hit = strstr(at, want);
+        if (!hit)
+            fail_msg("no '%s' after the earlier phases in:\n%s", want, r.err);
+        at = hit;
+    }
+    expect_contains(r.err, "symrec: reconstruct: done in ");
+    char *loud = r.out;
+    r.out = NULL;
+    result_free(&r);
+
+    /* --quiet, after the command like any global option: no progress, no notes */
+    RUN(&r, "reconstruct", "--mesh", e->cyl, "--symmetry", "axial", "--no-record", "--json",
+        "--quiet");
+    expect_ok(&r);
+    assert_string_equal(r.err, "");
+    /* the same answer (the times may differ) */
+    jv quiet = parse_json(r.out), was = parse_json(loud);
+    assert_true(jnum(&quiet, "patch_volume_mm3") == jnum(&was, "patch_volume_mm3"));
+    assert_int_equal(jget(&quiet, "sections")->count, jget(&was, "sections")->count);
+    jv_release(&quiet);
+    jv_release(&was);
+    result_free(&r);
+    free(loud);
+
+    /* on a terminal: the bar, redrawn in place, and cleared at the end */
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s reconstruct --mesh %s --symmetry axial --no-record >/dev/null",
+             sr_test_bin(), e->cyl);
+    const char *argv[] = {"script", "-qfec", cmd, "/dev/null", NULL};
+    char *out = NULL, *err = NULL;
+    int rc = sr_test_run_native(argv, NULL, &out, &err);
+    if (rc == -1 || (out && strstr(out, "not found"))) {
+        free(out);
+        free(err);
+        unsetenv("SYMREC_PROGRESS_AFTER");
+        skip(); /* no script(1): util-linux's bsdutils is essential on Debian */
+    }
+    assert_int_equal(rc, 0);
+    expect_contains(out, "\r\033[Ksymrec: reconstruct [");
+    expect_contains(out, "] 6/7 union ");
+    assert_null(strstr(out, "symrec: reconstruct: union (")); /* no plain lines */
+    free(out);
+    free(err);
+    unsetenv("SYMREC_PROGRESS_AFTER");
+}
+
+/* Global options may follow the command. */
+static void global_options_may_follow_the_command(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    add_part(e, "SH-1", "shaft", "steel", e->cyl);
+    result r;
+    RUN(&r, "part", "list", "--db", e->db, "--json");
+    expect_ok(&r);
+    expect_contains(r.out, "\"SH-1\"");
+    result_free(&r);
+    char eq[160];
+    snprintf(eq, sizeof eq, "--db=%s", e->db);
+    RUN(&r, "part", "show", "SH-1", eq, "-q");
+    expect_ok(&r);
+    expect_contains(r.out, "SH-1");
+    result_free(&r);
+    RUN(&r, "part", "list", "--db");
+    expect_usage(&r, "option '--db' needs a file name");
+    result_free(&r);
+}
+
 static void reconstruct_of_an_intact_scan_says_nothing_to_repair(void **state)
 {
     const env *e = *state;
@@ -3504,6 +3588,8 @@ int main(void)
         T(a_failed_reconstruct_records_nothing),
         T(reconstruct_refuses_bad_input),
         T(reconstruct_of_an_intact_scan_says_nothing_to_repair),
+        T(reconstruct_shows_progress_by_phase_unless_quiet),
+        T(global_options_may_follow_the_command),
         T(a_symmetry_that_does_not_fit_finishes_and_reports_the_fit),
         T(run_commands_refuse_wrong_ids_and_filters),
         T(run_list_filters_by_instance_and_part),

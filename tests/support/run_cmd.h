@@ -3,7 +3,8 @@
  * streams in full, and its exit status. The symrec binary under test comes from
  * $SYMREC_BIN (default build/debug/symrec); $SYMREC_WRAP, if set, is a command line
  * to run it under (e.g. "valgrind -q --error-exitcode=99"), split on spaces and put in
- * front of argv.
+ * front of argv. The child gets SYMREC_PROGRESS_AFTER=100000 unless the test set it:
+ * no progress lines on stderr unless a test asks for them.
  */
 #ifndef SR_TEST_RUN_CMD_H
 #define SR_TEST_RUN_CMD_H
