@@ -83,7 +83,7 @@ BIN     := $(BUILD)/symrec
 TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 BENCH   := $(BUILD)/bench/symrec_bench
 
-.PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built \
+.PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built install \
         partgen-check quick layers format compdb lint
 # keep test objects: they are intermediates of the test binaries, not throwaways
 .SECONDARY:
@@ -240,6 +240,18 @@ quick: deps layers
 check: deps
 	$(Q)sh tests/check_stages.sh "$(MAKE) --no-print-directory test" \
 	  "$(MAKE) --no-print-directory valgrind" "$(MAKE) --no-print-directory partgen-check"
+
+# Installs the release build: $(DESTDIR)$(PREFIX)/bin/symrec, lib/libsymrec.a and the
+# C headers under include/symrec/ (the library's folders kept; C++ headers stay out).
+PREFIX ?= /usr/local
+install:
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
+	$(Q)install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include/symrec
+	$(Q)install -m 0755 build/release/symrec $(DESTDIR)$(PREFIX)/bin/symrec
+	$(Q)install -m 0644 build/release/libsymrec.a $(DESTDIR)$(PREFIX)/lib/libsymrec.a
+	$(Q)cd src && for h in $$(find . -name '*.h' | sort); do \
+	  install -D -m 0644 "$$h" "$(DESTDIR)$(PREFIX)/include/symrec/$$h"; done
+	$(Q)echo "  installed symrec into $(DESTDIR)$(PREFIX)"
 
 bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built

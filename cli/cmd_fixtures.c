@@ -21,12 +21,15 @@
 #include "mesh/shapes.h"
 
 static const char usage[] =
-    "usage: symrec fixtures --out DIR\n"
+    "usage: symrec fixtures --out DIR [--json]\n"
     "\n"
     "Writes each built-in demo part's intact and damaged mesh as binary STL into DIR\n"
     "(created if missing): <number>_intact.stl and <number>_damaged.stl, and\n"
     "volumes.json with each part's intact, damaged and missing volume in mm³, measured\n"
-    "on the files as written. Prints the same volumes as a table.\n";
+    "on the files as written. Prints the same volumes as a table.\n"
+    "\n"
+    "  --out DIR   the folder to write into\n"
+    "  --json      print volumes.json's object instead of the table\n";
 
 /* mkdir -p: creates dir and its missing parents. */
 static bool make_dirs(const char *dir, sr_err *err)
@@ -119,6 +122,42 @@ static sr_status make_fixture(const char *dir, size_t i, fixture *fx, sr_err *er
     return st;
 }
 
+/* The volumes as one JSON object: volumes.json and `fixtures --json`. */
+static void json_fixtures(json_out *jp, const fixture *fx, size_t count)
+{
+    json_object_begin(jp);
+    json_key(jp, "units");
+    json_string(jp, "mm3");
+    json_key(jp, "note");
+    json_string(jp, "volumes of the binary STL files as written; missing = intact - damaged");
+    json_key(jp, "parts");
+    json_array_begin(jp);
+    for (size_t i = 0; i < count; i++) {
+        json_object_begin(jp);
+        json_key(jp, "number");
+        json_string(jp, fx[i].part->number);
+        json_key(jp, "name");
+        json_string(jp, fx[i].part->name);
+        json_key(jp, "intact_file");
+        json_string(jp, fx[i].intact_file);
+        json_key(jp, "damaged_file");
+        json_string(jp, fx[i].damaged_file);
+        json_key(jp, "intact_triangles");
+        json_int(jp, (int64_t)fx[i].intact_tris);
+        json_key(jp, "damaged_triangles");
+        json_int(jp, (int64_t)fx[i].damaged_tris);
+        json_key(jp, "intact_mm3");
+        json_number(jp, fx[i].intact_mm3);
+        json_key(jp, "damaged_mm3");
+        json_number(jp, fx[i].damaged_mm3);
+        json_key(jp, "missing_mm3");
+        json_number(jp, fx[i].intact_mm3 - fx[i].damaged_mm3);
+        json_object_end(jp);
+    }
+    json_array_end(jp);
+    json_object_end(jp);
+}
+
 /* Writes volumes.json through a temporary file renamed into place. */
 static sr_status write_volumes(const char *dir, const fixture *fx, size_t count, sr_err *err)
 {
@@ -131,37 +170,7 @@ static sr_status write_volumes(const char *dir, const fixture *fx, size_t count,
         return sr_err_set(err, SR_E_IO, "cannot write '%s': %s", tmp, strerror(errno));
     json_out j;
     json_init(&j, f);
-    json_object_begin(&j);
-    json_key(&j, "units");
-    json_string(&j, "mm3");
-    json_key(&j, "note");
-    json_string(&j, "volumes of the binary STL files as written; missing = intact - damaged");
-    json_key(&j, "parts");
-    json_array_begin(&j);
-    for (size_t i = 0; i < count; i++) {
-        json_object_begin(&j);
-        json_key(&j, "number");
-        json_string(&j, fx[i].part->number);
-        json_key(&j, "name");
-        json_string(&j, fx[i].part->name);
-        json_key(&j, "intact_file");
-        json_string(&j, fx[i].intact_file);
-        json_key(&j, "damaged_file");
-        json_string(&j, fx[i].damaged_file);
-        json_key(&j, "intact_triangles");
-        json_int(&j, (int64_t)fx[i].intact_tris);
-        json_key(&j, "damaged_triangles");
-        json_int(&j, (int64_t)fx[i].damaged_tris);
-        json_key(&j, "intact_mm3");
-        json_number(&j, fx[i].intact_mm3);
-        json_key(&j, "damaged_mm3");
-        json_number(&j, fx[i].damaged_mm3);
-        json_key(&j, "missing_mm3");
-        json_number(&j, fx[i].intact_mm3 - fx[i].damaged_mm3);
-        json_object_end(&j);
-    }
-    json_array_end(&j);
-    json_object_end(&j);
+    json_fixtures(&j, fx, count);
     sr_status st = json_end(&j, err);
     if (st != SR_OK) {
         fclose(f);
@@ -188,7 +197,8 @@ static sr_status write_volumes(const char *dir, const fixture *fx, size_t count,
 int cmd_fixtures(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *out = NULL;
-    const cli_opt opts[] = {{"--out", &out, NULL}, {NULL, NULL, NULL}};
+    bool json = false;
+    const cli_opt opts[] = {{"--out", &out, NULL}, {"--json", NULL, &json}, {NULL, NULL, NULL}};
     const cli_spec spec = {"fixtures", usage, opts, 0, 0, NULL};
     int rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, NULL, NULL, &rc))
@@ -216,6 +226,13 @@ int cmd_fixtures(const cli_ctx *ctx, int argc, char **argv)
     if (st != SR_OK) {
         free(fx);
         return cli_fail(st, &err);
+    }
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_fixtures(&j, fx, count);
+        free(fx);
+        return json_finish(&j);
     }
     static const char *const headers[] = {"number", "intact mm³", "damaged mm³",
                                           "missing mm³", "missing"};

@@ -16,7 +16,8 @@ static const char usage_params[] =
     "usage: symrec [--db FILE] params list [--json]\n"
     "       symrec [--db FILE] params show NAME [--json]\n"
     "       symrec [--db FILE] params set NAME [--layers N] [--sectors N]\n"
-    "                              [--gamma-axis G] [--gamma-plane G] [--delta-d D]\n"
+    "                              [--gamma G] [--gamma-axis G] [--gamma-plane G]\n"
+    "                              [--delta-d D]\n"
     "                              [--min-depth MM] [--min-volume MM3] [--notes T]\n"
     "\n"
     "  list    every parameter set\n"
@@ -39,7 +40,8 @@ static const char usage_show[] =
 
 static const char usage_set[] =
     "usage: symrec [--db FILE] params set NAME [--layers N] [--sectors N]\n"
-    "                              [--gamma-axis G] [--gamma-plane G] [--delta-d D]\n"
+    "                              [--gamma G] [--gamma-axis G] [--gamma-plane G]\n"
+    "                              [--delta-d D]\n"
     "                              [--min-depth MM] [--min-volume MM3] [--notes T]\n"
     "\n"
     "Creates parameter set NAME (starting from \"default\") or changes the fields given.\n"
@@ -48,6 +50,7 @@ static const char usage_set[] =
     "  --sectors N       polar sectors per layer, 3..100000\n"
     "  --gamma-axis G    axial damage threshold (Alg. 4), 0 < G <= 1\n"
     "  --gamma-plane G   planar damage threshold (Alg. 5), 0 < G <= 1\n"
+    "  --gamma G         both thresholds at once, as 'reconstruct --gamma' sets them\n"
     "  --delta-d D       alignment symmetry threshold (Alg. 3), 0 < D <= 1\n"
     "  --min-depth MM    smallest depth reported as a missing section, mm\n"
     "  --min-volume MM3  smallest volume reported as a missing section, mm³\n"
@@ -177,11 +180,12 @@ static int params_show(const cli_ctx *ctx, int argc, char **argv)
 static int params_set(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *layers = NULL, *sectors = NULL, *gamma_axis = NULL, *gamma_plane = NULL;
-    const char *delta_d = NULL, *min_depth = NULL, *min_volume = NULL, *notes = NULL;
+    const char *gamma = NULL, *delta_d = NULL, *min_depth = NULL, *min_volume = NULL, *notes = NULL;
     bool json = false;
     const cli_opt opts[] = {
         {"--layers", &layers, NULL},
         {"--sectors", &sectors, NULL},
+        {"--gamma", &gamma, NULL},
         {"--gamma-axis", &gamma_axis, NULL},
         {"--gamma-plane", &gamma_plane, NULL},
         {"--delta-d", &delta_d, NULL},
@@ -204,10 +208,11 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("bad --notes: longer than %zu characters", sizeof p.notes - 1);
     /* Parse everything before touching the catalogue. */
     int n_layers = 0, n_sectors = 0;
-    double g_axis = 0, g_plane = 0, d_d = 0, m_depth = 0, m_volume = 0;
+    double g_both = 0, g_axis = 0, g_plane = 0, d_d = 0, m_depth = 0, m_volume = 0;
     const char *unit = "a number 0 < x <= 1";
     if ((layers && !cli_parse_int("--layers", layers, 1, 100000, NULL, &n_layers)) ||
         (sectors && !cli_parse_int("--sectors", sectors, 3, 100000, NULL, &n_sectors)) ||
+        (gamma && !cli_parse_double("--gamma", gamma, 1e-300, 1, unit, &g_both)) ||
         (gamma_axis && !cli_parse_double("--gamma-axis", gamma_axis, 1e-300, 1, unit, &g_axis)) ||
         (gamma_plane &&
          !cli_parse_double("--gamma-plane", gamma_plane, 1e-300, 1, unit, &g_plane)) ||
@@ -242,6 +247,8 @@ static int params_set(const cli_ctx *ctx, int argc, char **argv)
         p.layers = n_layers;
     if (sectors)
         p.sectors = n_sectors;
+    if (gamma)
+        p.gamma_axis = p.gamma_plane = g_both;
     if (gamma_axis)
         p.gamma_axis = g_axis;
     if (gamma_plane)

@@ -31,7 +31,7 @@ static const char usage[] =
     "allowance, outside the damaged part) and a deposition path of contour rings and a\n"
     "zig-zag raster. The build direction is +z of the run's aligned frame (along the\n"
     "symmetry axis). Writes DIR/plan.json, DIR/layer_NNN.svg (one per layer) and\n"
-    "DIR/plan.gcode (G21 mm, G90 absolute, aligned frame). Units: mm, mm2, mm3, g, min.\n"
+    "DIR/plan.gcode (G21 mm, G90 absolute, aligned frame). Units: mm, mm², mm³, g, min.\n"
     "\n"
     "The plan follows the advice the run's rules gave the section: its process, layer\n"
     "height, step-over, machining allowance and deposition rate (the rule's\n"
@@ -85,16 +85,15 @@ static void print_human(const sr_plan *p, const char *advice_note, const char *d
     printf("  pattern %s, step-over %.3f mm, machining allowance %.3f mm\n",
            sr_plan_pattern_name(p->opts.pattern), p->opts.step_over_mm,
            p->opts.allowance_mm);
-    printf("  missing %.1f mm3, deposit %.1f mm3 = %.2f g at %.3f g/cm3\n",
-           p->missing_volume_mm3, p->deposit_volume_mm3, p->deposit_mass_g,
-           p->opts.density_g_cm3);
+    printf("  missing %.1f mm³, deposit %.1f mm³ = %.2f g at %.3f g/cm³\n", p->missing_volume_mm3,
+           p->deposit_volume_mm3, p->deposit_mass_g, p->opts.density_g_cm3);
     if (p->process[0])
         printf("  process %s, as advised by rule %s%s\n", p->process,
                p->rule[0] ? p->rule : "(unknown)", advice_note);
     if (isfinite(p->preheat_c))
         printf("  preheat the part to %.0f C\n", p->preheat_c);
     printf("  build time %.1f min: path %.1f mm at %.1f mm/min (%.1f min, deposition rate "
-           "%.3f cm3/min), travel %.1f mm (%.1f min)\n",
+           "%.3f cm³/min), travel %.1f mm (%.1f min)\n",
            p->build_time_min, p->path_length_mm, p->feed_mm_min, p->deposit_time_min,
            p->opts.rate_cm3_min, p->travel_length_mm, p->travel_time_min);
     printf("  wrote %s/plan.json, %s/layer_001.svg..layer_%03zu.svg, %s/plan.gcode\n", dir,

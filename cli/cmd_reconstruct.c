@@ -32,6 +32,7 @@ static const char usage[] =
     "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"
     "              --symmetry axial|mirror|glide [--order N|auto] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
+    "              [--gamma-axis G] [--gamma-plane G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
     "              [--method image|robust|paper] [--no-union] [--no-record] [--json]\n"
     "\n"
@@ -64,6 +65,7 @@ static const char usage[] =
     "  --sectors N     number of sectors (overrides the set's)\n"
     "  --gamma G       the analysis threshold, gamma_axis and gamma_plane, in (0, 1]\n"
     "                  (overrides the set's)\n"
+    "  --gamma-axis G, --gamma-plane G  one of the two alone, as 'params set' names them\n"
     "  --min-depth MM  smallest depth counted as damage, mm (overrides the set's)\n"
     "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
     "                  all in the frame of the input scan, as a set: DIR is a new\n"
@@ -175,14 +177,14 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
         for (size_t i = 0; i < r->section_count; i++) {
             const sr_section *s = &r->sections[i];
             printf("  %2zu. z %.2f..%.2f mm, angle %.1f..%.1f deg, depth max %.3f mean %.3f "
-                   "mm, volume %.1f mm3\n",
-                   i + 1, s->z_min, s->z_max, s->angle_min_deg, s->angle_max_deg,
-                   s->depth_max_mm, s->depth_mean_mm, s->volume_mm3);
+                   "mm, volume %.1f mm³\n",
+                   i + 1, s->z_min, s->z_max, s->angle_min_deg, s->angle_max_deg, s->depth_max_mm,
+                   s->depth_mean_mm, s->volume_mm3);
         }
     }
-    printf("  scan volume %.1f mm3, restored %.1f mm3 (%s), patches %.1f mm3\n",
-           r->scan_volume_mm3, r->restored_volume_mm3,
-           r->restored_by_union ? "boolean union" : "separate shells", r->patch_volume_mm3);
+    printf("  scan volume %.1f mm³, restored %.1f mm³ (%s), patches %.1f mm³\n", r->scan_volume_mm3,
+           r->restored_volume_mm3, r->restored_by_union ? "boolean union" : "separate shells",
+           r->patch_volume_mm3);
     if (!r->restored_by_union && r->union_note[0])
         printf("  union:      %s\n", r->union_note);
     const char *phase[SR_RECON_PHASES];
@@ -198,14 +200,22 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
         printf("run %lld recorded\n", (long long)run_id);
 }
 
-static int print_json(const sr_recon_result *r, const sr_run *run, const char *source,
-                       const sr_symmetry *sym, const sr_params *p, int64_t run_id)
+static int print_json(const sr_recon_result *r, const sr_run *run, const char *mesh_file,
+                      int64_t instance_id, const char *source, const sr_symmetry *sym,
+                      const sr_params *p, int64_t run_id)
 {
     json_out j;
     json_init(&j, stdout);
     json_object_begin(&j);
-    json_key(&j, "source");
-    json_string(&j, source);
+    json_key(&j, "source"); /* the file's path, or "instance N (part P, serial S)" */
+    json_string(&j, mesh_file ? mesh_file : source);
+    json_key(&j, "mesh_file");
+    json_string(&j, mesh_file);
+    json_key(&j, "instance_id");
+    if (mesh_file)
+        json_null(&j);
+    else
+        json_int(&j, instance_id);
     json_key(&j, "symmetry"); /* as used: an order found by --order auto */
     sr_symmetry used = *sym;
     if (used.kind == SR_SYM_AXIAL)
@@ -493,17 +503,26 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *mesh_file = NULL, *kind = NULL, *order = NULL, *shift = NULL, *layers = NULL,
                *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
-               *params_name = NULL, *method = NULL;
+               *params_name = NULL, *method = NULL, *gamma_axis = NULL, *gamma_plane = NULL;
     bool json = false, no_union = false, no_record = false;
-    const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},  {"--symmetry", &kind, NULL},
-                            {"--order", &order, NULL},     {"--shift", &shift, NULL},
+    const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},
+                            {"--symmetry", &kind, NULL},
+                            {"--order", &order, NULL},
+                            {"--shift", &shift, NULL},
                             {"--params", &params_name, NULL},
-                            {"--layers", &layers, NULL},   {"--sectors", &sectors, NULL},
-                            {"--gamma", &gamma, NULL},     {"--min-depth", &min_depth, NULL},
-                            {"--out", &out, NULL},         {"--format", &fmt, NULL},
+                            {"--layers", &layers, NULL},
+                            {"--sectors", &sectors, NULL},
+                            {"--gamma", &gamma, NULL},
+                            {"--min-depth", &min_depth, NULL},
+                            {"--gamma-axis", &gamma_axis, NULL},
+                            {"--gamma-plane", &gamma_plane, NULL},
+                            {"--out", &out, NULL},
+                            {"--format", &fmt, NULL},
                             {"--method", &method, NULL},
-                            {"--no-union", NULL, &no_union}, {"--no-record", NULL, &no_record},
-                            {"--json", NULL, &json},       {NULL, NULL, NULL}};
+                            {"--no-union", NULL, &no_union},
+                            {"--no-record", NULL, &no_record},
+                            {"--json", NULL, &json},
+                            {NULL, NULL, NULL}};
     const cli_spec spec = {"reconstruct", usage, opts, 0, 1, "INSTANCE"};
     const char *pos[1];
     int npos = 0, rc;
@@ -514,13 +533,19 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
                                "(see 'symrec reconstruct --help')");
     /* Every option is checked before anything is opened. */
     int layers_v = 0, sectors_v = 0;
-    double gamma_v = 0, min_depth_v = 0;
+    double gamma_v = 0, gamma_axis_v = 0, gamma_plane_v = 0, min_depth_v = 0;
     if (layers && !cli_parse_int("--layers", layers, 1, 100000, "an integer 1..100000", &layers_v))
         return CLI_USAGE;
     if (sectors &&
         !cli_parse_int("--sectors", sectors, 3, 100000, "an integer 3..100000", &sectors_v))
         return CLI_USAGE;
     if (gamma && !cli_parse_double("--gamma", gamma, 1e-6, 1, "a number in (0, 1]", &gamma_v))
+        return CLI_USAGE;
+    if (gamma_axis &&
+        !cli_parse_double("--gamma-axis", gamma_axis, 1e-6, 1, "a number in (0, 1]", &gamma_axis_v))
+        return CLI_USAGE;
+    if (gamma_plane && !cli_parse_double("--gamma-plane", gamma_plane, 1e-6, 1,
+                                         "a number in (0, 1]", &gamma_plane_v))
         return CLI_USAGE;
     if (min_depth && !cli_parse_double("--min-depth", min_depth, 0, 1000, "a depth 0..1000 mm",
                                        &min_depth_v))
@@ -597,6 +622,10 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         params.sectors = sectors_v;
     if (gamma)
         params.gamma_axis = params.gamma_plane = gamma_v;
+    if (gamma_axis)
+        params.gamma_axis = gamma_axis_v;
+    if (gamma_plane)
+        params.gamma_plane = gamma_plane_v;
     if (min_depth)
         params.min_depth_mm = min_depth_v;
     ro.layers = (size_t)params.layers;
@@ -647,7 +676,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     }
     if (rc == CLI_OK) {
         if (json)
-            rc = print_json(&r, &run, source, &ro.symmetry, &params, run_id);
+            rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id);
         else
             print_human(&r, &run, source, &params, run_id);
     }

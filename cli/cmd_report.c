@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -106,6 +107,13 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         return CLI_USAGE;
     if (!out || !*out)
         return cli_usage_error("report needs --out FILE.html");
+    /* the report is HTML: a file named .pdf (or anything else) would be lying */
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    if (!dot || (slash && dot < slash) ||
+        (strcasecmp(dot, ".html") != 0 && strcasecmp(dot, ".htm") != 0))
+        return cli_usage_error("bad --out '%s': the report is an HTML page, name it .html "
+                               "(print it to PDF from a browser)",
+                               out);
     int budget = 0;
     if (max_tri && !cli_parse_int("--max-triangles", max_tri, 100, 10000000,
                                   "a triangle count from 100 to 10000000", &budget))

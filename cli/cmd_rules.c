@@ -19,6 +19,7 @@ static const char usage_rules[] =
     "       symrec [--db FILE] rules set NAME|ID FIELD VALUE [--json]\n"
     "       symrec [--db FILE] rules add NAME --process P --reason TEXT --source TEXT\n"
     "                              [--priority N] [--scope section|part] [--disabled]\n"
+    "                              [--json]\n"
     "       symrec [--db FILE] rules enable|disable NAME|ID\n"
     "\n"
     "  list     every rule, in the order they are tried (priority, then id)\n"
@@ -63,6 +64,7 @@ static const char usage_set[] =
 static const char usage_add[] =
     "usage: symrec [--db FILE] rules add NAME --process P --reason TEXT --source TEXT\n"
     "                              [--priority N] [--scope section|part] [--disabled]\n"
+    "                              [--json]\n"
     "\n"
     "Adds a rule with no conditions (it applies to every section, or with --scope part\n"
     "to every part); narrow it with `symrec rules set NAME FIELD VALUE`.\n"
@@ -73,17 +75,20 @@ static const char usage_add[] =
     "  --source TEXT   where the rule's thresholds come from\n"
     "  --priority N    lower is tried first (default 100)\n"
     "  --scope S       section (default) or part\n"
-    "  --disabled      add it switched off\n";
+    "  --disabled      add it switched off\n"
+    "  --json          print the rule as stored, as one JSON object\n";
 
-static const char usage_enable[] =
-    "usage: symrec [--db FILE] rules enable NAME|ID\n"
-    "\n"
-    "Applies the rule again.\n";
+static const char usage_enable[] = "usage: symrec [--db FILE] rules enable NAME|ID [--json]\n"
+                                   "\n"
+                                   "Applies the rule again.\n"
+                                   "\n"
+                                   "  --json   print the rule as stored, as one JSON object\n";
 
-static const char usage_disable[] =
-    "usage: symrec [--db FILE] rules disable NAME|ID\n"
-    "\n"
-    "Keeps the rule but stops applying it.\n";
+static const char usage_disable[] = "usage: symrec [--db FILE] rules disable NAME|ID [--json]\n"
+                                    "\n"
+                                    "Keeps the rule but stops applying it.\n"
+                                    "\n"
+                                    "  --json   print the rule as stored, as one JSON object\n";
 
 static void json_rule(json_out *j, const sr_rule *r)
 {
@@ -105,6 +110,9 @@ static void json_rule(json_out *j, const sr_rule *r)
         else
             json_string(j, buf);
     }
+    /* the parameters as the object they are (parameters_json keeps the text) */
+    json_key(j, "parameters");
+    json_raw(j, r->parameters_json[0] ? r->parameters_json : "{}");
     json_key(j, "created_at");
     json_string(j, r->created_at);
     json_key(j, "updated_at");
@@ -320,7 +328,8 @@ static int rules_add(const cli_ctx *ctx, int argc, char **argv)
 
 static int rules_enable(const cli_ctx *ctx, int argc, char **argv, int on)
 {
-    const cli_opt opts[] = {{NULL, NULL, NULL}};
+    bool json = false;
+    const cli_opt opts[] = {{"--json", NULL, &json}, {NULL, NULL, NULL}};
     const cli_spec spec = {on ? "rules enable" : "rules disable",
                            on ? usage_enable : usage_disable, opts, 1, 1, "a rule name or id"};
     const char *key;
@@ -333,11 +342,14 @@ static int rules_enable(const cli_ctx *ctx, int argc, char **argv, int on)
     sr_err err;
     sr_err_clear(&err);
     sr_status st = sr_catalog_rule_enable(cat, key, on, &err);
+    sr_rule r;
+    if (st == SR_OK && json)
+        st = sr_catalog_rule_get(cat, key, &r, &err);
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
     cli_note("%s rule '%s'", on ? "enabled" : "disabled", cli_tx(key));
-    return CLI_OK;
+    return json ? print_rule(&r, true) : CLI_OK;
 }
 
 static int rules_enable_on(const cli_ctx *ctx, int argc, char **argv)

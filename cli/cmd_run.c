@@ -144,6 +144,8 @@ static int list_row(const sr_run_summary *s, void *user)
         json_object_begin(j);
         json_key(j, "id");
         json_int(j, s->id);
+        json_key(j, "run_id"); /* the name reconstruct --json gives it */
+        json_int(j, s->id);
         json_key(j, "instance_id");
         json_int(j, s->instance_id);
         json_key(j, "part_number");
@@ -378,6 +380,8 @@ static int print_json(const sr_run *r, bool layers)
     json_init(j, stdout);
     json_object_begin(j);
     json_key(j, "id");
+    json_int(j, r->id);
+    json_key(j, "run_id"); /* the name reconstruct --json gives it */
     json_int(j, r->id);
     json_key(j, "instance_id");
     json_int(j, r->instance_id);

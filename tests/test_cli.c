@@ -1770,6 +1770,13 @@ static void params_list_show_and_set(void **state)
     RUN(&r, "--db", e->db, "params", "set", "fine", "--gamma-axis", "0");
     expect_usage(&r, "bad --gamma-axis '0'");
     result_free(&r);
+    /* --gamma sets both, as reconstruct's --gamma does */
+    RUN(&r, "--db", e->db, "params", "set", "fine", "--gamma", "0.7", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_true(jnum(&v, "gamma_axis") == 0.7 && jnum(&v, "gamma_plane") == 0.7);
+    jv_release(&v);
+    result_free(&r);
     RUN(&r, "--db", e->db, "params", "show", "nonesuch");
     expect_error(&r, "no parameter set 'nonesuch'");
     result_free(&r);
@@ -1931,8 +1938,12 @@ static void rules_add_enable_and_disable(void **state)
         assert_string_not_equal(jstr(&v.items[i], "name"), "shop-weld");
     jv_release(&v);
     result_free(&r);
-    RUN(&r, "--db", e->db, "rules", "enable", "shop-weld");
+    RUN(&r, "--db", e->db, "rules", "enable", "shop-weld", "--json");
     expect_ok(&r);
+    v = parse_json(r.out); /* the rule as stored, enabled */
+    assert_string_equal(jstr(&v, "name"), "shop-weld");
+    assert_true(jnum(&v, "enabled") == 1);
+    jv_release(&v);
     result_free(&r);
     v = rule_json(e, "shop-weld");
     assert_true(jnum(&v, "enabled") == 1);
@@ -2083,6 +2094,11 @@ static void fixtures_write_meshes_whose_volumes_match_volumes_json(void **state)
     snprintf(path, sizeof path, "%s/volumes.json", dir);
     char *text = read_text(path);
     assert_non_null(text);
+    /* --json prints the same object */
+    RUN(&r, "fixtures", "--out", dir, "--json");
+    expect_ok(&r);
+    assert_string_equal(r.out, text);
+    result_free(&r);
     jv v = parse_json(text);
     free(text);
     assert_string_equal(jstr(&v, "units"), "mm3");
@@ -2717,6 +2733,52 @@ static void global_options_may_follow_the_command(void **state)
     result_free(&r);
     RUN(&r, "part", "list", "--db");
     expect_usage(&r, "option '--db' needs a file name");
+    result_free(&r);
+}
+
+static long add_chipped_run(const env *e);
+
+/* The JSON names agree across commands: a run's id is "run_id" in run show and list as in
+ * reconstruct; "source" of a mesh file is its path (no quotes), with mesh_file and
+ * instance_id beside it; a rule's parameters are an object; reconstruct takes the
+ * thresholds by the names params set uses. */
+static void json_names_agree_across_commands(void **state)
+{
+    const env *e = *state;
+    init_catalog(e);
+    result r;
+    RUN(&r, "--db", e->db, "reconstruct", "--mesh", e->cyl, "--symmetry", "axial", "--no-record",
+        "--params", "default", "--gamma-axis", "0.8", "--gamma-plane", "0.6", "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "source"), e->cyl);
+    assert_string_equal(jstr(&v, "mesh_file"), e->cyl);
+    assert_int_equal(jget(&v, "instance_id")->type, J_NULL);
+    assert_true(jnum(jget(&v, "params"), "gamma_axis") == 0.8);
+    assert_true(jnum(jget(&v, "params"), "gamma_plane") == 0.6);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "rules", "show", "shoulder-ded", "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    const jv *params = jget(&v, "parameters");
+    assert_int_equal(params->type, J_OBJ);
+    assert_true(jnum(params, "layer_mm") > 0);
+    jv_release(&v);
+    result_free(&r);
+    long id = add_chipped_run(e);
+    char ids[32];
+    snprintf(ids, sizeof ids, "%ld", id);
+    RUN(&r, "--db", e->db, "run", "show", ids, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_int_equal((long)jnum(&v, "run_id"), id);
+    assert_int_equal((long)jnum(&v, "id"), id);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "--db", e->db, "run", "list", "--json");
+    expect_ok(&r);
+    expect_contains(r.out, "\"run_id\":");
     result_free(&r);
 }
 
@@ -3532,6 +3594,13 @@ static void report_refuses_a_wrong_run_and_bad_arguments(void **state)
     RUN(&r, "--db", e->db, "report", "1", "--out", out, "--max-triangles", "5");
     expect_usage(&r, "bad --max-triangles '5'");
     result_free(&r);
+    /* HTML is not written into a file named as something else */
+    char pdf[160];
+    path_in(e, "x.pdf", pdf, sizeof pdf);
+    RUN(&r, "--db", e->db, "report", "1", "--out", pdf);
+    expect_usage(&r, "the report is an HTML page, name it .html");
+    result_free(&r);
+    assert_false(file_exists(pdf));
 }
 
 int main(void)
@@ -3590,6 +3659,7 @@ int main(void)
         T(reconstruct_of_an_intact_scan_says_nothing_to_repair),
         T(reconstruct_shows_progress_by_phase_unless_quiet),
         T(global_options_may_follow_the_command),
+        T(json_names_agree_across_commands),
         T(a_symmetry_that_does_not_fit_finishes_and_reports_the_fit),
         T(run_commands_refuse_wrong_ids_and_filters),
         T(run_list_filters_by_instance_and_part),
