@@ -52,6 +52,8 @@ int cmd_export(const cli_ctx *ctx, int argc, char **argv);
 int cmd_params(const cli_ctx *ctx, int argc, char **argv);
 int cmd_demo(const cli_ctx *ctx, int argc, char **argv);
 int cmd_fixtures(const cli_ctx *ctx, int argc, char **argv);
+int cmd_check(const cli_ctx *ctx, int argc, char **argv);
+int cmd_convert(const cli_ctx *ctx, int argc, char **argv);
 int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv);
 int cmd_run(const cli_ctx *ctx, int argc, char **argv);
 int cmd_compare(const cli_ctx *ctx, int argc, char **argv);

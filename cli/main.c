@@ -45,6 +45,8 @@ static const cli_command commands[] = {
     {"part", cmd_part, "add, list and show parts (models with their intact mesh)"},
     {"instance", cmd_instance, "add, list and show damaged instances of a part"},
     {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
+    {"check", cmd_check, "what a mesh file holds: size, volume, closed, pieces, unit"},
+    {"convert", cmd_convert, "rewrite a mesh file in another format"},
     {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
     {"run", cmd_run, "list and show recorded reconstruction runs"},
     {"history", cmd_history, "repair history of a part, instance, material or date range"},

@@ -632,9 +632,9 @@ static void top_level_help_lists_commands_and_db_default(void **state)
     expect_ok(&r);
     assert_string_equal(r.err, "");
     expect_contains(r.out, "usage: symrec");
-    const char *cmds[] = {"catalog", "part", "instance", "export", "reconstruct", "run",
-                          "compare", "params", "demo", "fixtures", "help", "history",
-                          "report", "plan", "rules", "materials"};
+    const char *cmds[] = {"catalog", "part",   "instance", "export",    "reconstruct", "run",
+                          "compare", "params", "demo",     "fixtures",  "help",        "history",
+                          "report",  "plan",   "rules",    "materials", "check",       "convert"};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
         char line[32];
         snprintf(line, sizeof line, "\n  %s ", cmds[i]);
@@ -659,26 +659,44 @@ static void every_command_and_subcommand_has_help(void **state)
 {
     const env *e = *state;
     static const char *const cmds[][3] = {
-        {"catalog", "--help"},         {"catalog", "init", "--help"},
-        {"catalog", "info", "--help"}, {"part", "--help"},
-        {"part", "add", "--help"},     {"part", "list", "--help"},
-        {"part", "show", "--help"},    {"instance", "--help"},
-        {"instance", "add", "--help"}, {"instance", "list", "--help"},
-        {"instance", "show", "--help"}, {"export", "--help"},
-        {"reconstruct", "--help"},     {"run", "--help"},
-        {"run", "list", "--help"},     {"run", "show", "--help"},
+        {"catalog", "--help"},
+        {"catalog", "init", "--help"},
+        {"catalog", "info", "--help"},
+        {"part", "--help"},
+        {"part", "add", "--help"},
+        {"part", "list", "--help"},
+        {"part", "show", "--help"},
+        {"instance", "--help"},
+        {"instance", "add", "--help"},
+        {"instance", "list", "--help"},
+        {"instance", "show", "--help"},
+        {"export", "--help"},
+        {"reconstruct", "--help"},
+        {"run", "--help"},
+        {"run", "list", "--help"},
+        {"run", "show", "--help"},
         {"compare", "--help"},
         {"plan", "--help"},
-        {"params", "--help"},          {"params", "list", "--help"},
-        {"params", "show", "--help"},  {"params", "set", "--help"},
-        {"rules", "--help"},           {"rules", "list", "--help"},
-        {"rules", "show", "--help"},   {"rules", "set", "--help"},
-        {"rules", "add", "--help"},    {"rules", "enable", "--help"},
-        {"rules", "disable", "--help"}, {"materials", "--help"},
+        {"params", "--help"},
+        {"params", "list", "--help"},
+        {"params", "show", "--help"},
+        {"params", "set", "--help"},
+        {"rules", "--help"},
+        {"rules", "list", "--help"},
+        {"rules", "show", "--help"},
+        {"rules", "set", "--help"},
+        {"rules", "add", "--help"},
+        {"rules", "enable", "--help"},
+        {"rules", "disable", "--help"},
+        {"materials", "--help"},
         {"materials", "list", "--help"},
-        {"demo", "--help"},            {"fixtures", "--help"},
-        {"help", "--help"},            {"history", "--help"},
+        {"demo", "--help"},
+        {"fixtures", "--help"},
+        {"help", "--help"},
+        {"history", "--help"},
         {"report", "--help"},
+        {"check", "--help"},
+        {"convert", "--help"},
     };
     const size_t n = sizeof cmds / sizeof cmds[0];
     for (size_t i = 0; i < n; i++) {
@@ -1689,6 +1707,61 @@ static void export_round_trips_through_every_format(void **state)
     snprintf(want, sizeof want, "wrote part P1 to '%s' (stl, 34 vertices, 64 triangles)\n",
              path);
     assert_string_equal(r.out, want);
+    result_free(&r);
+}
+
+/* check says what a file holds (a closed box: its volume; an open one: its boundary);
+ * convert rewrites it in another format with the same geometry. */
+static void check_and_convert_a_mesh_file(void **state)
+{
+    const env *e = *state;
+    result r;
+    RUN(&r, "check", e->box, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_true(fabs(jnum(&v, "volume") - 6000) < 1e-6);
+    assert_true(jget(&v, "closed")->b && jget(&v, "outward")->b);
+    assert_int_equal((int)jnum(&v, "components"), 1);
+    assert_string_equal(jstr(&v, "likely_unit"), "mm");
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "check", e->box);
+    expect_ok(&r);
+    expect_contains(r.out, "a closed solid, facing outward");
+    result_free(&r);
+
+    char open_box[160];
+    path_in(e, "open.obj", open_box, sizeof open_box);
+    const char text[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                        "f 1 2 3\nf 1 3 4\nf 1 2 6\nf 1 6 5\n";
+    write_bytes(open_box, text, sizeof text - 1);
+    RUN(&r, "check", open_box);
+    expect_ok(&r);
+    expect_contains(r.out, "not a closed solid: ");
+    expect_contains(r.out, "likely unit         in (largest side 1 as read)");
+    result_free(&r);
+
+    char converted[160];
+    path_in(e, "box.ply", converted, sizeof converted);
+    RUN(&r, "convert", e->box, converted, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_string_equal(jstr(&v, "format"), "ply");
+    assert_int_equal((int)jnum(&v, "triangles"), 12);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "compare", e->box, converted, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_true(jnum(&v, "hausdorff_mm") == 0);
+    jv_release(&v);
+    result_free(&r);
+    RUN(&r, "convert", e->box, "x.xyz");
+    expect_usage(&r, "bad OUT 'x.xyz'");
+    result_free(&r);
+    path_in(e, "missing.stl", converted, sizeof converted);
+    RUN(&r, "check", converted);
+    expect_error(&r, "missing.stl");
     result_free(&r);
 }
 
@@ -3523,6 +3596,81 @@ static void history_refuses_bad_filters(void **state)
     result_free(&r);
 }
 
+/* export run N: the restored part, the patches (their volume is the run's), one
+ * section's patch, or both as a glTF scene; refusals say why. */
+static void export_run_writes_its_restored_part_and_patches(void **state)
+{
+    const env *e = *state;
+    make_demo(e);
+    result r;
+    RUN_NATIVE(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--json");
+    expect_ok(&r);
+    jv rec = parse_json(r.out);
+    result_free(&r);
+    double patch_volume = jnum(&rec, "patch_volume_mm3");
+    double restored_volume = jnum(&rec, "restored_volume_mm3");
+    char rid[32];
+    snprintf(rid, sizeof rid, "%ld", (long)jnum(&rec, "run_id"));
+    jv_release(&rec);
+    assert_true(patch_volume > 0);
+
+    char path[160];
+    path_in(e, "patches.stl", path, sizeof path);
+    RUN(&r, "--db", e->db, "export", "run", rid, "--out", path, "--what", "patches");
+    expect_ok(&r);
+    result_free(&r);
+    RUN(&r, "check", path, "--json");
+    expect_ok(&r);
+    jv v = parse_json(r.out);
+    assert_true(fabs(jnum(&v, "volume") - patch_volume) < 1e-3 * patch_volume);
+    jv_release(&v);
+    result_free(&r);
+
+    path_in(e, "restored.obj", path, sizeof path);
+    RUN(&r, "--db", e->db, "export", "run", rid, "--out", path);
+    expect_ok(&r);
+    expect_contains(r.out, "restored");
+    result_free(&r);
+    RUN(&r, "check", path, "--json");
+    expect_ok(&r);
+    v = parse_json(r.out);
+    assert_true(fabs(jnum(&v, "volume") - restored_volume) < 1e-6 * restored_volume);
+    jv_release(&v);
+    result_free(&r);
+
+    path_in(e, "section1.ply", path, sizeof path);
+    RUN(&r, "--db", e->db, "export", "run", rid, "--out", path, "--section", "1");
+    expect_ok(&r);
+    result_free(&r);
+    assert_true(file_exists(path));
+
+    path_in(e, "both.glb", path, sizeof path);
+    RUN(&r, "--db", e->db, "export", "run", rid, "--out", path, "--what", "both");
+    expect_ok(&r);
+    result_free(&r);
+    sr_scene scene;
+    memset(&scene, 0, sizeof scene);
+    assert_int_equal(sr_scene_read(path, &scene, NULL), SR_OK);
+    assert_true(scene.count >= 2);
+    assert_string_equal(scene.names[0], "restored");
+    assert_string_equal(scene.names[1], "section 1");
+    sr_scene_release(&scene);
+
+    path_in(e, "both.stl", path, sizeof path);
+    RUN(&r, "--db", e->db, "export", "run", rid, "--out", path, "--what", "both");
+    expect_usage(&r, "--what both needs a .gltf or .glb file");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "export", "run", rid, "--out", path, "--section", "9");
+    expect_error(&r, "has no section 9");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "export", "part", "SR-SHAFT-01", "--out", path, "--what", "patches");
+    expect_usage(&r, "--what and --section are for 'export run N'");
+    result_free(&r);
+    RUN(&r, "--db", e->db, "export", "run", "99", "--out", path);
+    expect_error(&r, "no run 99");
+    result_free(&r);
+}
+
 static void report_writes_a_self_contained_page_of_the_run(void **state)
 {
     const env *e = *state;
@@ -3640,6 +3788,8 @@ int main(void)
         T(instance_symmetry_override_is_shown),
         T(export_round_trips_through_every_format),
         T(export_of_an_unknown_id_fails),
+        T(check_and_convert_a_mesh_file),
+        T(export_run_writes_its_restored_part_and_patches),
         T(params_list_show_and_set),
         T(rules_list_show_and_set),
         T(rules_set_errors_change_nothing),
