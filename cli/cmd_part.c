@@ -32,7 +32,8 @@ static const char usage_add[] =
     "\n"
     "  --number P     the part number, unique in the catalogue (1..63 characters)\n"
     "  --name N       what the part is called (1..127 characters)\n"
-    "  --material M   its material, e.g. 42CrMo4\n"
+    "  --material M   its material, one in the catalogue (see 'symrec materials list';\n"
+    "                 add one with 'symrec materials add M --density G_CM3')\n"
     "  --mesh FILE    the intact mesh: .stl .obj .ply .off .gltf .glb, in mm\n"
     "  --notes T      free text\n"
     "  --symmetry K   how the part is restored: axial, mirror or glide\n"
@@ -100,6 +101,11 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh_init(&mesh);
     sr_part_info info;
     int64_t id = 0;
+    /* The material first: an unknown one is refused before a large mesh is read. */
+    if (!cli_material_known(cat, material)) {
+        sr_catalog_close(cat);
+        return CLI_FAIL;
+    }
     sr_status st = sr_mesh_read(mesh_path, &mesh, &err);
     if (st == SR_OK) {
         sr_part_new part = {

@@ -22,6 +22,7 @@
 
 #include "catalog/catalog.h"
 #include "catalog/catalog_int.h"
+#include "catalog/catalog_rules.h"
 #include "run/params_default.h"
 #include "support/assert_near.h"
 
@@ -196,6 +197,16 @@ static void assert_same_mesh(const sr_mesh *a, const sr_mesh *b)
     assert_memory_equal(a->tri, b->tri, a->tri_count * 3 * sizeof(uint32_t));
 }
 
+/* Adds material `name` (7.85 g/cm³): a part may name only a material the catalogue
+ * holds, and these tests' materials are not all seeded. */
+static void add_material(sr_catalog *cat, const char *name)
+{
+    sr_material_new m = {.name = name, .density_g_cm3 = 7.85};
+    sr_err err = {{0}};
+    if (sr_catalog_material_add(cat, &m, NULL, &err) != SR_OK)
+        fail_msg("material add: %s", err.msg);
+}
+
 static int64_t add_part(sr_catalog *cat, const char *number, const char *name,
                         const char *material, const sr_mesh *mesh)
 {
@@ -265,6 +276,7 @@ static void reopen_is_idempotent(void **state)
 {
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "steel");
     add_part(cat, "P-1", "plate", "steel", NULL);
     sr_catalog_close(cat);
     int64_t objects = raw_int(fx->db, "SELECT count(*) FROM sqlite_schema");
@@ -763,6 +775,7 @@ static void part_list_filters_by_name_number_material(void **state)
 {
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "steel");
     add_part(cat, "SH-200", "pump shaft", "steel", NULL);
     add_part(cat, "SH-100", "drive shaft", "42CrMo4", NULL);
     add_part(cat, "GR-7", "spur gear", "Steel", NULL);   /* same material as "steel" */
@@ -807,6 +820,7 @@ static void duplicate_part_number_changes_nothing(void **state)
     sr_catalog *cat = open_new(fx);
     sr_mesh m;
     make_box(&m, 0);
+    add_material(cat, "steel");
     add_part(cat, "P-1", "plate", "steel", &m);
     counts before = count_all(fx->db);
 
@@ -869,10 +883,11 @@ static void part_add_refuses_bad_fields(void **state)
 
 static void late_failure_rolls_back_the_whole_add(void **state)
 {
-    /* A failure after the mesh (and material) rows are written must take them back:
-     * a temporary trigger on the handle's connection makes the last insert fail. */
+    /* A failure after the mesh row is written must take it back: a temporary trigger
+     * on the handle's connection makes the last insert fail. */
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "bronze");
     add_part(cat, "A", "a", NULL, NULL);
     counts before = count_all(fx->db);
     sr_mesh m;
@@ -1380,6 +1395,7 @@ static void busy_writer_fails_cleanly(void **state)
 {
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "steel");
     sqlite3_busy_timeout(cat->db, 50);   /* the real 5 s is too long for a unit test */
     sqlite3 *other = NULL;
     assert_int_equal(sqlite3_open(fx->db, &other), SQLITE_OK);

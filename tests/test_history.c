@@ -25,6 +25,7 @@
 #include "catalog/catalog.h"
 #include "catalog/catalog_history.h"
 #include "catalog/catalog_int.h"
+#include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
@@ -82,6 +83,17 @@ static int64_t add_run(fixture *fx, int64_t inst, const char *when, int ok,
     return id;
 }
 
+/* The parts' materials, Steel and Bronze: a part may name only a material the
+ * catalogue holds. */
+static void add_materials(sr_catalog *cat)
+{
+    sr_material_new steel = {.name = "Steel", .density_g_cm3 = 7.85, .family = "steel"};
+    sr_material_new bronze = {.name = "Bronze", .density_g_cm3 = 8.7, .family = "copper"};
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_material_add(cat, &steel, NULL, &err), SR_OK);
+    assert_int_equal(sr_catalog_material_add(cat, &bronze, NULL, &err), SR_OK);
+}
+
 static int setup(void **state)
 {
     fixture *fx = calloc(1, sizeof *fx);
@@ -93,6 +105,7 @@ static int setup(void **state)
     assert_int_equal(sr_catalog_open(db, SR_CATALOG_CREATE, &fx->cat, &err), SR_OK);
     sr_mesh m = {0};
     assert_int_equal(sr_shape_cylinder(10, 0, 20, 8, &m, &err), SR_OK);
+    add_materials(fx->cat);
     sr_part_new pa = {.number = "A", .name = "shaft", .material = "Steel", .mesh = &m};
     sr_part_new pb = {.number = "B", .name = "bush", .material = "Bronze", .mesh = &m};
     int64_t id;
@@ -602,6 +615,7 @@ static void migration_004_backfills_the_cells(void **state)
                      0);
     sr_mesh m = {0};
     assert_int_equal(sr_shape_cylinder(10, 0, 20, 8, &m, &err), SR_OK);
+    add_materials(fx.cat);
     sr_part_new pa = {.number = "A", .name = "shaft", .material = "Steel", .mesh = &m};
     sr_part_new pb = {.number = "B", .name = "bush", .material = "Bronze", .mesh = &m};
     int64_t id;

@@ -96,7 +96,8 @@ typedef struct sr_part_info {
 typedef struct sr_part_new {
     const char *number;         /* required, 1..63 chars */
     const char *name;           /* required, 1..127 chars */
-    const char *material;       /* optional; created in the materials table if new */
+    const char *material;       /* optional; must be in the materials table (added there
+                                 * with its density: sr_catalog_material_add) */
     const char *notes;          /* optional */
     const sr_mesh *mesh;        /* optional intact model (validated before storing) */
     const char *source_file;    /* optional: where the mesh came from */
@@ -108,7 +109,8 @@ typedef struct sr_part_new {
  * A part's mesh is its intact model, so it must be a closed solid: every edge shared by
  * two triangles traversed in opposite directions, enclosing a positive volume. Any
  * other mesh is refused (SR_E_INVALID, the edge counts or the volume named) unless
- * allow_open is set. */
+ * allow_open is set. A material not in the catalogue is refused (SR_E_NOTFOUND "no
+ * material 'X' in the catalogue"): it would have no density. */
 sr_status sr_catalog_part_add(sr_catalog *cat, const sr_part_new *part, int64_t *out_id,
                               sr_err *err);
 

@@ -133,25 +133,16 @@ sr_status sr_cat_symmetry_write(sr_catalog *cat, int64_t part_id, int64_t instan
     return sr_cat_exec(cat, stmt, err, "store a symmetry");
 }
 
-/* The id of material `name`, added to the materials table if new (the name keeps
- * the spelling it was first given; look-up ignores ASCII case). */
+/* The id of material `name` (found ignoring ASCII case). A material enters the
+ * catalogue only with its density (sr_catalog_material_add), so an unknown name is
+ * refused rather than created empty: SR_E_NOTFOUND "no material 'X' in the catalogue". */
 static sr_status material_id(sr_catalog *cat, const char *name, int64_t *out_id, sr_err *err)
 {
-    sqlite3_stmt *stmt;
-    sr_status st = sr_cat_prepare(
-        cat, "INSERT INTO materials (name) VALUES (?1) ON CONFLICT (name) DO NOTHING", &stmt,
-        err);
-    if (st != SR_OK)
-        return st;
-    sqlite3_bind_text(stmt, 1, name, -1, SQLITE_TRANSIENT);
-    st = sr_cat_exec(cat, stmt, err, "add a material");
-    if (st != SR_OK)
-        return st;
     bool found;
-    st = lookup_id(cat, "SELECT id FROM materials WHERE name = ?1", name, 0, &found, out_id, err,
-                   "find a material");
+    sr_status st = lookup_id(cat, "SELECT id FROM materials WHERE name = ?1", name, 0, &found,
+                             out_id, err, "find a material");
     if (st == SR_OK && !found)
-        st = sr_err_set(err, SR_E_INTERNAL, "material '%s' vanished from '%s'", name, cat->path);
+        st = sr_err_set(err, SR_E_NOTFOUND, "no material '%s' in the catalogue", name);
     return st;
 }
 
