@@ -180,6 +180,10 @@ void cli_instances_release(cli_instances *instances);
 int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json);
 int cli_part_show_print(sr_catalog *cat, const char *key, bool json);
 
+/* cmd_part.c: what a removal took, as "2 instances and 3 runs" (the instances only
+ * when `instances`), into buf. */
+void cli_removal_str(const sr_removal *r, bool instances, char *buf, size_t size);
+
 /* cmd_materials.c: whether material `name` is in the catalogue; if not, prints the
  * one-line refusal listing the known materials and how to add one (another failure:
  * its error line) and returns false. */

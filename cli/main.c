@@ -38,9 +38,9 @@ static const char usage_tail[] =
 static int cmd_help(const cli_ctx *ctx, int argc, char **argv);
 
 static const cli_command commands[] = {
-    {"catalog", cmd_catalog, "create a catalogue, or show what it holds"},
-    {"part", cmd_part, "add, list and show parts (models with their intact mesh)"},
-    {"instance", cmd_instance, "add, list and show damaged instances of a part"},
+    {"catalog", cmd_catalog, "create, describe, back up or check a catalogue"},
+    {"part", cmd_part, "add, list, show, correct and remove parts (models with their mesh)"},
+    {"instance", cmd_instance, "add, list, show, correct and remove damaged instances of a part"},
     {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
     {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
     {"run", cmd_run, "list and show recorded reconstruction runs"},

@@ -416,3 +416,65 @@ sr_status sr_catalog_part_set_symmetry(sr_catalog *cat, int64_t part_id,
         sr_cat_rollback(cat);
     return st;
 }
+
+sr_status sr_catalog_part_set(sr_catalog *cat, const char *key, const sr_part_change *ch,
+                              sr_err *err)
+{
+    if (!ch->number && !ch->name && !ch->material && !ch->notes && !ch->set_symmetry)
+        return sr_err_set(err, SR_E_INVALID, "nothing to change in part '%s'", key ? key : "");
+    if (ch->number && !sr_cat_len_ok(ch->number, 1, 63))
+        return sr_err_set(err, SR_E_RANGE, "bad part number '%.40s': expected 1..63 bytes",
+                          ch->number);
+    if (ch->name && !sr_cat_len_ok(ch->name, 1, 127))
+        return sr_err_set(err, SR_E_RANGE, "bad name of part '%s': expected 1..127 bytes", key);
+    if (ch->material && !sr_cat_len_ok(ch->material, 1, 63))
+        return sr_err_set(err, SR_E_RANGE, "bad material of part '%s': expected 1..63 bytes", key);
+    if (ch->notes && !sr_cat_len_ok(ch->notes, 0, 511))
+        return sr_err_set(err, SR_E_RANGE, "bad notes of part '%s': longer than 511 bytes", key);
+    if (ch->set_symmetry && ch->symmetry.kind != SR_SYM_NONE) {
+        sr_status st = sr_symmetry_check(&ch->symmetry, err);
+        if (st != SR_OK)
+            return st;
+    }
+    sr_status st = sr_cat_begin(cat, err);
+    if (st != SR_OK)
+        return st;
+    int64_t part_id, mat_id = 0;
+    st = sr_cat_part_resolve(cat, key, &part_id, err);
+    if (st == SR_OK && ch->material)
+        st = material_id(cat, ch->material, &mat_id, err);
+    if (st == SR_OK && ch->number) {
+        bool taken;
+        int64_t other = 0;
+        st = lookup_id(cat, "SELECT id FROM parts WHERE number = ?1", ch->number, 0, &taken, &other,
+                       err, "change a part");
+        if (st == SR_OK && taken && other != part_id)
+            st = sr_err_set(err, SR_E_EXISTS, "part '%s' is already in the catalogue", ch->number);
+    }
+    sqlite3_stmt *stmt;
+    if (st == SR_OK)
+        st = sr_cat_prepare(cat,
+                            "UPDATE parts SET number = coalesce(?2, number),"
+                            " name = coalesce(?3, name), material_id = coalesce(?4, material_id),"
+                            " notes = coalesce(?5, notes) WHERE id = ?1",
+                            &stmt, err);
+    if (st == SR_OK) {
+        sqlite3_bind_int64(stmt, 1, part_id);
+        if (ch->number)
+            sqlite3_bind_text(stmt, 2, ch->number, -1, SQLITE_TRANSIENT);
+        if (ch->name)
+            sqlite3_bind_text(stmt, 3, ch->name, -1, SQLITE_TRANSIENT);
+        if (mat_id)
+            sqlite3_bind_int64(stmt, 4, mat_id);
+        if (ch->notes)
+            sqlite3_bind_text(stmt, 5, ch->notes, -1, SQLITE_TRANSIENT);
+        st = sr_cat_exec(cat, stmt, err, "change a part");
+    }
+    if (st == SR_OK && ch->set_symmetry)
+        st = sr_cat_symmetry_write(cat, part_id, 0, &ch->symmetry, err);
+    if (st == SR_OK)
+        st = sr_cat_commit(cat, err);
+    if (st != SR_OK)
+        sr_cat_rollback(cat);
+    return st;
+}
