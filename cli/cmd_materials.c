@@ -287,15 +287,29 @@ static int materials_set(const cli_ctx *ctx, int argc, char **argv)
     return rc;
 }
 
+/* The names listed by the refusal of an unknown material: the first MAX_LISTED, then
+ * how many more (a shop's own list can be long; the refusal stays one line). */
+#define MAX_LISTED 20
+
+typedef struct name_list {
+    char *text;   /* "a, b, c", malloc'd */
+    size_t count; /* names seen */
+    bool nomem;
+} name_list;
+
 static int push_name(const sr_material *m, void *user)
 {
-    char **list = user;
-    size_t len = *list ? strlen(*list) : 0, add = strlen(m->name) + 2;
-    char *p = realloc(*list, len + add + 1);
-    if (!p)
+    name_list *nl = user;
+    if (nl->count++ >= MAX_LISTED)
+        return 0;
+    size_t len = nl->text ? strlen(nl->text) : 0, add = strlen(m->name) + 2;
+    char *p = realloc(nl->text, len + add + 1);
+    if (!p) {
+        nl->nomem = true;
         return 1;
+    }
     snprintf(p + len, add + 1, "%s%s", len ? ", " : "", m->name);
-    *list = p;
+    nl->text = p;
     return 0;
 }
 
@@ -311,13 +325,23 @@ bool cli_material_known(sr_catalog *cat, const char *name)
         cli_fail(st, &err);
         return false;
     }
-    char *list = NULL;
+    name_list nl = {NULL, 0, false};
     sr_err_clear(&err);
-    (void)sr_catalog_material_list(cat, push_name, &list, &err);
-    cli_error("unknown material '%s' (known: %s; add it with 'symrec materials add %s "
+    st = sr_catalog_material_list(cat, push_name, &nl, &err);
+    char *known = st == SR_OK && !nl.nomem && nl.text ? cli_tx_dup(nl.text) : NULL;
+    char more[64] = "";
+    if (known && nl.count > MAX_LISTED)
+        snprintf(more, sizeof more, " and %zu more (see 'symrec materials list')",
+                 nl.count - MAX_LISTED);
+    cli_error("unknown material '%s' (known: %s%s; add it with 'symrec materials add %s "
               "--density G_CM3')",
-              cli_tx(name), list ? cli_tx(list) : "none", cli_tx(name));
-    free(list);
+              cli_tx(name),
+              known      ? known
+              : nl.count ? "see 'symrec materials list'"
+                         : "none",
+              more, cli_tx(name));
+    free(known);
+    free(nl.text);
     return false;
 }
 

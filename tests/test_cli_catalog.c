@@ -167,6 +167,27 @@ static void part_add_refuses_an_unknown_material_and_lists_the_known_ones(void *
     assert_int_equal(raw_int(f->db, "SELECT count(*) FROM materials"), materials + 1);
 }
 
+/* A shop with many materials: the refusal lists the first 20 and counts the rest, on
+ * one line. */
+static void an_unknown_material_among_many_lists_twenty_and_counts_the_rest(void **state)
+{
+    const fixture *f = *state;
+    cli_case_synth_catalogue(f->db, "S1", "steel", f->cyl);
+    raw_exec(f->db, "WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 30)"
+                    " INSERT INTO materials (name, density_g_cm3)"
+                    " SELECT printf('Alloy-%02d', i), 8.0 FROM n");
+    long long total = raw_int(f->db, "SELECT count(*) FROM materials");
+    cli_result r;
+    CLI_RUN(&r, "--db", f->db, "part", "add", "--number", "P2", "--name", "x", "--material",
+            "brass", "--mesh", f->cyl);
+    cli_expect_error(&r, "unknown material 'brass' (known: 42CrMo4, Alloy-01, Alloy-02, ");
+    char more[96];
+    snprintf(more, sizeof more, ", Alloy-19 and %lld more (see 'symrec materials list'); add it",
+             total - 20);
+    cli_expect_contains(r.err, more);
+    cli_result_free(&r);
+}
+
 static void materials_add_refuses_bad_values_and_duplicates(void **state)
 {
     const fixture *f = *state;
@@ -595,6 +616,7 @@ int main(void)
 #define T(fn) cmocka_unit_test_setup_teardown(fn, setup, teardown)
     struct CMUnitTest tests[] = {
         T(part_add_refuses_an_unknown_material_and_lists_the_known_ones),
+        T(an_unknown_material_among_many_lists_twenty_and_counts_the_rest),
         T(materials_add_refuses_bad_values_and_duplicates),
         T(materials_set_gives_an_old_material_its_density),
         T(part_set_changes_the_part_and_prints_it),

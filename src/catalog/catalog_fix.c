@@ -317,13 +317,23 @@ sr_status sr_catalog_backup(sr_catalog *cat, const char *path, bool force, sr_er
         st = sr_err_set(err, SR_E_IO, "cannot replace '%s': its -wal or -shm file stays: %s", path,
                         strerror(errno));
     if (st == SR_OK) {
-        /* link refuses a target that appeared meanwhile; --force replaces it */
+        /* link refuses a target that appeared meanwhile; --force replaces it. On a
+         * file system without hard links, a rename after one more look. */
+        bool renamed = exists;
         int moved = exists ? rename(tmp, path) : link(tmp, path);
-        if (moved != 0)
-            st = sr_err_set(err, errno == EEXIST ? SR_E_EXISTS : SR_E_IO, "cannot write '%s': %s",
-                            path, strerror(errno));
+        if (moved != 0 && !exists && errno != EEXIST && stat(path, &target) != 0) {
+            renamed = true;
+            moved = rename(tmp, path);
+        }
+        if (moved != 0 && errno == EEXIST)
+            st =
+                sr_err_set(err, SR_E_EXISTS, "'%s' already exists (replace it with --force)", path);
+        else if (moved != 0)
+            st = sr_err_set(err, SR_E_IO, "cannot write '%s': %s", path, strerror(errno));
+        else if (renamed)
+            tmp[0] = '\0'; /* moved: nothing to remove */
     }
-    if (!(st == SR_OK && exists))
+    if (tmp[0])
         unlink(tmp);
     free(tmp);
     return st;
