@@ -43,10 +43,12 @@ static const char usage_check[] =
     "Checks the catalogue file: SQLite's integrity check, every foreign key, the\n"
     "application id and schema version, and that the history summary's running totals\n"
     "agree with the runs. Prints \"ok\" and exits 0 when all is well; otherwise one line\n"
-    "per problem on stdout and exit status 1.\n"
+    "per problem on stdout and exit status 1. Materials without a density (which older\n"
+    "versions created) are noted on stderr, not counted as problems.\n"
     "\n"
     "  --json   one JSON object: {\"path\", \"ok\", \"application_id\",\n"
-    "           \"schema_version\", \"schema_latest\", \"problems\": [...]}\n";
+    "           \"schema_version\", \"schema_latest\", \"materials_without_density\",\n"
+    "           \"problems\": [...]}\n";
 
 static const char usage_init[] =
     "usage: symrec [--db FILE] catalog init\n"
@@ -238,6 +240,8 @@ static int catalog_check(const cli_ctx *ctx, int argc, char **argv)
         json_int(&j, info.schema_version);
         json_key(&j, "schema_latest");
         json_int(&j, sr_catalog_schema_latest());
+        json_key(&j, "materials_without_density");
+        json_int(&j, info.no_density);
         json_key(&j, "problems");
         json_array_begin(&j);
         for (size_t i = 0; i < pl.count; i++)
@@ -258,6 +262,10 @@ static int catalog_check(const cli_ctx *ctx, int argc, char **argv)
                   pl.count == 1 ? "" : "s");
         rc = CLI_FAIL;
     }
+    if (st == SR_OK && !json && info.no_density > 0)
+        cli_note("note: %lld material%s no density, so no deposit mass (see 'symrec materials "
+                 "list'; give one with 'symrec materials set NAME --density G_CM3')",
+                 (long long)info.no_density, info.no_density == 1 ? " has" : "s have");
     for (size_t i = 0; i < pl.count; i++)
         free(pl.v[i]);
     free(pl.v);

@@ -1754,11 +1754,14 @@ static void check_reports_a_broken_foreign_key(void **state)
     assert_int_equal(problems, 0);
     assert_int_equal(info.application_id, SR_CATALOG_APP_ID);
     assert_int_equal(info.schema_version, sr_catalog_schema_latest());
+    assert_int_equal(info.no_density, 0);
     /* raw_exec's connection has foreign keys off, as a plain sqlite3 shell */
     raw_exec(fx->db, "UPDATE parts SET material_id = 999");
+    raw_exec(fx->db, "INSERT INTO materials (name) VALUES ('steel')"); /* noted, no problem */
     assert_int_equal(sr_catalog_check(cat, count_problem, &problems, &info, &err), SR_OK);
     assert_int_equal(problems, 1);
     assert_int_equal(info.problems, 1);
+    assert_int_equal(info.no_density, 1);
     sr_catalog_close(cat);
 }
 

@@ -274,6 +274,8 @@ typedef struct sr_check_info {
     int64_t application_id; /* PRAGMA application_id */
     int schema_version;     /* PRAGMA user_version */
     int64_t problems;       /* lines passed to fn */
+    int64_t no_density;     /* materials without a density (older symrec made them); not
+                             * a problem, but their deposit masses cannot be known */
 } sr_check_info;
 
 /* Checks the file: SQLite's integrity_check, foreign_key_check, the application id and

@@ -28,7 +28,7 @@
 
 /* ---- removal ---- */
 
-/* Runs a one-row, one-integer query with ?1 bound to id. */
+/* Runs a one-row, one-integer query, with ?1 bound to id when it has a parameter. */
 static sr_status count_of(sr_catalog *cat, const char *sql, int64_t id, int64_t *out, sr_err *err,
                           const char *what)
 {
@@ -36,7 +36,8 @@ static sr_status count_of(sr_catalog *cat, const char *sql, int64_t id, int64_t 
     sr_status st = sr_cat_prepare(cat, sql, &stmt, err);
     if (st != SR_OK)
         return st;
-    sqlite3_bind_int64(stmt, 1, id);
+    if (sqlite3_bind_parameter_count(stmt) > 0)
+        sqlite3_bind_int64(stmt, 1, id);
     bool row;
     st = sr_cat_step(cat, stmt, &row, err, what);
     if (st == SR_OK && row)
@@ -462,7 +463,7 @@ sr_status sr_catalog_check(sr_catalog *cat, sr_check_fn fn, void *user, sr_check
                            sr_err *err)
 {
     check_ctx c = {fn, user, 0, false};
-    sr_check_info info = {0, 0, 0};
+    sr_check_info info = {0, 0, 0, 0};
     sqlite3_stmt *stmt;
     sr_status st = sr_cat_prepare(cat, "PRAGMA application_id", &stmt, err);
     bool row = false;
@@ -493,6 +494,9 @@ sr_status sr_catalog_check(sr_catalog *cat, sr_check_fn fn, void *user, sr_check
         st = each_row(cat, cells_sql, &c, cell_line, err, "check the history summary");
     if (st == SR_OK && cat->schema_version >= 4)
         st = each_row(cat, class_cells_sql, &c, class_cell_line, err, "check the history summary");
+    if (st == SR_OK)
+        st = count_of(cat, "SELECT count(*) FROM materials WHERE density_g_cm3 IS NULL", 0,
+                      &info.no_density, err, "count materials without a density");
     if (st != SR_OK)
         return st;
     info.problems = c.problems;
