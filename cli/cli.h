@@ -186,6 +186,15 @@ void cli_instances_release(cli_instances *instances);
 int cli_part_list_print(sr_catalog *cat, const sr_part_filter *filter, bool json);
 int cli_part_show_print(sr_catalog *cat, const char *key, bool json);
 
+/* cmd_part.c: what a removal took, as "2 instances and 3 runs" (the instances only
+ * when `instances`), into buf. */
+void cli_removal_str(const sr_removal *r, bool instances, char *buf, size_t size);
+
+/* cmd_materials.c: whether material `name` is in the catalogue; if not, prints the
+ * one-line refusal listing the known materials and how to add one (another failure:
+ * its error line) and returns false. */
+bool cli_material_known(sr_catalog *cat, const char *name);
+
 /* cmd_instance.c: a table of instances; with_part adds the part number column. The
  * missing volume is the part's intact volume minus the instance's. Returns false
  * (after an error line) on failure. */

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "cli.h"
 #include "mesh/shapes.h"
@@ -34,6 +35,34 @@ static const char usage[] =
     "  --part NUMBER    the demo part to repair (default SR-SHAFT-01)\n"
     "  --catalog-only   only build and show the catalogue\n";
 
+/* The demo parts' materials that sql/002_rules.sql does not seed, with their densities:
+ * a part may name only a material in the catalogue, and the deposit mass needs the
+ * density. Added when missing; one already there (an older symrec created it without
+ * a density) is left as the shop has it ('materials set' corrects it). */
+static const sr_material_new demo_materials[] = {
+    {"AlSi10Mg", 2.67, "aluminium",
+     "EN 1706 EN AC-43000 cast aluminium alloy, also a common powder for additive manufacturing"},
+    {"S355", 7.85, "steel", "EN 10025-2 non-alloy structural steel"},
+};
+
+static sr_status add_demo_material(sr_catalog *cat, const char *name, sr_err *err)
+{
+    for (size_t i = 0; i < sizeof demo_materials / sizeof demo_materials[0]; i++) {
+        if (strcmp(demo_materials[i].name, name) != 0)
+            continue;
+        sr_material m;
+        sr_status st = sr_catalog_material_get(cat, name, &m, err);
+        if (st != SR_E_NOTFOUND)
+            return st;
+        sr_err_clear(err);
+        st = sr_catalog_material_add(cat, &demo_materials[i], NULL, err);
+        if (st == SR_OK)
+            cli_note("demo: added material %s (%g g/cm³)", name, demo_materials[i].density_g_cm3);
+        return st;
+    }
+    return SR_OK;
+}
+
 /* Adds demo part i and/or its damaged instance, whichever is not there yet. Counts
  * what it added. */
 static sr_status add_demo_part(sr_catalog *cat, size_t i, int *parts_added,
@@ -53,7 +82,9 @@ static sr_status add_demo_part(sr_catalog *cat, size_t i, int *parts_added,
     sr_mesh intact, damaged;
     sr_mesh_init(&intact);
     sr_mesh_init(&damaged);
-    st = sr_demo_part_build(i, &intact, &damaged, err);
+    st = have_part ? SR_OK : add_demo_material(cat, dp->material, err);
+    if (st == SR_OK)
+        st = sr_demo_part_build(i, &intact, &damaged, err);
     if (st == SR_OK && !have_part) {
         sr_part_new part = {
             .number = dp->number,

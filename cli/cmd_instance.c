@@ -1,7 +1,9 @@
 /*
- * cmd_instance.c: `symrec instance add|list|show`: an instance is one damaged copy of
- * a part as it came into the shop, with its scan (the damaged mesh), serial, date
- * received and, if it differs from the part's, its own symmetry. Also the instance
+ * cmd_instance.c: `symrec instance add|list|show|set|remove`: an instance is one
+ * damaged copy of a part as it came into the shop, with its scan (the damaged mesh),
+ * serial, date received and, if it differs from the part's, its own symmetry; `set`
+ * corrects serial, date and notes, `remove` takes it out (with its runs only when
+ * asked). Also the instance
  * table that `part show` and `demo` print. The "missing" volume shown is the part's
  * intact volume minus the instance's: what a repair has to put back.
  */
@@ -18,10 +20,38 @@ static const char usage_instance[] =
     "                               [--symmetry K [--order N] [--shift MM]] [--json]\n"
     "       symrec [--db FILE] instance list [--part P] [--json]\n"
     "       symrec [--db FILE] instance show ID [--json]\n"
+    "       symrec [--db FILE] instance set ID [--serial S] [--received YYYY-MM-DD]\n"
+    "                               [--notes T] [--json]\n"
+    "       symrec [--db FILE] instance remove ID [--with-runs] [--json]\n"
     "\n"
     "  add     add a damaged instance of part P with its scan; prints the new id\n"
     "  list    a table of instances, of one part or all\n"
-    "  show    one instance in full\n";
+    "  show    one instance in full\n"
+    "  set     correct an instance's serial, date received or notes\n"
+    "  remove  remove an instance (with its runs only with --with-runs)\n";
+
+static const char usage_set[] =
+    "usage: symrec [--db FILE] instance set ID [--serial S] [--received YYYY-MM-DD]\n"
+    "                               [--notes T] [--json]\n"
+    "\n"
+    "Corrects instance ID and prints it as changed. At least one option; \"\" makes the\n"
+    "serial or the date unknown, or clears the notes.\n"
+    "\n"
+    "  --serial S     the serial number (up to 63 characters)\n"
+    "  --received D   the date it was received, YYYY-MM-DD\n"
+    "  --notes T      free text: what is broken\n"
+    "  --json         print the instance as a JSON object\n";
+
+static const char usage_remove[] =
+    "usage: symrec [--db FILE] instance remove ID [--with-runs] [--json]\n"
+    "\n"
+    "Removes instance ID with its scan and symmetry override, and says what went. While\n"
+    "runs of it are recorded it is refused, naming how many, and nothing changes.\n"
+    "\n"
+    "  --with-runs   remove its runs (with their sections, advice and meshes) too, in\n"
+    "                one transaction; the history summary loses exactly those runs\n"
+    "  --json        print what went as a JSON object: {\"instance\", \"part\", \"runs\",\n"
+    "                \"meshes\"}\n";
 
 static const char usage_add[] =
     "usage: symrec [--db FILE] instance add --part P --mesh FILE [--serial S]\n"
@@ -302,8 +332,115 @@ static int instance_show(const cli_ctx *ctx, int argc, char **argv)
     return rc;
 }
 
+static int instance_set(const cli_ctx *ctx, int argc, char **argv)
+{
+    sr_instance_change ch = {NULL, NULL, NULL};
+    bool json = false;
+    const cli_opt opts[] = {
+        {"--serial", &ch.serial, NULL},
+        {"--received", &ch.received, NULL},
+        {"--notes", &ch.notes, NULL},
+        {"--json", NULL, &json},
+        {NULL, NULL, NULL},
+    };
+    const cli_spec spec = {"instance set", usage_set, opts, 1, 1, "an instance id"};
+    const char *key;
+    int rc;
+    if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
+        return rc;
+    int64_t id;
+    if (!cli_parse_id("ID", key, &id))
+        return CLI_USAGE;
+    if (!ch.serial && !ch.received && !ch.notes)
+        return cli_usage_error("'instance set' needs --serial, --received or --notes (see "
+                               "'symrec instance set --help')");
+    if (ch.received && *ch.received && !cli_date_valid(ch.received))
+        return cli_usage_error("bad --received '%s': expected a date YYYY-MM-DD",
+                               cli_tx(ch.received));
+    sr_catalog *cat;
+    if (!cli_open(ctx, CLI_WRITE, "change the instance", &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_instance_info in;
+    sr_part_info p;
+    sr_status st = sr_catalog_instance_set(cat, id, &ch, &err);
+    if (st == SR_OK)
+        st = sr_catalog_instance_get(cat, id, &in, &err);
+    if (st == SR_OK)
+        st = sr_catalog_part_find(cat, in.part_number, &p, &err);
+    if (st != SR_OK) {
+        sr_catalog_close(cat);
+        return cli_fail(st, &err);
+    }
+    cli_note("changed instance %lld of part '%s'", (long long)id, cli_tx(in.part_number));
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_instance(&j, &in);
+        rc = json_finish(&j);
+    } else {
+        print_instance_text(&in, &p);
+        rc = CLI_OK;
+    }
+    sr_catalog_close(cat);
+    return rc;
+}
+
+static int instance_remove(const cli_ctx *ctx, int argc, char **argv)
+{
+    bool json = false, with_runs = false;
+    const cli_opt opts[] = {
+        {"--with-runs", NULL, &with_runs}, {"--json", NULL, &json}, {NULL, NULL, NULL}};
+    const cli_spec spec = {"instance remove", usage_remove, opts, 1, 1, "an instance id"};
+    const char *key;
+    int rc;
+    if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
+        return rc;
+    int64_t id;
+    if (!cli_parse_id("ID", key, &id))
+        return CLI_USAGE;
+    sr_catalog *cat;
+    if (!cli_open(ctx, CLI_WRITE, "remove the instance", &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_instance_info in;
+    sr_removal r;
+    sr_status st = sr_catalog_instance_get(cat, id, &in, &err);
+    if (st == SR_OK)
+        st = sr_catalog_instance_remove(cat, id, with_runs ? SR_CATALOG_WITH_RUNS : 0, &r, &err);
+    sr_catalog_close(cat);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_object_begin(&j);
+        json_key(&j, "instance");
+        json_int(&j, id);
+        json_key(&j, "part");
+        json_string(&j, in.part_number);
+        json_key(&j, "runs");
+        json_int(&j, r.runs);
+        json_key(&j, "meshes");
+        json_int(&j, r.meshes);
+        json_object_end(&j);
+        return json_finish(&j);
+    }
+    char what[96] = "";
+    if (r.runs) {
+        memcpy(what, " with ", 7);
+        cli_removal_str(&r, false, what + 6, sizeof what - 6);
+    }
+    printf("removed instance %lld of part %s%s\n", (long long)id, cli_tx(in.part_number), what);
+    return CLI_OK;
+}
+
 int cmd_instance(const cli_ctx *ctx, int argc, char **argv)
 {
-    static const cli_subcommand subs[] = {{"add", instance_add}, {"list", instance_list}, {"show", instance_show}, {NULL, NULL}};
+    static const cli_subcommand subs[] = {{"add", instance_add},       {"list", instance_list},
+                                          {"show", instance_show},     {"set", instance_set},
+                                          {"remove", instance_remove}, {NULL, NULL}};
     return cli_run_subcommand(ctx, "instance", usage_instance, subs, argc, argv);
 }

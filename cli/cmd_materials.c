@@ -1,7 +1,10 @@
 /*
- * cmd_materials.c: `symrec materials list`: the materials of the catalogue with their
- * density, family and per-process limits (sql/002_rules.sql), as the repair advice
- * uses them (deposit mass, processes a material does not suit).
+ * cmd_materials.c: `symrec materials list|add|set`: the materials of the catalogue
+ * with their density, family and per-process limits (sql/002_rules.sql), as the repair
+ * advice uses them (deposit mass, processes a material does not suit). A material
+ * enters the catalogue only through `materials add`, with its density; `materials set`
+ * corrects one, e.g. a material an older symrec created without a density. Also the
+ * refusal of an unknown material that `part add` and `part set` print.
  */
 #include <math.h>
 #include <stdio.h>
@@ -15,8 +18,43 @@
 
 static const char usage_materials[] =
     "usage: symrec [--db FILE] materials list [--json]\n"
+    "       symrec [--db FILE] materials add NAME --density G_CM3 [--family F] [--notes T]\n"
+    "                                        [--json]\n"
+    "       symrec [--db FILE] materials set NAME [--density G_CM3] [--family F]\n"
+    "                                        [--notes T] [--json]\n"
     "\n"
-    "  list    every material with its density (g/cm³), family and process limits\n";
+    "  list    every material with its density (g/cm³), family and process limits\n"
+    "  add     add a material with its density\n"
+    "  set     correct a material's density, family or notes\n";
+
+#define FAMILIES "steel, stainless_steel, cast_iron, aluminium, copper, titanium, nickel"
+
+static const char usage_add[] =
+    "usage: symrec [--db FILE] materials add NAME --density G_CM3 [--family F] [--notes T]\n"
+    "                                        [--json]\n"
+    "\n"
+    "Adds material NAME (1..63 characters, unique ignoring case) with its density, so\n"
+    "parts can name it (`part add --material NAME`) and the repair plan can weigh the\n"
+    "deposit.\n"
+    "\n"
+    "  --density G_CM3  density in g/cm³ at room temperature, > 0 (steel 7.85)\n"
+    "  --family F       one of " FAMILIES "\n"
+    "                   (repair rules may be conditioned on it)\n"
+    "  --notes T        free text: standard, supplier, heat treatment (up to 255 bytes)\n"
+    "  --json           print the new material as a JSON object\n";
+
+static const char usage_set[] =
+    "usage: symrec [--db FILE] materials set NAME [--density G_CM3] [--family F]\n"
+    "                                        [--notes T] [--json]\n"
+    "\n"
+    "Corrects material NAME (found ignoring case): for instance one an older symrec\n"
+    "created without a density when a part first named it. At least one option.\n"
+    "\n"
+    "  --density G_CM3  density in g/cm³, > 0\n"
+    "  --family F       one of " FAMILIES ",\n"
+    "                   or \"\" for none\n"
+    "  --notes T        free text (\"\" clears it)\n"
+    "  --json           print the material as a JSON object\n";
 
 static const char usage_list[] =
     "usage: symrec [--db FILE] materials list [--json]\n"
@@ -149,8 +187,167 @@ static int materials_list(const cli_ctx *ctx, int argc, char **argv)
     return rc;
 }
 
+/* Parses --density and --family of add/set into *m (density NaN when not given). */
+static bool parse_material_opts(const char *density, const char *family, sr_material_new *m)
+{
+    m->density_g_cm3 = NAN;
+    if (density && !cli_parse_double("--density", density, 1e-3, 100,
+                                     "a density in g/cm³, 0.001..100", &m->density_g_cm3))
+        return false;
+    if (family && *family) {
+        bool known = false;
+        for (size_t i = 0; sr_material_families[i]; i++)
+            known = known || strcmp(family, sr_material_families[i]) == 0;
+        if (!known) {
+            cli_usage_error("bad --family '%s': expected one of " FAMILIES, cli_tx(family));
+            return false;
+        }
+    }
+    m->family = family;
+    return true;
+}
+
+/* Prints material `name` (after a change) as JSON, or a one-line note. */
+static int print_material(sr_catalog *cat, const char *name, const char *did, bool json)
+{
+    sr_err err;
+    sr_err_clear(&err);
+    sr_material m;
+    sr_status st = sr_catalog_material_get(cat, name, &m, &err);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_material(&j, &m);
+        return json_finish(&j);
+    }
+    printf("%s material '%s': %g g/cm³, family %s\n", did, cli_tx(m.name), m.density_g_cm3,
+           m.family[0] ? m.family : "-");
+    return CLI_OK;
+}
+
+static int materials_add(const cli_ctx *ctx, int argc, char **argv)
+{
+    const char *density = NULL, *family = NULL, *notes = NULL;
+    bool json = false;
+    const cli_opt opts[] = {
+        {"--density", &density, NULL}, {"--family", &family, NULL}, {"--notes", &notes, NULL},
+        {"--json", NULL, &json},       {NULL, NULL, NULL},
+    };
+    const cli_spec spec = {"materials add", usage_add, opts, 1, 1, "a material name"};
+    const char *name;
+    int rc;
+    if (!cli_parse(&spec, argc, argv, &name, NULL, &rc))
+        return rc;
+    if (!density)
+        return cli_usage_error("'materials add' needs --density (see 'symrec materials add "
+                               "--help')");
+    sr_material_new m = {.name = name, .notes = notes};
+    if (!parse_material_opts(density, family, &m))
+        return CLI_USAGE;
+    sr_catalog *cat;
+    if (!cli_open(ctx, CLI_WRITE, "add the material", &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st = sr_catalog_material_add(cat, &m, NULL, &err);
+    rc = st == SR_OK ? print_material(cat, name, "added", json) : cli_fail(st, &err);
+    sr_catalog_close(cat);
+    return rc;
+}
+
+static int materials_set(const cli_ctx *ctx, int argc, char **argv)
+{
+    const char *density = NULL, *family = NULL, *notes = NULL;
+    bool json = false;
+    const cli_opt opts[] = {
+        {"--density", &density, NULL}, {"--family", &family, NULL}, {"--notes", &notes, NULL},
+        {"--json", NULL, &json},       {NULL, NULL, NULL},
+    };
+    const cli_spec spec = {"materials set", usage_set, opts, 1, 1, "a material name"};
+    const char *name;
+    int rc;
+    if (!cli_parse(&spec, argc, argv, &name, NULL, &rc))
+        return rc;
+    if (!density && !family && !notes)
+        return cli_usage_error("'materials set' needs --density, --family or --notes (see "
+                               "'symrec materials set --help')");
+    sr_material_new m = {.notes = notes};
+    if (!parse_material_opts(density, family, &m))
+        return CLI_USAGE;
+    sr_catalog *cat;
+    if (!cli_open(ctx, CLI_WRITE, "change the material", &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_status st = sr_catalog_material_set(cat, name, &m, &err);
+    rc = st == SR_OK ? print_material(cat, name, "changed", json) : cli_fail(st, &err);
+    sr_catalog_close(cat);
+    return rc;
+}
+
+/* The names listed by the refusal of an unknown material: the first MAX_LISTED, then
+ * how many more (a shop's own list can be long; the refusal stays one line). */
+#define MAX_LISTED 20
+
+typedef struct name_list {
+    char *text;   /* "a, b, c", malloc'd */
+    size_t count; /* names seen */
+    bool nomem;
+} name_list;
+
+static int push_name(const sr_material *m, void *user)
+{
+    name_list *nl = user;
+    if (nl->count++ >= MAX_LISTED)
+        return 0;
+    size_t len = nl->text ? strlen(nl->text) : 0, add = strlen(m->name) + 2;
+    char *p = realloc(nl->text, len + add + 1);
+    if (!p) {
+        nl->nomem = true;
+        return 1;
+    }
+    snprintf(p + len, add + 1, "%s%s", len ? ", " : "", m->name);
+    nl->text = p;
+    return 0;
+}
+
+bool cli_material_known(sr_catalog *cat, const char *name)
+{
+    sr_err err;
+    sr_err_clear(&err);
+    sr_material m;
+    sr_status st = sr_catalog_material_get(cat, name, &m, &err);
+    if (st == SR_OK)
+        return true;
+    if (st != SR_E_NOTFOUND) {
+        cli_fail(st, &err);
+        return false;
+    }
+    name_list nl = {NULL, 0, false};
+    sr_err_clear(&err);
+    st = sr_catalog_material_list(cat, push_name, &nl, &err);
+    char *known = st == SR_OK && !nl.nomem && nl.text ? cli_tx_dup(nl.text) : NULL;
+    char more[64] = "";
+    if (known && nl.count > MAX_LISTED)
+        snprintf(more, sizeof more, " and %zu more (see 'symrec materials list')",
+                 nl.count - MAX_LISTED);
+    cli_error("unknown material '%s' (known: %s%s; add it with 'symrec materials add %s "
+              "--density G_CM3')",
+              cli_tx(name),
+              known      ? known
+              : nl.count ? "see 'symrec materials list'"
+                         : "none",
+              more, cli_tx(name));
+    free(known);
+    free(nl.text);
+    return false;
+}
+
 int cmd_materials(const cli_ctx *ctx, int argc, char **argv)
 {
-    static const cli_subcommand subs[] = {{"list", materials_list}, {NULL, NULL}};
+    static const cli_subcommand subs[] = {
+        {"list", materials_list}, {"add", materials_add}, {"set", materials_set}, {NULL, NULL}};
     return cli_run_subcommand(ctx, "materials", usage_materials, subs, argc, argv);
 }

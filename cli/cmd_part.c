@@ -1,7 +1,9 @@
 /*
- * cmd_part.c: `symrec part add|list|show`: parts are the shop's models, each with a
- * unique part number, a name, a material, its intact mesh and the symmetry it is
- * restored by. Also the part table and the full part view that `demo` prints.
+ * cmd_part.c: `symrec part add|list|show|set|remove`: parts are the shop's models,
+ * each with a unique part number, a name, a material, its intact mesh and the symmetry
+ * it is restored by; `set` corrects them, `remove` takes a part out (with its
+ * instances and runs only when asked). Also the part table and the full part view
+ * that `demo` prints.
  */
 #include <stdio.h>
 #include <string.h>
@@ -16,10 +18,45 @@ static const char usage_part[] =
     "                               [--order N] [--shift MM] [--allow-open] [--json]\n"
     "       symrec [--db FILE] part list [--name S] [--number S] [--material M] [--json]\n"
     "       symrec [--db FILE] part show P [--json]\n"
+    "       symrec [--db FILE] part set P [--number P2] [--name N] [--material M]\n"
+    "                               [--notes T] [--symmetry K|none [--order N]\n"
+    "                               [--shift MM]] [--json]\n"
+    "       symrec [--db FILE] part remove P [--with-runs] [--json]\n"
     "\n"
     "  add     add a part with its intact mesh; prints the new id\n"
     "  list    a table of parts, optionally filtered\n"
-    "  show    one part in full (P = part number or id) with its instances\n";
+    "  show    one part in full (P = part number or id) with its instances\n"
+    "  set     correct a part's number, name, material, notes or symmetry\n"
+    "  remove  remove a part (with its instances and runs only with --with-runs)\n";
+
+static const char usage_set[] =
+    "usage: symrec [--db FILE] part set P [--number P2] [--name N] [--material M]\n"
+    "                               [--notes T] [--symmetry K|none [--order N]\n"
+    "                               [--shift MM]] [--json]\n"
+    "\n"
+    "Corrects part P (its number, or its id) and prints it as changed. At least one\n"
+    "option. Runs already recorded keep what they used.\n"
+    "\n"
+    "  --number P2    a new part number, not taken (1..63 characters)\n"
+    "  --name N       a new name (1..127 characters)\n"
+    "  --material M   a material in the catalogue (see 'symrec materials list')\n"
+    "  --notes T      new notes (\"\" clears them)\n"
+    "  --symmetry K   axial, mirror or glide, with --order / --shift as for 'part add';\n"
+    "                 none removes the part's symmetry\n"
+    "  --json         print the part as a JSON object\n";
+
+static const char usage_remove[] =
+    "usage: symrec [--db FILE] part remove P [--with-runs] [--json]\n"
+    "\n"
+    "Removes part P (its number, or its id) with its symmetry and its mesh, and says\n"
+    "what went. While damaged instances or runs of it are in the catalogue it is\n"
+    "refused, naming how many, and nothing changes.\n"
+    "\n"
+    "  --with-runs   remove its instances and all their runs (with their sections,\n"
+    "                advice and meshes) too, in one transaction; the history summary\n"
+    "                loses exactly those runs\n"
+    "  --json        print what went as a JSON object: {\"part\", \"id\", \"instances\",\n"
+    "                \"runs\", \"meshes\"}\n";
 
 static const char usage_add[] =
     "usage: symrec [--db FILE] part add --number P --name N --material M --mesh FILE\n"
@@ -32,7 +69,8 @@ static const char usage_add[] =
     "\n"
     "  --number P     the part number, unique in the catalogue (1..63 characters)\n"
     "  --name N       what the part is called (1..127 characters)\n"
-    "  --material M   its material, e.g. 42CrMo4\n"
+    "  --material M   its material, one in the catalogue (see 'symrec materials list';\n"
+    "                 add one with 'symrec materials add M --density G_CM3')\n"
     "  --mesh FILE    the intact mesh: .stl .obj .ply .off .gltf .glb, in mm\n"
     "  --notes T      free text\n"
     "  --symmetry K   how the part is restored: axial, mirror or glide\n"
@@ -100,6 +138,11 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh_init(&mesh);
     sr_part_info info;
     int64_t id = 0;
+    /* The material first: an unknown one is refused before a large mesh is read. */
+    if (!cli_material_known(cat, material)) {
+        sr_catalog_close(cat);
+        return CLI_FAIL;
+    }
     sr_status st = sr_mesh_read(mesh_path, &mesh, &err);
     if (st == SR_OK) {
         sr_part_new part = {
@@ -295,8 +338,144 @@ static int part_show(const cli_ctx *ctx, int argc, char **argv)
     return rc;
 }
 
+static int part_set(const cli_ctx *ctx, int argc, char **argv)
+{
+    const char *number = NULL, *name = NULL, *material = NULL, *notes = NULL;
+    const char *sym_kind = NULL, *order = NULL, *shift = NULL;
+    bool json = false;
+    const cli_opt opts[] = {
+        {"--number", &number, NULL},
+        {"--name", &name, NULL},
+        {"--material", &material, NULL},
+        {"--notes", &notes, NULL},
+        {"--symmetry", &sym_kind, NULL},
+        {"--order", &order, NULL},
+        {"--shift", &shift, NULL},
+        {"--json", NULL, &json},
+        {NULL, NULL, NULL},
+    };
+    const cli_spec spec = {"part set", usage_set, opts, 1, 1, "a part number or id"};
+    const char *key;
+    int rc;
+    if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
+        return rc;
+    if (!number && !name && !material && !notes && !sym_kind && !order && !shift)
+        return cli_usage_error("'part set' needs something to change (see 'symrec part set "
+                               "--help')");
+    sr_part_change ch = {.number = number, .name = name, .material = material, .notes = notes};
+    if (sym_kind && strcmp(sym_kind, "none") == 0) {
+        if (order || shift)
+            return cli_usage_error("--%s applies to --symmetry axial or glide, not none",
+                                   order ? "order" : "shift");
+        ch.set_symmetry = true;
+    } else if (sym_kind || order || shift) {
+        if (!cli_parse_symmetry(sym_kind, order, shift, 0, &ch.symmetry))
+            return CLI_USAGE;
+        ch.set_symmetry = true;
+    }
+    if (number && !*number)
+        return cli_usage_error("bad --number '': expected 1..63 characters");
+    if (name && !*name)
+        return cli_usage_error("bad --name '': expected 1..127 characters");
+
+    sr_catalog *cat;
+    if (!cli_open(ctx, CLI_WRITE, "change the part", &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_part_info before, info;
+    sr_status st = sr_catalog_part_find(cat, key, &before, &err);
+    if (st == SR_OK && material && !cli_material_known(cat, material)) {
+        sr_catalog_close(cat);
+        return CLI_FAIL;
+    }
+    if (st == SR_OK)
+        st = sr_catalog_part_set(cat, before.number, &ch, &err);
+    if (st == SR_OK)
+        st = sr_catalog_part_find(cat, number ? number : before.number, &info, &err);
+    if (st != SR_OK) {
+        sr_catalog_close(cat);
+        return cli_fail(st, &err);
+    }
+    cli_note("changed part '%s' (id %lld)", cli_tx(info.number), (long long)info.id);
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_part(&j, &info);
+        rc = json_finish(&j);
+    } else {
+        print_part_text(&info);
+        rc = CLI_OK;
+    }
+    sr_catalog_close(cat);
+    return rc;
+}
+
+/* "2 instances and 3 runs" style counts of what a removal took. */
+void cli_removal_str(const sr_removal *r, bool instances, char *buf, size_t size)
+{
+    int n = 0;
+    if (instances)
+        n = snprintf(buf, size, "%lld instance%s and ", (long long)r->instances,
+                     r->instances == 1 ? "" : "s");
+    if (n >= 0 && (size_t)n < size)
+        snprintf(buf + n, size - (size_t)n, "%lld run%s", (long long)r->runs,
+                 r->runs == 1 ? "" : "s");
+}
+
+static int part_remove(const cli_ctx *ctx, int argc, char **argv)
+{
+    bool json = false, with_runs = false;
+    const cli_opt opts[] = {
+        {"--with-runs", NULL, &with_runs}, {"--json", NULL, &json}, {NULL, NULL, NULL}};
+    const cli_spec spec = {"part remove", usage_remove, opts, 1, 1, "a part number or id"};
+    const char *key;
+    int rc;
+    if (!cli_parse(&spec, argc, argv, &key, NULL, &rc))
+        return rc;
+    sr_catalog *cat;
+    if (!cli_open(ctx, CLI_WRITE, "remove the part", &cat))
+        return CLI_FAIL;
+    sr_err err;
+    sr_err_clear(&err);
+    sr_part_info p;
+    sr_removal r;
+    sr_status st = sr_catalog_part_find(cat, key, &p, &err);
+    if (st == SR_OK)
+        st = sr_catalog_part_remove(cat, p.number, with_runs ? SR_CATALOG_WITH_RUNS : 0, &r, &err);
+    sr_catalog_close(cat);
+    if (st != SR_OK)
+        return cli_fail(st, &err);
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_object_begin(&j);
+        json_key(&j, "part");
+        json_string(&j, p.number);
+        json_key(&j, "id");
+        json_int(&j, p.id);
+        json_key(&j, "instances");
+        json_int(&j, r.instances);
+        json_key(&j, "runs");
+        json_int(&j, r.runs);
+        json_key(&j, "meshes");
+        json_int(&j, r.meshes);
+        json_object_end(&j);
+        return json_finish(&j);
+    }
+    char what[96] = "";
+    if (r.instances || r.runs) {
+        memcpy(what, " with ", 7);
+        cli_removal_str(&r, true, what + 6, sizeof what - 6);
+    }
+    printf("removed part %s (id %lld)%s\n", cli_tx(p.number), (long long)p.id, what);
+    return CLI_OK;
+}
+
 int cmd_part(const cli_ctx *ctx, int argc, char **argv)
 {
-    static const cli_subcommand subs[] = {{"add", part_add}, {"list", part_list}, {"show", part_show}, {NULL, NULL}};
+    static const cli_subcommand subs[] = {{"add", part_add},       {"list", part_list},
+                                          {"show", part_show},     {"set", part_set},
+                                          {"remove", part_remove}, {NULL, NULL}};
     return cli_run_subcommand(ctx, "part", usage_part, subs, argc, argv);
 }

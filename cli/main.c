@@ -41,9 +41,9 @@ static const char usage_tail[] =
 static int cmd_help(const cli_ctx *ctx, int argc, char **argv);
 
 static const cli_command commands[] = {
-    {"catalog", cmd_catalog, "create a catalogue, or show what it holds"},
-    {"part", cmd_part, "add, list and show parts (models with their intact mesh)"},
-    {"instance", cmd_instance, "add, list and show damaged instances of a part"},
+    {"catalog", cmd_catalog, "create, describe, back up or check a catalogue"},
+    {"part", cmd_part, "add, list, show, correct and remove parts (models with their mesh)"},
+    {"instance", cmd_instance, "add, list, show, correct and remove damaged instances of a part"},
     {"export", cmd_export, "write a stored mesh to STL, OBJ, PLY, OFF, glTF or GLB"},
     {"check", cmd_check, "what a mesh file holds: size, volume, closed, pieces, unit"},
     {"convert", cmd_convert, "rewrite a mesh file in another format"},
@@ -55,7 +55,8 @@ static const cli_command commands[] = {
     {"plan", cmd_plan, "plan the layer-by-layer rebuild of a run's missing section"},
     {"params", cmd_params, "list, show and set named parameter sets"},
     {"rules", cmd_rules, "list, show and edit the repair rules advice is drawn from"},
-    {"materials", cmd_materials, "list materials with density and process limits"},
+    {"materials", cmd_materials,
+     "list, add and correct materials (density, family, process limits)"},
     {"demo", cmd_demo, "build the demo catalogue and show it"},
     {"fixtures", cmd_fixtures, "write the demo parts' meshes and known volumes"},
     {"help", cmd_help, "show the help of a command"},

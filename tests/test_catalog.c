@@ -22,6 +22,7 @@
 
 #include "catalog/catalog.h"
 #include "catalog/catalog_int.h"
+#include "catalog/catalog_rules.h"
 #include "run/params_default.h"
 #include "support/assert_near.h"
 
@@ -196,6 +197,16 @@ static void assert_same_mesh(const sr_mesh *a, const sr_mesh *b)
     assert_memory_equal(a->tri, b->tri, a->tri_count * 3 * sizeof(uint32_t));
 }
 
+/* Adds material `name` (7.85 g/cm³): a part may name only a material the catalogue
+ * holds, and these tests' materials are not all seeded. */
+static void add_material(sr_catalog *cat, const char *name)
+{
+    sr_material_new m = {.name = name, .density_g_cm3 = 7.85};
+    sr_err err = {{0}};
+    if (sr_catalog_material_add(cat, &m, NULL, &err) != SR_OK)
+        fail_msg("material add: %s", err.msg);
+}
+
 static int64_t add_part(sr_catalog *cat, const char *number, const char *name,
                         const char *material, const sr_mesh *mesh)
 {
@@ -265,6 +276,7 @@ static void reopen_is_idempotent(void **state)
 {
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "steel");
     add_part(cat, "P-1", "plate", "steel", NULL);
     sr_catalog_close(cat);
     int64_t objects = raw_int(fx->db, "SELECT count(*) FROM sqlite_schema");
@@ -763,6 +775,7 @@ static void part_list_filters_by_name_number_material(void **state)
 {
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "steel");
     add_part(cat, "SH-200", "pump shaft", "steel", NULL);
     add_part(cat, "SH-100", "drive shaft", "42CrMo4", NULL);
     add_part(cat, "GR-7", "spur gear", "Steel", NULL);   /* same material as "steel" */
@@ -807,6 +820,7 @@ static void duplicate_part_number_changes_nothing(void **state)
     sr_catalog *cat = open_new(fx);
     sr_mesh m;
     make_box(&m, 0);
+    add_material(cat, "steel");
     add_part(cat, "P-1", "plate", "steel", &m);
     counts before = count_all(fx->db);
 
@@ -869,10 +883,11 @@ static void part_add_refuses_bad_fields(void **state)
 
 static void late_failure_rolls_back_the_whole_add(void **state)
 {
-    /* A failure after the mesh (and material) rows are written must take them back:
-     * a temporary trigger on the handle's connection makes the last insert fail. */
+    /* A failure after the mesh row is written must take it back: a temporary trigger
+     * on the handle's connection makes the last insert fail. */
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "bronze");
     add_part(cat, "A", "a", NULL, NULL);
     counts before = count_all(fx->db);
     sr_mesh m;
@@ -1380,6 +1395,7 @@ static void busy_writer_fails_cleanly(void **state)
 {
     fixture *fx = *state;
     sr_catalog *cat = open_new(fx);
+    add_material(cat, "steel");
     sqlite3_busy_timeout(cat->db, 50);   /* the real 5 s is too long for a unit test */
     sqlite3 *other = NULL;
     assert_int_equal(sqlite3_open(fx->db, &other), SQLITE_OK);
@@ -1462,6 +1478,293 @@ static void corrupt_mesh_blob_is_reported_on_load(void **state)
     sr_catalog_close(cat);
 }
 
+/* ---- corrections: materials, part and instance set/remove, backup, check ---- */
+
+static void part_add_refuses_an_unknown_material_and_writes_nothing(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    counts before = count_all(fx->db);
+    sr_mesh m;
+    make_box(&m, 0);
+    sr_part_new p = {.number = "P-1", .name = "plate", .material = "unobtainium", .mesh = &m};
+    int64_t id = -5;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_part_add(cat, &p, &id, &err), SR_E_NOTFOUND);
+    assert_string_equal(err.msg, "no material 'unobtainium' in the catalogue");
+    assert_int_equal(id, -5);
+    assert_counts_equal(count_all(fx->db), before); /* no material row, no mesh */
+    p.material = "c45";                             /* seeded, any case */
+    assert_int_equal(sr_catalog_part_add(cat, &p, &id, &err), SR_OK);
+    sr_part_info info;
+    assert_int_equal(sr_catalog_part_find(cat, "P-1", &info, &err), SR_OK);
+    assert_string_equal(info.material, "C45");
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM materials"), before.materials);
+    sr_mesh_release(&m);
+    sr_catalog_close(cat);
+}
+
+static void materials_are_added_with_a_density_and_corrected(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    sr_err err = {{0}};
+    sr_material_new steel = {
+        .name = "S235", .density_g_cm3 = 7.85, .family = "steel", .notes = "EN 10025-2"};
+    int64_t id = 0;
+    assert_int_equal(sr_catalog_material_add(cat, &steel, &id, &err), SR_OK);
+    assert_true(id > 0);
+    sr_material m;
+    assert_int_equal(sr_catalog_material_get(cat, "s235", &m, &err), SR_OK);
+    assert_string_equal(m.name, "S235");
+    assert_true(m.density_g_cm3 == 7.85);
+    assert_string_equal(m.family, "steel");
+    assert_string_equal(m.notes, "EN 10025-2");
+
+    /* refusals, each naming the field; nothing written */
+    int64_t materials = raw_int(fx->db, "SELECT count(*) FROM materials");
+    sr_material_new again = {.name = "s235", .density_g_cm3 = 7.8};
+    assert_int_equal(sr_catalog_material_add(cat, &again, NULL, &err), SR_E_EXISTS);
+    assert_string_equal(err.msg, "material 's235' is already in the catalogue");
+    sr_material_new no_density = {.name = "X", .density_g_cm3 = NAN};
+    assert_int_equal(sr_catalog_material_add(cat, &no_density, NULL, &err), SR_E_RANGE);
+    assert_msg(&err, "bad density of material 'X'");
+    sr_material_new zero = {.name = "X", .density_g_cm3 = 0};
+    assert_int_equal(sr_catalog_material_add(cat, &zero, NULL, &err), SR_E_RANGE);
+    sr_material_new wood = {.name = "X", .density_g_cm3 = 0.7, .family = "wood"};
+    assert_int_equal(sr_catalog_material_add(cat, &wood, NULL, &err), SR_E_RANGE);
+    assert_msg(&err, "bad family 'wood'");
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM materials"), materials);
+
+    /* a material an older symrec created without a density gets one */
+    raw_exec(fx->db, "INSERT INTO materials (name) VALUES ('steel')");
+    assert_int_equal(sr_catalog_material_get(cat, "steel", &m, &err), SR_OK);
+    assert_true(isnan(m.density_g_cm3));
+    sr_material_new fix = {.density_g_cm3 = 7.8, .family = "steel"};
+    assert_int_equal(sr_catalog_material_set(cat, "STEEL", &fix, &err), SR_OK);
+    assert_int_equal(sr_catalog_material_get(cat, "steel", &m, &err), SR_OK);
+    assert_true(m.density_g_cm3 == 7.8);
+    assert_string_equal(m.family, "steel");
+    sr_material_new clear = {.density_g_cm3 = NAN, .family = "", .notes = "plain"};
+    assert_int_equal(sr_catalog_material_set(cat, "steel", &clear, &err), SR_OK);
+    assert_int_equal(sr_catalog_material_get(cat, "steel", &m, &err), SR_OK);
+    assert_true(m.density_g_cm3 == 7.8); /* kept */
+    assert_string_equal(m.family, "");
+    assert_string_equal(m.notes, "plain");
+    sr_material_new nothing = {.density_g_cm3 = NAN};
+    assert_int_equal(sr_catalog_material_set(cat, "steel", &nothing, &err), SR_E_INVALID);
+    assert_int_equal(sr_catalog_material_set(cat, "nope", &fix, &err), SR_E_NOTFOUND);
+    assert_string_equal(err.msg, "no material 'nope' in the catalogue");
+    sr_catalog_close(cat);
+}
+
+static void part_set_changes_only_what_it_is_given(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    sr_mesh m;
+    make_box(&m, 0);
+    int64_t id = add_part(cat, "P-1", "plate", "C45", &m);
+    add_part(cat, "P-2", "other", NULL, NULL);
+    sr_err err = {{0}};
+    sr_part_change ch = {.name = "base plate",
+                         .material = "42CrMo4",
+                         .notes = "fixed",
+                         .set_symmetry = true,
+                         .symmetry = {SR_SYM_AXIAL, 6, 0}};
+    char key[32];
+    snprintf(key, sizeof key, "%lld", (long long)id); /* by id */
+    assert_int_equal(sr_catalog_part_set(cat, key, &ch, &err), SR_OK);
+    sr_part_info p;
+    assert_int_equal(sr_catalog_part_find(cat, "P-1", &p, &err), SR_OK);
+    assert_string_equal(p.name, "base plate");
+    assert_string_equal(p.material, "42CrMo4");
+    assert_string_equal(p.notes, "fixed");
+    assert_int_equal(p.symmetry.kind, SR_SYM_AXIAL);
+    assert_int_equal(p.symmetry.order, 6);
+    assert_true(p.mesh_id > 0);
+
+    sr_part_change renumber = {.number = "P-1A", .set_symmetry = true}; /* kind NONE clears */
+    assert_int_equal(sr_catalog_part_set(cat, "P-1", &renumber, &err), SR_OK);
+    assert_int_equal(sr_catalog_part_find(cat, "P-1A", &p, &err), SR_OK);
+    assert_int_equal(p.id, id);
+    assert_string_equal(p.name, "base plate"); /* kept */
+    assert_int_equal(p.symmetry.kind, SR_SYM_NONE);
+    sr_part_change recase = {.number = "p-1a"}; /* its own number in another case */
+    assert_int_equal(sr_catalog_part_set(cat, "P-1A", &recase, &err), SR_OK);
+
+    /* refusals change nothing */
+    counts before = count_all(fx->db);
+    sr_part_change taken = {.number = "p-2"};
+    assert_int_equal(sr_catalog_part_set(cat, "p-1a", &taken, &err), SR_E_EXISTS);
+    assert_string_equal(err.msg, "part 'p-2' is already in the catalogue");
+    sr_part_change unknown = {.material = "unobtainium", .name = "x"};
+    assert_int_equal(sr_catalog_part_set(cat, "p-1a", &unknown, &err), SR_E_NOTFOUND);
+    assert_string_equal(err.msg, "no material 'unobtainium' in the catalogue");
+    assert_int_equal(sr_catalog_part_set(cat, "nope", &ch, &err), SR_E_NOTFOUND);
+    assert_string_equal(err.msg, "no part 'nope' in the catalogue");
+    sr_part_change nothing = {0};
+    assert_int_equal(sr_catalog_part_set(cat, "p-1a", &nothing, &err), SR_E_INVALID);
+    sr_part_change empty_name = {.name = ""};
+    assert_int_equal(sr_catalog_part_set(cat, "p-1a", &empty_name, &err), SR_E_RANGE);
+    sr_part_change bad_sym = {.set_symmetry = true, .symmetry = {SR_SYM_AXIAL, 1, 0}};
+    assert_int_equal(sr_catalog_part_set(cat, "p-1a", &bad_sym, &err), SR_E_RANGE);
+    assert_counts_equal(count_all(fx->db), before);
+    assert_int_equal(sr_catalog_part_find(cat, "p-1a", &p, &err), SR_OK);
+    assert_string_equal(p.name, "base plate");
+    assert_string_equal(p.material, "42CrMo4");
+    sr_mesh_release(&m);
+    sr_catalog_close(cat);
+}
+
+static void instance_set_changes_serial_date_and_notes(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    add_part(cat, "P-1", "plate", NULL, NULL);
+    int64_t id = add_instance(cat, "P-1", NULL);
+    sr_err err = {{0}};
+    sr_instance_change ch = {.serial = "SN-9", .received = "2024-02-29", .notes = "dent"};
+    assert_int_equal(sr_catalog_instance_set(cat, id, &ch, &err), SR_OK);
+    sr_instance_info in;
+    assert_int_equal(sr_catalog_instance_get(cat, id, &in, &err), SR_OK);
+    assert_string_equal(in.serial, "SN-9");
+    assert_string_equal(in.received, "2024-02-29");
+    assert_string_equal(in.notes, "dent");
+    sr_instance_change clear = {.serial = "", .received = ""};
+    assert_int_equal(sr_catalog_instance_set(cat, id, &clear, &err), SR_OK);
+    assert_int_equal(sr_catalog_instance_get(cat, id, &in, &err), SR_OK);
+    assert_string_equal(in.serial, "");
+    assert_string_equal(in.received, "");
+    assert_string_equal(in.notes, "dent"); /* kept */
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM instances WHERE serial IS NULL"
+                                     " AND received IS NULL"),
+                     1);
+
+    sr_instance_change bad_date = {.received = "2023-02-29"};
+    assert_int_equal(sr_catalog_instance_set(cat, id, &bad_date, &err), SR_E_RANGE);
+    assert_string_equal(err.msg, "bad received date '2023-02-29': expected YYYY-MM-DD");
+    assert_int_equal(sr_catalog_instance_set(cat, id + 1, &ch, &err), SR_E_NOTFOUND);
+    assert_string_equal(err.msg, "no instance 2 in the catalogue");
+    sr_instance_change nothing = {0};
+    assert_int_equal(sr_catalog_instance_set(cat, id, &nothing, &err), SR_E_INVALID);
+    assert_int_equal(sr_catalog_instance_get(cat, id, &in, &err), SR_OK);
+    assert_string_equal(in.received, "");
+    sr_catalog_close(cat);
+}
+
+static void part_remove_takes_its_mesh_and_symmetry_and_refuses_with_instances(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    sr_mesh m;
+    make_box(&m, 0);
+    add_part(cat, "P-1", "plate", "C45", &m);
+    add_part(cat, "P-2", "plate", NULL, &m);
+    sr_symmetry axial = {SR_SYM_AXIAL, 0, 0};
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_part_set_symmetry(cat, 1, &axial, &err), SR_OK);
+    int64_t inst = add_instance(cat, "P-2", &axial);
+    counts before = count_all(fx->db);
+
+    sr_removal r = {-1, -1, -1};
+    assert_int_equal(sr_catalog_part_remove(cat, "P-2", 0, &r, &err), SR_E_INVALID);
+    assert_string_equal(err.msg, "part 'P-2' has 1 instance and 0 runs; nothing removed "
+                                 "(--with-runs removes them too)");
+    assert_int_equal(sr_catalog_instance_remove(cat, inst + 1, 0, &r, &err), SR_E_NOTFOUND);
+    assert_int_equal(sr_catalog_part_remove(cat, "nope", 0, &r, &err), SR_E_NOTFOUND);
+    assert_counts_equal(count_all(fx->db), before);
+    assert_int_equal(r.runs, -1);
+
+    assert_int_equal(sr_catalog_part_remove(cat, "P-1", 0, &r, &err), SR_OK);
+    assert_int_equal(r.instances, 0);
+    assert_int_equal(r.runs, 0);
+    assert_int_equal(r.meshes, 1);
+    /* an instance without runs goes without the flag, with its scan and override */
+    assert_int_equal(sr_catalog_instance_remove(cat, inst, 0, &r, &err), SR_OK);
+    assert_int_equal(r.meshes, 1);
+    counts after = count_all(fx->db);
+    assert_int_equal(after.parts, before.parts - 1);
+    assert_int_equal(after.instances, before.instances - 1);
+    assert_int_equal(after.meshes, before.meshes - 2);
+    assert_int_equal(after.symmetries, before.symmetries - 2);
+    assert_int_equal(after.materials, before.materials); /* a material stays */
+    sr_part_info p;
+    assert_int_equal(sr_catalog_part_find(cat, "P-1", &p, &err), SR_E_NOTFOUND);
+    sr_mesh_release(&m);
+    sr_catalog_close(cat);
+}
+
+static void backup_copies_the_catalogue_and_refuses_an_existing_file(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    add_part(cat, "P-1", "plate", "C45", NULL);
+    char copy[160];
+    snprintf(copy, sizeof copy, "%s/copy.db", fx->dir);
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_backup(cat, copy, false, &err), SR_OK);
+    assert_int_equal(raw_int(copy, "SELECT count(*) FROM parts WHERE number = 'P-1'"), 1);
+    assert_int_equal(raw_int(copy, "PRAGMA application_id"), SR_CATALOG_APP_ID);
+
+    /* an existing file is refused and left alone; --force replaces it */
+    add_part(cat, "P-2", "plate", NULL, NULL);
+    size_t size;
+    unsigned char *before = read_file(copy, &size);
+    assert_int_equal(sr_catalog_backup(cat, copy, false, &err), SR_E_EXISTS);
+    char want[256];
+    snprintf(want, sizeof want, "'%s' already exists (replace it with --force)", copy);
+    assert_string_equal(err.msg, want);
+    assert_file_unchanged(copy, before, size);
+    free(before);
+    assert_int_equal(sr_catalog_backup(cat, copy, true, &err), SR_OK);
+    assert_int_equal(raw_int(copy, "SELECT count(*) FROM parts"), 2);
+    assert_int_equal(sr_catalog_backup(cat, fx->db, true, &err), SR_E_INVALID);
+    assert_msg(&err, "is the catalogue itself");
+    sr_catalog_close(cat);
+
+    /* the copy opens as a catalogue, and a read-only handle can be backed up */
+    sr_catalog *ro = NULL;
+    assert_int_equal(sr_catalog_open(copy, SR_CATALOG_READONLY, &ro, &err), SR_OK);
+    sr_part_info p;
+    assert_int_equal(sr_catalog_part_find(ro, "P-2", &p, &err), SR_OK);
+    char second[160];
+    snprintf(second, sizeof second, "%s/second.db", fx->dir);
+    assert_int_equal(sr_catalog_backup(ro, second, false, &err), SR_OK);
+    sr_catalog_close(ro);
+    assert_int_equal(raw_int(second, "SELECT count(*) FROM parts"), 2);
+}
+
+static int count_problem(const char *what, void *user)
+{
+    (void)what;
+    (*(int *)user)++;
+    return 0;
+}
+
+static void check_reports_a_broken_foreign_key(void **state)
+{
+    fixture *fx = *state;
+    sr_catalog *cat = open_new(fx);
+    add_part(cat, "P-1", "plate", "C45", NULL);
+    sr_err err = {{0}};
+    int problems = 0;
+    sr_check_info info;
+    assert_int_equal(sr_catalog_check(cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 0);
+    assert_int_equal(info.application_id, SR_CATALOG_APP_ID);
+    assert_int_equal(info.schema_version, sr_catalog_schema_latest());
+    assert_int_equal(info.no_density, 0);
+    /* raw_exec's connection has foreign keys off, as a plain sqlite3 shell */
+    raw_exec(fx->db, "UPDATE parts SET material_id = 999");
+    raw_exec(fx->db, "INSERT INTO materials (name) VALUES ('steel')"); /* noted, no problem */
+    assert_int_equal(sr_catalog_check(cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 1);
+    assert_int_equal(info.problems, 1);
+    assert_int_equal(info.no_density, 1);
+    sr_catalog_close(cat);
+}
+
 int main(void)
 {
 #define T(name) cmocka_unit_test_setup_teardown(name, setup, teardown)
@@ -1500,6 +1803,13 @@ int main(void)
         T(params_check_names_every_bad_field),
         T(two_handles_write_while_reading),
         T(busy_writer_fails_cleanly),
+        T(part_add_refuses_an_unknown_material_and_writes_nothing),
+        T(materials_are_added_with_a_density_and_corrected),
+        T(part_set_changes_only_what_it_is_given),
+        T(instance_set_changes_serial_date_and_notes),
+        T(part_remove_takes_its_mesh_and_symmetry_and_refuses_with_instances),
+        T(backup_copies_the_catalogue_and_refuses_an_existing_file),
+        T(check_reports_a_broken_foreign_key),
         T(readonly_handle_reads_but_never_writes),
         T(corrupt_mesh_blob_is_reported_on_load),
     };

@@ -30,6 +30,7 @@
 
 #include "bridge/mesh_io.h"
 #include "catalog/catalog.h"
+#include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "mesh/mesh.h"
 #include "mesh/shapes.h"
@@ -561,16 +562,42 @@ static double jnum(const jv *obj, const char *key)
  * Shorthands for the common set-up steps
  * ---------------------------------------------------------------------------------- */
 
-/* Creates the test's catalogue through the library: `catalog init` itself is tested on
- * its own, and a process fewer per test matters under valgrind (about a second each). */
-static void init_catalog(const env *e)
+/* Adds the materials these tests name that sql/ does not seed (a part may name only a
+ * material the catalogue holds): steel, 16MnCr5 and AlSi10Mg, with their densities. */
+static void add_test_materials(sr_catalog *cat)
+{
+    static const sr_material_new mats[] = {
+        {"steel", 7.85, "steel", "plain steel, for the tests"},
+        {"16MnCr5", 7.85, "steel", "EN 10084 case-hardening steel"},
+        {"AlSi10Mg", 2.67, "aluminium", "EN AC-43000 cast aluminium alloy"},
+    };
+    for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++) {
+        sr_err err;
+        sr_err_clear(&err);
+        if (sr_catalog_material_add(cat, &mats[i], NULL, &err) != SR_OK)
+            fail_msg("cannot add material %s: %s", mats[i].name, err.msg);
+    }
+}
+
+/* Creates the test's catalogue through the library (`catalog init` itself is tested on
+ * its own, and a process fewer per test matters under valgrind, about a second each);
+ * with_materials: add_test_materials too. */
+static void create_catalog(const env *e, bool with_materials)
 {
     sr_catalog *cat = NULL;
     sr_err err;
     sr_err_clear(&err);
     if (sr_catalog_open(e->db, SR_CATALOG_CREATE, &cat, &err) != SR_OK)
         fail_msg("cannot create %s: %s", e->db, err.msg);
+    if (with_materials)
+        add_test_materials(cat);
     sr_catalog_close(cat);
+}
+
+/* The usual catalogue of a test: created, with the test materials. */
+static void init_catalog(const env *e)
+{
+    create_catalog(e, true);
 }
 
 /* Adds a part from `mesh` and returns the id it printed. */
@@ -1134,13 +1161,13 @@ static void part_add_duplicate_number_fails_and_changes_nothing(void **state)
     add_part(e, "P1", "shaft", "steel", e->cyl);
     char *before = part_list_json(e);
     result r;
-    RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "other", "--material",
-        "brass", "--mesh", e->box);
+    RUN(&r, "--db", e->db, "part", "add", "--number", "P1", "--name", "other", "--material", "C45",
+        "--mesh", e->box);
     expect_error(&r, "P1");
     result_free(&r);
     /* Part numbers are unique ignoring case. */
-    RUN(&r, "--db", e->db, "part", "add", "--number", "p1", "--name", "other", "--material",
-        "brass", "--mesh", e->box);
+    RUN(&r, "--db", e->db, "part", "add", "--number", "p1", "--name", "other", "--material", "C45",
+        "--mesh", e->box);
     expect_error(&r, NULL);
     result_free(&r);
     char *after = part_list_json(e);
@@ -2029,7 +2056,7 @@ static void rules_add_enable_and_disable(void **state)
 static void materials_list_shows_the_seeded_materials(void **state)
 {
     const env *e = *state;
-    init_catalog(e);
+    create_catalog(e, false); /* the seeded materials only */
     result r;
     RUN(&r, "--db", e->db, "materials", "list", "--json");
     expect_ok(&r);
@@ -2268,6 +2295,7 @@ static void make_demo(const env *e)
     sr_err err = {{0}};
     if (sr_catalog_open(e->db, SR_CATALOG_CREATE, &cat, &err) != SR_OK)
         fail_msg("cannot create %s: %s", e->db, err.msg);
+    add_test_materials(cat);
     for (size_t i = 0; i < 3; i++) {
         const sr_demo_part *dp = sr_demo_part_get(i);
         sr_mesh intact, damaged;
@@ -3344,7 +3372,7 @@ static void plan_follows_the_advice_of_its_section(void **state)
     assert_int_equal((int)jnum(&v, "layer_count"), 8); /* 6 mm of section in 0.8 mm */
     assert_true(jnum(&v, "step_over_mm") == 1.2);
     assert_true(jnum(&v, "allowance_mm") == 0.8);
-    double rate = 10 * 0.8 / 7.85; /* 'steel' has no density here: 7.85 */
+    double rate = 10 * 0.8 / 7.85; /* 'steel' is added with 7.85 g/cm³ */
     assert_true(fabs(jnum(&v, "rate_cm3_min") - rate) < 1e-12);
     assert_true(fabs(jnum(&v, "feed_mm_min") - rate * 1000 / (1.2 * 0.8)) < 1e-9);
     assert_string_equal(jstr(&v, "process"), "ded");

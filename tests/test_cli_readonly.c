@@ -60,11 +60,14 @@ static int teardown(void **state)
     return 0;
 }
 
-/* A catalogue with part P1 and its instance 1 (symmetry axial). */
+/* A catalogue with material steel, part P1 and its instance 1 (symmetry axial). */
 static void fill_catalogue(const fixture *f)
 {
     cli_result r;
     CLI_RUN(&r, "--db", f->db, "catalog", "init");
+    cli_expect_ok(&r);
+    cli_result_free(&r);
+    CLI_RUN(&r, "--db", f->db, "materials", "add", "steel", "--density", "7.85");
     cli_expect_ok(&r);
     cli_result_free(&r);
     CLI_RUN(&r, "--db", f->db, "part", "add", "--number", "P1", "--name", "shaft", "--material",

@@ -25,6 +25,7 @@
 #include "catalog/catalog.h"
 #include "catalog/catalog_history.h"
 #include "catalog/catalog_int.h"
+#include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
@@ -82,6 +83,17 @@ static int64_t add_run(fixture *fx, int64_t inst, const char *when, int ok,
     return id;
 }
 
+/* The parts' materials, Steel and Bronze: a part may name only a material the
+ * catalogue holds. */
+static void add_materials(sr_catalog *cat)
+{
+    sr_material_new steel = {.name = "Steel", .density_g_cm3 = 7.85, .family = "steel"};
+    sr_material_new bronze = {.name = "Bronze", .density_g_cm3 = 8.7, .family = "copper"};
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_material_add(cat, &steel, NULL, &err), SR_OK);
+    assert_int_equal(sr_catalog_material_add(cat, &bronze, NULL, &err), SR_OK);
+}
+
 static int setup(void **state)
 {
     fixture *fx = calloc(1, sizeof *fx);
@@ -93,6 +105,7 @@ static int setup(void **state)
     assert_int_equal(sr_catalog_open(db, SR_CATALOG_CREATE, &fx->cat, &err), SR_OK);
     sr_mesh m = {0};
     assert_int_equal(sr_shape_cylinder(10, 0, 20, 8, &m, &err), SR_OK);
+    add_materials(fx->cat);
     sr_part_new pa = {.number = "A", .name = "shaft", .material = "Steel", .mesh = &m};
     sr_part_new pb = {.number = "B", .name = "bush", .material = "Bronze", .mesh = &m};
     int64_t id;
@@ -452,6 +465,88 @@ static void summary_cells_follow_deletes(void **state)
     assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM history_class_cells"), 0);
 }
 
+static int count_problem(const char *what, void *user)
+{
+    print_message("problem: %s\n", what);
+    (*(int *)user)++;
+    return 0;
+}
+
+/* sr_catalog_instance_remove / part_remove: refused while runs refer to the row, then
+ * with SR_CATALOG_WITH_RUNS the cells lose exactly the runs that went. */
+static void removals_with_runs_keep_the_cells_equal_to_the_runs(void **state)
+{
+    fixture *fx = *state;
+    more_runs(fx);
+    sr_err err = {{0}};
+    sr_removal r = {-1, -1, -1};
+    sr_part_info b;
+    assert_int_equal(sr_catalog_part_find(fx->cat, "B", &b, &err), SR_OK);
+    int64_t meshes = raw_count(fx->cat, "SELECT count(*) FROM meshes");
+
+    /* refused, naming what would go; nothing changes */
+    assert_int_equal(sr_catalog_instance_remove(fx->cat, fx->inst[1], 0, &r, &err), SR_E_INVALID);
+    assert_string_equal(err.msg, "instance 2 has 3 runs; nothing removed (--with-runs removes "
+                                 "them too)");
+    assert_int_equal(sr_catalog_part_remove(fx->cat, "B", 0, &r, &err), SR_E_INVALID);
+    assert_string_equal(err.msg, "part 'B' has 1 instance and 4 runs; nothing removed "
+                                 "(--with-runs removes them too)");
+    assert_int_equal(r.runs, -1); /* written only on success */
+    assert_int_equal(cells_equal_runs(fx->cat, "refused removals"), 10);
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM meshes"), meshes);
+
+    /* instance A2 with its 3 runs, and its scan */
+    assert_int_equal(
+        sr_catalog_instance_remove(fx->cat, fx->inst[1], SR_CATALOG_WITH_RUNS, &r, &err), SR_OK);
+    assert_int_equal(r.instances, 0);
+    assert_int_equal(r.runs, 3);
+    assert_int_equal(r.meshes, 1);
+    assert_int_equal(cells_equal_runs(fx->cat, "instance A2 removed"), 7);
+    /* part B with instance B1, its 4 runs, the scan and the part's mesh */
+    assert_int_equal(sr_catalog_part_remove(fx->cat, "B", SR_CATALOG_WITH_RUNS, &r, &err), SR_OK);
+    assert_int_equal(r.instances, 1);
+    assert_int_equal(r.runs, 4);
+    assert_int_equal(r.meshes, 2);
+    /* (cells_equal_runs filters by part B, which is gone: the check below compares
+     * every cell with the runs instead) */
+    assert_int_equal(raw_count(fx->cat, "SELECT sum(runs) FROM history_cells"), 3);
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM runs"), 3);
+    char sql[128];
+    snprintf(sql, sizeof sql, "SELECT count(*) FROM history_cells WHERE part_id = %lld",
+             (long long)b.id);
+    assert_int_equal(raw_count(fx->cat, sql), 0);
+    snprintf(sql, sizeof sql, "SELECT count(*) FROM history_class_cells WHERE part_id = %lld",
+             (long long)b.id);
+    assert_int_equal(raw_count(fx->cat, sql), 0);
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM meshes"), meshes - 3);
+    assert_int_equal(raw_count(fx->cat, "SELECT count(*) FROM sections s WHERE NOT EXISTS"
+                                        " (SELECT 1 FROM runs r WHERE r.id = s.run_id)"),
+                     0);
+    assert_int_equal(sr_catalog_part_find(fx->cat, "B", &b, &err), SR_E_NOTFOUND);
+    int problems = 0;
+    sr_check_info info;
+    assert_int_equal(sr_catalog_check(fx->cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 0);
+    assert_int_equal(info.problems, 0);
+}
+
+/* sr_catalog_check compares the cells with the runs: a cell edited by hand is found. */
+static void check_finds_cells_that_disagree_with_the_runs(void **state)
+{
+    fixture *fx = *state;
+    sr_err err = {{0}};
+    sr_check_info info;
+    int problems = 0;
+    raw(fx->cat, "UPDATE history_cells SET volume_mm3 = volume_mm3 + 1"
+                 " WHERE month = '2024-01'");
+    raw(fx->cat, "UPDATE history_class_cells SET sections = sections + 1 WHERE class = 'gouge'");
+    assert_int_equal(sr_catalog_check(fx->cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 2);
+    assert_int_equal(info.problems, 2);
+    assert_int_equal(info.application_id, SR_CATALOG_APP_ID);
+    assert_int_equal(info.schema_version, sr_catalog_schema_latest());
+}
+
 static void summary_cells_follow_updates(void **state)
 {
     fixture *fx = *state;
@@ -602,6 +697,7 @@ static void migration_004_backfills_the_cells(void **state)
                      0);
     sr_mesh m = {0};
     assert_int_equal(sr_shape_cylinder(10, 0, 20, 8, &m, &err), SR_OK);
+    add_materials(fx.cat);
     sr_part_new pa = {.number = "A", .name = "shaft", .material = "Steel", .mesh = &m};
     sr_part_new pb = {.number = "B", .name = "bush", .material = "Bronze", .mesh = &m};
     int64_t id;
@@ -745,6 +841,8 @@ int main(void)
         T(summary_cells_equal_the_runs_after_inserts),
         T(summary_cells_follow_deletes),
         T(summary_cells_follow_updates),
+        T(removals_with_runs_keep_the_cells_equal_to_the_runs),
+        T(check_finds_cells_that_disagree_with_the_runs),
         T(summary_takes_the_runs_when_cells_cannot_answer),
         T(an_irregular_start_time_sends_its_months_to_the_runs),
         cmocka_unit_test(migration_004_backfills_the_cells),

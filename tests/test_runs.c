@@ -24,6 +24,7 @@
 #include <sqlite3.h>
 
 #include "catalog/catalog.h"
+#include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "reconstruct.h"
 #include "run/run_build.h"
@@ -84,6 +85,9 @@ static int setup(void **state)
         fail_msg("open: %s", err.msg);
     sr_mesh m;
     box_mesh(0, 10, &m);
+    /* S355 is not seeded: a part may name only a material the catalogue holds */
+    sr_material_new s355 = {.name = "S355", .density_g_cm3 = 7.85, .family = "steel"};
+    assert_int_equal(sr_catalog_material_add(fx->cat, &s355, NULL, &err), SR_OK);
     const char *numbers[2] = {"P-1", "P-2"};
     for (int i = 0; i < 2; i++) {
         sr_part_new p = {.number = numbers[i], .name = "block", .material = "S355",

@@ -96,7 +96,8 @@ typedef struct sr_part_info {
 typedef struct sr_part_new {
     const char *number;         /* required, 1..63 chars */
     const char *name;           /* required, 1..127 chars */
-    const char *material;       /* optional; created in the materials table if new */
+    const char *material;       /* optional; must be in the materials table (added there
+                                 * with its density: sr_catalog_material_add) */
     const char *notes;          /* optional */
     const sr_mesh *mesh;        /* optional intact model (validated before storing) */
     const char *source_file;    /* optional: where the mesh came from */
@@ -108,7 +109,8 @@ typedef struct sr_part_new {
  * A part's mesh is its intact model, so it must be a closed solid: every edge shared by
  * two triangles traversed in opposite directions, enclosing a positive volume. Any
  * other mesh is refused (SR_E_INVALID, the edge counts or the volume named) unless
- * allow_open is set. */
+ * allow_open is set. A material not in the catalogue is refused (SR_E_NOTFOUND "no
+ * material 'X' in the catalogue"): it would have no density. */
 sr_status sr_catalog_part_add(sr_catalog *cat, const sr_part_new *part, int64_t *out_id,
                               sr_err *err);
 
@@ -200,6 +202,89 @@ sr_status sr_catalog_mesh_load(sr_catalog *cat, int64_t mesh_id, sr_mesh *out, s
  * SR_E_NOTFOUND "no instance N in the catalogue"; SR_E_RANGE for a bad symmetry. */
 sr_status sr_catalog_instance_set_symmetry(sr_catalog *cat, int64_t instance_id,
                                            const sr_symmetry *sym, sr_err *err);
+
+/* ---- corrections: change or remove a part or an instance ---- */
+
+/* What to change in a part; a field left NULL (set_symmetry false) is kept. Valid
+ * when zeroed (changes nothing, which sr_catalog_part_set refuses). */
+typedef struct sr_part_change {
+    const char *number;   /* a new part number, 1..63 bytes, not taken */
+    const char *name;     /* 1..127 bytes */
+    const char *material; /* a material in the catalogue */
+    const char *notes;    /* "" clears */
+    bool set_symmetry;    /* true: `symmetry` replaces the part's (kind NONE clears) */
+    sr_symmetry symmetry;
+} sr_part_change;
+
+/* Changes part `key` (number or id) in one transaction. SR_E_NOTFOUND for the part or
+ * the material, SR_E_EXISTS for a number taken, SR_E_RANGE for a bad field,
+ * SR_E_INVALID when `change` changes nothing. Runs keep what they recorded. */
+sr_status sr_catalog_part_set(sr_catalog *cat, const char *key, const sr_part_change *change,
+                              sr_err *err);
+
+/* What to change in an instance; NULL keeps a field, "" clears it (serial and date
+ * become unknown, notes empty). */
+typedef struct sr_instance_change {
+    const char *serial;   /* up to 63 bytes */
+    const char *received; /* YYYY-MM-DD, a real date */
+    const char *notes;    /* up to 511 bytes */
+} sr_instance_change;
+
+/* Changes instance `id` in one transaction. SR_E_NOTFOUND, SR_E_RANGE (bad date or
+ * length, named), SR_E_INVALID when `change` changes nothing. */
+sr_status sr_catalog_instance_set(sr_catalog *cat, int64_t id, const sr_instance_change *change,
+                                  sr_err *err);
+
+/* What a removal took, or would take, with it. */
+typedef struct sr_removal {
+    int64_t instances; /* instances removed (a part's) */
+    int64_t runs;      /* runs removed, with their layers, sections and advice */
+    int64_t meshes;    /* stored meshes that nothing refers to any more */
+} sr_removal;
+
+enum {
+    SR_CATALOG_WITH_RUNS = 1, /* remove the instances and runs that refer to the row too */
+};
+
+/* Removes part `key` (number or id), or instance `id`, in one transaction, with its
+ * symmetry and the meshes that only it (and what goes with it) referred to. While
+ * instances or runs refer to the row it is refused unless flags has
+ * SR_CATALOG_WITH_RUNS: SR_E_INVALID "part 'P' has 2 instances and 3 runs ..." and
+ * nothing changes. With the flag they go too, and the history summary cells
+ * (sql/004_history_summary.sql) lose exactly their runs. *out (may be NULL) says what
+ * went, on success. SR_E_NOTFOUND for an unknown part or instance. */
+sr_status sr_catalog_part_remove(sr_catalog *cat, const char *key, unsigned flags, sr_removal *out,
+                                 sr_err *err);
+sr_status sr_catalog_instance_remove(sr_catalog *cat, int64_t id, unsigned flags, sr_removal *out,
+                                     sr_err *err);
+
+/* ---- the file as a whole ---- */
+
+/* Writes a consistent copy of the catalogue to `path` (SQLite's VACUUM INTO, inside
+ * one read transaction, so writers elsewhere may go on), first to a temporary file
+ * beside it, then moved into place. An existing `path` is refused (SR_E_EXISTS)
+ * unless `force`, then replaced. Works on a read-only handle. */
+sr_status sr_catalog_backup(sr_catalog *cat, const char *path, bool force, sr_err *err);
+
+/* One problem found by sr_catalog_check: `what` is one line. */
+typedef int (*sr_check_fn)(const char *what, void *user);
+
+/* What sr_catalog_check read. */
+typedef struct sr_check_info {
+    int64_t application_id; /* PRAGMA application_id */
+    int schema_version;     /* PRAGMA user_version */
+    int64_t problems;       /* lines passed to fn */
+    int64_t no_density;     /* materials without a density (older symrec made them); not
+                             * a problem, but their deposit masses cannot be known */
+} sr_check_info;
+
+/* Checks the file: SQLite's integrity_check, foreign_key_check, the application id and
+ * schema version, and symrec's own invariants (the history summary cells agree with
+ * the runs they sum). Calls fn once per problem found (fn returns non-zero to stop).
+ * Returns SR_OK when the checks could run, whatever they found (out->problems says);
+ * an error status only when they could not. */
+sr_status sr_catalog_check(sr_catalog *cat, sr_check_fn fn, void *user, sr_check_info *out,
+                           sr_err *err);
 
 /* Notes on the calls above:
  * - List callbacks run while the catalogue is being read: they may read (find, load a

@@ -274,3 +274,47 @@ sr_status sr_catalog_instance_set_symmetry(sr_catalog *cat, int64_t instance_id,
         sr_cat_rollback(cat);
     return st;
 }
+
+sr_status sr_catalog_instance_set(sr_catalog *cat, int64_t id, const sr_instance_change *ch,
+                                  sr_err *err)
+{
+    if (!ch->serial && !ch->received && !ch->notes)
+        return sr_err_set(err, SR_E_INVALID, "nothing to change in instance %lld", (long long)id);
+    if (ch->serial && !sr_cat_len_ok(ch->serial, 0, 63))
+        return sr_err_set(err, SR_E_RANGE, "bad serial '%.40s...': longer than 63 bytes",
+                          ch->serial);
+    if (ch->received && *ch->received && !date_ok(ch->received))
+        return sr_err_set(err, SR_E_RANGE, "bad received date '%.40s': expected YYYY-MM-DD",
+                          ch->received);
+    if (ch->notes && !sr_cat_len_ok(ch->notes, 0, 511))
+        return sr_err_set(err, SR_E_RANGE, "bad notes of instance %lld: longer than 511 bytes",
+                          (long long)id);
+    sr_status st = sr_cat_begin(cat, err);
+    if (st != SR_OK)
+        return st;
+    /* ?5/?6/?7 say whether serial/received/notes change; "" binds as NULL (unknown) */
+    sqlite3_stmt *stmt;
+    st = sr_cat_prepare(cat,
+                        "UPDATE instances SET serial = CASE WHEN ?5 THEN ?2 ELSE serial END,"
+                        " received = CASE WHEN ?6 THEN ?3 ELSE received END,"
+                        " notes = CASE WHEN ?7 THEN coalesce(?4, '') ELSE notes END"
+                        " WHERE id = ?1",
+                        &stmt, err);
+    if (st == SR_OK) {
+        sqlite3_bind_int64(stmt, 1, id);
+        sr_cat_bind_opt_text(stmt, 2, ch->serial);
+        sr_cat_bind_opt_text(stmt, 3, ch->received);
+        sr_cat_bind_opt_text(stmt, 4, ch->notes);
+        sqlite3_bind_int(stmt, 5, ch->serial != NULL);
+        sqlite3_bind_int(stmt, 6, ch->received != NULL);
+        sqlite3_bind_int(stmt, 7, ch->notes != NULL);
+        st = sr_cat_exec(cat, stmt, err, "change an instance");
+    }
+    if (st == SR_OK && sqlite3_changes(cat->db) == 0)
+        st = sr_err_set(err, SR_E_NOTFOUND, "no instance %lld in the catalogue", (long long)id);
+    if (st == SR_OK)
+        st = sr_cat_commit(cat, err);
+    if (st != SR_OK)
+        sr_cat_rollback(cat);
+    return st;
+}

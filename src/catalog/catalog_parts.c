@@ -133,25 +133,16 @@ sr_status sr_cat_symmetry_write(sr_catalog *cat, int64_t part_id, int64_t instan
     return sr_cat_exec(cat, stmt, err, "store a symmetry");
 }
 
-/* The id of material `name`, added to the materials table if new (the name keeps
- * the spelling it was first given; look-up ignores ASCII case). */
+/* The id of material `name` (found ignoring ASCII case). A material enters the
+ * catalogue only with its density (sr_catalog_material_add), so an unknown name is
+ * refused rather than created empty: SR_E_NOTFOUND "no material 'X' in the catalogue". */
 static sr_status material_id(sr_catalog *cat, const char *name, int64_t *out_id, sr_err *err)
 {
-    sqlite3_stmt *stmt;
-    sr_status st = sr_cat_prepare(
-        cat, "INSERT INTO materials (name) VALUES (?1) ON CONFLICT (name) DO NOTHING", &stmt,
-        err);
-    if (st != SR_OK)
-        return st;
-    sqlite3_bind_text(stmt, 1, name, -1, SQLITE_TRANSIENT);
-    st = sr_cat_exec(cat, stmt, err, "add a material");
-    if (st != SR_OK)
-        return st;
     bool found;
-    st = lookup_id(cat, "SELECT id FROM materials WHERE name = ?1", name, 0, &found, out_id, err,
-                   "find a material");
+    sr_status st = lookup_id(cat, "SELECT id FROM materials WHERE name = ?1", name, 0, &found,
+                             out_id, err, "find a material");
     if (st == SR_OK && !found)
-        st = sr_err_set(err, SR_E_INTERNAL, "material '%s' vanished from '%s'", name, cat->path);
+        st = sr_err_set(err, SR_E_NOTFOUND, "no material '%s' in the catalogue", name);
     return st;
 }
 
@@ -419,6 +410,68 @@ sr_status sr_catalog_part_set_symmetry(sr_catalog *cat, int64_t part_id,
         st = sr_err_set(err, SR_E_NOTFOUND, "no part %lld in the catalogue", (long long)part_id);
     if (st == SR_OK)
         st = sr_cat_symmetry_write(cat, part_id, 0, sym, err);
+    if (st == SR_OK)
+        st = sr_cat_commit(cat, err);
+    if (st != SR_OK)
+        sr_cat_rollback(cat);
+    return st;
+}
+
+sr_status sr_catalog_part_set(sr_catalog *cat, const char *key, const sr_part_change *ch,
+                              sr_err *err)
+{
+    if (!ch->number && !ch->name && !ch->material && !ch->notes && !ch->set_symmetry)
+        return sr_err_set(err, SR_E_INVALID, "nothing to change in part '%s'", key ? key : "");
+    if (ch->number && !sr_cat_len_ok(ch->number, 1, 63))
+        return sr_err_set(err, SR_E_RANGE, "bad part number '%.40s': expected 1..63 bytes",
+                          ch->number);
+    if (ch->name && !sr_cat_len_ok(ch->name, 1, 127))
+        return sr_err_set(err, SR_E_RANGE, "bad name of part '%s': expected 1..127 bytes", key);
+    if (ch->material && !sr_cat_len_ok(ch->material, 1, 63))
+        return sr_err_set(err, SR_E_RANGE, "bad material of part '%s': expected 1..63 bytes", key);
+    if (ch->notes && !sr_cat_len_ok(ch->notes, 0, 511))
+        return sr_err_set(err, SR_E_RANGE, "bad notes of part '%s': longer than 511 bytes", key);
+    if (ch->set_symmetry && ch->symmetry.kind != SR_SYM_NONE) {
+        sr_status st = sr_symmetry_check(&ch->symmetry, err);
+        if (st != SR_OK)
+            return st;
+    }
+    sr_status st = sr_cat_begin(cat, err);
+    if (st != SR_OK)
+        return st;
+    int64_t part_id, mat_id = 0;
+    st = sr_cat_part_resolve(cat, key, &part_id, err);
+    if (st == SR_OK && ch->material)
+        st = material_id(cat, ch->material, &mat_id, err);
+    if (st == SR_OK && ch->number) {
+        bool taken;
+        int64_t other = 0;
+        st = lookup_id(cat, "SELECT id FROM parts WHERE number = ?1", ch->number, 0, &taken, &other,
+                       err, "change a part");
+        if (st == SR_OK && taken && other != part_id)
+            st = sr_err_set(err, SR_E_EXISTS, "part '%s' is already in the catalogue", ch->number);
+    }
+    sqlite3_stmt *stmt;
+    if (st == SR_OK)
+        st = sr_cat_prepare(cat,
+                            "UPDATE parts SET number = coalesce(?2, number),"
+                            " name = coalesce(?3, name), material_id = coalesce(?4, material_id),"
+                            " notes = coalesce(?5, notes) WHERE id = ?1",
+                            &stmt, err);
+    if (st == SR_OK) {
+        sqlite3_bind_int64(stmt, 1, part_id);
+        if (ch->number)
+            sqlite3_bind_text(stmt, 2, ch->number, -1, SQLITE_TRANSIENT);
+        if (ch->name)
+            sqlite3_bind_text(stmt, 3, ch->name, -1, SQLITE_TRANSIENT);
+        if (mat_id)
+            sqlite3_bind_int64(stmt, 4, mat_id);
+        if (ch->notes)
+            sqlite3_bind_text(stmt, 5, ch->notes, -1, SQLITE_TRANSIENT);
+        st = sr_cat_exec(cat, stmt, err, "change a part");
+    }
+    if (st == SR_OK && ch->set_symmetry)
+        st = sr_cat_symmetry_write(cat, part_id, 0, &ch->symmetry, err);
     if (st == SR_OK)
         st = sr_cat_commit(cat, err);
     if (st != SR_OK)

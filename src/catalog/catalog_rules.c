@@ -425,3 +425,104 @@ sr_status sr_catalog_material_list(sr_catalog *cat, sr_material_fn fn, void *use
     free(names);
     return st;
 }
+
+/* Checks the fields of a material to add (add: name and density required) or of a
+ * change (only the fields set). */
+static sr_status check_material(const sr_material_new *m, const char *name, bool add, sr_err *err)
+{
+    if (add && (!m->name || !*m->name))
+        return sr_err_set(err, SR_E_RANGE, "a material needs a name");
+    if (add && !sr_cat_len_ok(m->name, 1, 63))
+        return sr_err_set(err, SR_E_RANGE, "bad material name '%.40s...': longer than 63 bytes",
+                          m->name);
+    if ((add || !isnan(m->density_g_cm3)) && !(isfinite(m->density_g_cm3) && m->density_g_cm3 > 0))
+        return sr_err_set(err, SR_E_RANGE, "bad density of material '%s': expected g/cm³ > 0",
+                          name);
+    if (m->family && *m->family) {
+        bool known = false;
+        for (size_t i = 0; sr_material_families[i]; i++)
+            known = known || strcmp(m->family, sr_material_families[i]) == 0;
+        if (!known)
+            return sr_err_set(err, SR_E_RANGE,
+                              "bad family '%s': expected steel, stainless_steel, cast_iron, "
+                              "aluminium, copper, titanium or nickel",
+                              m->family);
+    }
+    if (!sr_cat_len_ok(m->notes, 0, 255))
+        return sr_err_set(err, SR_E_RANGE, "bad notes of a material: longer than 255 bytes");
+    return SR_OK;
+}
+
+sr_status sr_catalog_material_add(sr_catalog *cat, const sr_material_new *m, int64_t *out_id,
+                                  sr_err *err)
+{
+    sr_status st = check_material(m, m->name, true, err);
+    if (st != SR_OK)
+        return st;
+    st = sr_cat_begin(cat, err);
+    if (st != SR_OK)
+        return st;
+    sqlite3_stmt *stmt;
+    st = sr_cat_prepare(cat,
+                        "INSERT INTO materials (name, density_g_cm3, family, notes)"
+                        " VALUES (?1, ?2, ?3, coalesce(?4, ''))",
+                        &stmt, err);
+    if (st == SR_OK) {
+        sqlite3_bind_text(stmt, 1, m->name, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_double(stmt, 2, m->density_g_cm3);
+        sr_cat_bind_opt_text(stmt, 3, m->family);
+        sr_cat_bind_opt_text(stmt, 4, m->notes);
+        st = sr_cat_exec(cat, stmt, err, "add a material");
+        if (st == SR_E_EXISTS)
+            st = sr_err_set(err, SR_E_EXISTS, "material '%s' is already in the catalogue", m->name);
+    }
+    int64_t id = sqlite3_last_insert_rowid(cat->db);
+    if (st == SR_OK)
+        st = sr_cat_commit(cat, err);
+    if (st != SR_OK) {
+        sr_cat_rollback(cat);
+        return st;
+    }
+    if (out_id)
+        *out_id = id;
+    return SR_OK;
+}
+
+sr_status sr_catalog_material_set(sr_catalog *cat, const char *name, const sr_material_new *change,
+                                  sr_err *err)
+{
+    if (!name || !*name)
+        return sr_err_set(err, SR_E_NOTFOUND, "no material given");
+    if (isnan(change->density_g_cm3) && !change->family && !change->notes)
+        return sr_err_set(err, SR_E_INVALID, "nothing to change in material '%s'", name);
+    sr_status st = check_material(change, name, false, err);
+    if (st != SR_OK)
+        return st;
+    st = sr_cat_begin(cat, err);
+    if (st != SR_OK)
+        return st;
+    sqlite3_stmt *stmt;
+    /* ?2 NULL keeps the density; ?5 says whether ?3 (NULL = none) replaces the family */
+    st = sr_cat_prepare(cat,
+                        "UPDATE materials SET density_g_cm3 = coalesce(?2, density_g_cm3),"
+                        " family = CASE WHEN ?5 THEN ?3 ELSE family END,"
+                        " notes = coalesce(?4, notes) WHERE name = ?1",
+                        &stmt, err);
+    if (st == SR_OK) {
+        sqlite3_bind_text(stmt, 1, name, -1, SQLITE_TRANSIENT);
+        if (!isnan(change->density_g_cm3))
+            sqlite3_bind_double(stmt, 2, change->density_g_cm3);
+        sr_cat_bind_opt_text(stmt, 3, change->family);
+        if (change->notes)
+            sqlite3_bind_text(stmt, 4, change->notes, -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int(stmt, 5, change->family != NULL);
+        st = sr_cat_exec(cat, stmt, err, "change a material");
+    }
+    if (st == SR_OK && sqlite3_changes(cat->db) == 0)
+        st = sr_err_set(err, SR_E_NOTFOUND, "no material '%s' in the catalogue", name);
+    if (st == SR_OK)
+        st = sr_cat_commit(cat, err);
+    if (st != SR_OK)
+        sr_cat_rollback(cat);
+    return st;
+}

@@ -59,5 +59,27 @@ sr_status sr_catalog_material_get(sr_catalog *cat, const char *name, sr_material
 typedef int (*sr_material_fn)(const sr_material *m, void *user);
 sr_status sr_catalog_material_list(sr_catalog *cat, sr_material_fn fn, void *user, sr_err *err);
 
+/* A material to add, or the change of one (sr_catalog_material_set). */
+typedef struct sr_material_new {
+    const char *name;     /* add: required, 1..63 bytes, unique ignoring ASCII case */
+    double density_g_cm3; /* g/cm^3, > 0 and finite; set: NaN = keep */
+    const char *family;   /* one of sr_material_families (advice/rule.h); NULL = none
+                           * (set: keep), "" = none (set: clear) */
+    const char *notes;    /* free text, up to 255 bytes; NULL = "" (set: keep) */
+} sr_material_new;
+
+/* Adds a material with its density; the only way a material enters the catalogue (a
+ * part naming an unknown material is refused, catalog.h). SR_E_EXISTS "material 'X' is
+ * already in the catalogue" (any spelling), SR_E_RANGE for a bad field (named).
+ * *out_id (may be NULL) only on success. */
+sr_status sr_catalog_material_add(sr_catalog *cat, const sr_material_new *m, int64_t *out_id,
+                                  sr_err *err);
+
+/* Changes material `name` (found ignoring case): the fields of `change` that are set
+ * (its name is ignored). For a material created without a density by an older
+ * symrec, whose deposit masses have nothing to stand on. SR_E_NOTFOUND, SR_E_RANGE;
+ * SR_E_INVALID when `change` sets nothing. */
+sr_status sr_catalog_material_set(sr_catalog *cat, const char *name, const sr_material_new *change,
+                                  sr_err *err);
 
 #endif

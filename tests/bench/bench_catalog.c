@@ -145,7 +145,7 @@ void bench_catalog(void)
     }
 
     /* the part insert (one transaction, COMMIT durable), then instances: best of 3 */
-    sr_part_new p = {.number = "BENCH-1", .name = "torus", .material = "steel", .mesh = &torus};
+    sr_part_new p = {.number = "BENCH-1", .name = "torus", .material = "C45", .mesh = &torus};
     int64_t part_id = 0;
     t = now();
     st = sr_catalog_part_add(cat, &p, &part_id, &err);

@@ -17,6 +17,7 @@
 
 #include "bridge/mesh_io.h"
 #include "catalog/catalog.h"
+#include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "mesh/shapes.h"
 #include "support/run_cmd.h"
@@ -106,6 +107,12 @@ void cli_case_synth_catalogue(const char *db, const char *serial, const char *ma
     sr_err_clear(&err);
     int64_t id;
     assert_int_equal(sr_catalog_open(db, SR_CATALOG_CREATE, &cat, &err), SR_OK);
+    sr_material known;
+    if (material && sr_catalog_material_get(cat, material, &known, &err) == SR_E_NOTFOUND) {
+        sr_material_new mat = {.name = material, .density_g_cm3 = 7.85, .family = "steel"};
+        if (sr_catalog_material_add(cat, &mat, NULL, &err) != SR_OK)
+            fail_msg("cannot add material '%s': %s", material, err.msg);
+    }
     sr_part_new part = {.number = "P1",
                         .name = "shaft",
                         .material = material,

@@ -50,7 +50,8 @@ bool cli_path_exists(const char *path);
 /* The permission bits of path (lstat), or -1 when it does not exist. */
 int cli_path_mode(const char *path);
 
-/* Creates catalogue db through the library with part P1 (material `material`, the
+/* Creates catalogue db through the library with part P1 (material `material`, added
+ * first with density 7.85 g/cm³ and family steel when it is not seeded; the
  * cylinder r 10, z 0..12 of 32 sides, axial), its instance 1 (serial `serial`) and
  * run 1 of it: a synthetic run (synth_run.h) of 12 layers x 72 sectors with section 1
  * dug over 10 layers (1..10) and section 2 over 3 (4..6), both 2 mm deep. When
