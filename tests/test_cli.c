@@ -2846,7 +2846,7 @@ static long add_chipped_run(const env *e);
 static void json_names_agree_across_commands(void **state)
 {
     const env *e = *state;
-    init_catalog(e);
+    long id = add_chipped_run(e); /* a catalogue with one run */
     result r;
     RUN(&r, "--db", e->db, "reconstruct", "--mesh", e->cyl, "--symmetry", "axial", "--no-record",
         "--params", "default", "--gamma-axis", "0.8", "--gamma-plane", "0.6", "--json");
@@ -2867,7 +2867,6 @@ static void json_names_agree_across_commands(void **state)
     assert_true(jnum(params, "layer_mm") > 0);
     jv_release(&v);
     result_free(&r);
-    long id = add_chipped_run(e);
     char ids[32];
     snprintf(ids, sizeof ids, "%ld", id);
     RUN(&r, "--db", e->db, "run", "show", ids, "--json");
