@@ -20,6 +20,7 @@
 #include "bridge/mesh_io.h"
 #include "mesh/mesh.h"
 #include "support/assert_near.h"
+#include "support/read_expect.h"
 #include "support/tmpdir.h"
 
 /* ---- fixtures ---------------------------------------------------------------------- */
@@ -49,56 +50,10 @@ static double octa_volume(void)
     return 4.0 / 3.0 * A * B * C;
 }
 
-/* Each test gets its own directory (cmocka state). */
-static int setup(void **state)
-{
-    tmpdir *d = malloc(sizeof *d);
-    if (!d || tmpdir_make(d) != 0) {
-        free(d);
-        return -1;
-    }
-    *state = d;
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    tmpdir_remove(*state);
-    free(*state);
-    return 0;
-}
-
+/* Each test gets its own directory (cmocka state: tmpdir_setup). */
 static const char *path_in(void **state, const char *name, char buf[TMPDIR_PATH_MAX])
 {
     return tmpdir_join(*state, name, buf);
-}
-
-/* Asserts that msg contains part. */
-#define assert_has(msg, part)                                                              \
-    do {                                                                                   \
-        if (!strstr((msg), (part))) {                                                      \
-            print_error("message '%s' lacks '%s'\n", (msg), (part));                       \
-            fail();                                                                        \
-        }                                                                                  \
-    } while (0)
-
-/* Reading must fail with status st and a message naming the file and containing part;
- * *out stays untouched. */
-static void expect_read_error(const char *path, sr_status st, const char *part)
-{
-    sr_mesh m = {(double *)1, (uint32_t *)1, 77, 77};   /* sentinel: must not be written */
-    sr_err err = {{0}};
-    sr_status got = sr_mesh_read(path, &m, &err);
-    if (got != st)
-        print_error("status %d (%s), expected %d; message '%s'\n", got, sr_status_str(got), st,
-                    err.msg);
-    assert_int_equal(got, st);
-    assert_ptr_equal(m.xyz, (double *)1);
-    assert_int_equal(m.vertex_count, 77);
-    char quoted[TMPDIR_PATH_MAX + 16];
-    snprintf(quoted, sizeof quoted, "cannot read '%s': ", path);
-    assert_has(err.msg, quoted);
-    assert_has(err.msg, part);
 }
 
 /* ---- binary STL built by hand ------------------------------------------------------- */
@@ -1087,7 +1042,7 @@ static void write_refuses_bad_meshes(void **state)
     sr_mesh_release(&m);
 }
 
-#define T(name) cmocka_unit_test_setup_teardown(name, setup, teardown)
+#define T(name) cmocka_unit_test_setup_teardown(name, tmpdir_setup, tmpdir_teardown)
 
 int main(void)
 {
