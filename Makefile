@@ -257,8 +257,9 @@ bench-built: $(BENCH)
 # compiled into them, by Debian's clang-14 with coverage, ASan and UBSan, into
 # build/fuzz/ (OpenMesh and tinygltf are linked as installed, uninstrumented). The seed
 # corpus (a box and a cylinder in every format and variant) is written by the project's
-# own writers (tests/fuzz/make_corpus.c) into build/fuzz/corpus/FORMAT, which each run
-# grows; crashes land in build/fuzz/crash-*. `make fuzz FUZZ_SECONDS=300` runs longer.
+# own writers (tests/fuzz/make_corpus.c) into build/fuzz/corpus/FORMAT, with what the
+# targets once found (tests/fuzz/found/, replayed by test_fuzz_replay too); each run
+# grows it; crashes and hangs land in build/fuzz/crash-* and timeout-*. `make fuzz FUZZ_SECONDS=300` runs longer.
 FUZZ_SECONDS ?= 60
 FUZZ_FORMATS := stl obj ply off gltf glb
 FUZZ_CC  := clang-14
@@ -296,7 +297,8 @@ fuzz-built: $(FUZZ_BIN) $(BUILD)/fuzz/make_corpus
 fuzz: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) fuzz-built
 	$(Q)rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus && \
-	  $(BUILD)/fuzz/make_corpus build/fuzz/corpus
+	  $(BUILD)/fuzz/make_corpus build/fuzz/corpus && \
+	  for f in tests/fuzz/found/*; do cp "$$f" "build/fuzz/corpus/$${f##*.}/"; done
 	$(Q)for f in $(FUZZ_FORMATS); do \
 	  log=build/fuzz/fuzz_$$f.log; \
 	  if ! build/fuzz/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2560 \

@@ -9,7 +9,8 @@
  * targets demand: a valid mesh inside the physical envelope, or a refusal of one line
  * "cannot read 'NAME': ..." that is not SR_E_INTERNAL, with the output untouched. The
  * seeds themselves must read in their own format; the reproducers other than brkt.stl
- * must be refused.
+ * must be refused. The inputs the fuzz targets found (tests/fuzz/found/, one file each,
+ * named for the fault) are replayed the same way.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -30,6 +31,8 @@
 #include "support/tmpdir.h"
 
 #define REPRO_DIR "../shared/repro"
+/* inputs the fuzz targets found that once hung or crashed (kept in the project) */
+#define FOUND_DIR "tests/fuzz/found"
 
 static const sr_format all_formats[] = {SR_FMT_STL, SR_FMT_OBJ,  SR_FMT_PLY,
                                         SR_FMT_OFF, SR_FMT_GLTF, SR_FMT_GLB};
@@ -132,6 +135,12 @@ static void repro_files_replay_cleanly(void **state)
     assert_true(replay_dir(REPRO_DIR, repro_refused) >= 6);
 }
 
+static void fuzz_finds_replay_cleanly(void **state)
+{
+    (void)state;
+    assert_true(replay_dir(FOUND_DIR, NULL) >= 1);
+}
+
 /* Truncations and single-byte changes of each seed, in its own format: the cheapest
  * mutations, deterministic, as a floor under what the fuzz targets explore. */
 static void cut_and_flipped_seeds_replay_cleanly(void **state)
@@ -170,6 +179,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         T(seed_corpus_replays_cleanly),
         T(repro_files_replay_cleanly),
+        T(fuzz_finds_replay_cleanly),
         T(cut_and_flipped_seeds_replay_cleanly),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -151,6 +151,14 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
             goto out;
         }
     }
+    /* Nothing but blank lines and comments after the last face: OpenMesh 9's OFF reader
+     * looped forever on a file whose faces carried extra numbers followed by more lines
+     * (found by tests/fuzz/fuzz_off.c). */
+    if (next_content_line(&r, &p, &e, &ts, &te)) {
+        st = fc_fail(err, SR_E_FORMAT, name,
+                     "line %zu: more after the %zu faces the header declares", r.number, nf);
+        goto out;
+    }
     free(cb.v);
     *out = f;
     return SR_OK;
