@@ -657,17 +657,36 @@ static void off_huge_count_is_refused_before_reading(void **state)
     expect_read_error(path, SR_E_FORMAT, "OFF header declares 4000000000 vertices");
 }
 
-/* Found by tests/fuzz/fuzz_off.c: faces with extra numbers, then more lines, made
- * OpenMesh's OFF reader loop forever. */
+/* Found by tests/fuzz/fuzz_off.c: OpenMesh reads a number after a face's indices as
+ * the next face's corner count (only a COFF face line has its rest taken as a colour);
+ * "3 3 6 7333...3" made it loop 4 billion times. */
 static void off_content_after_the_faces_is_refused(void **state)
 {
     char path[TMPDIR_PATH_MAX];
     assert_int_equal(tmpdir_write_text(path_in(state, "more.off", path),
                                        "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
-                                       "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3 1\n# end\n\n"
+                                       "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n# end\n\n"
                                        "3 32\n"),
                      0);
     expect_read_error(path, SR_E_FORMAT, "line 13: more after the 4 faces the header declares");
+}
+
+static void off_face_colour_is_refused(void **state)
+{
+    /* refused, plain or COFF: OpenMesh read each colour as the next face's corner count
+     * (or, under COFF, lost the faces: "bad vertex index") */
+    static const char body[] = "4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                               "3 0 2 1 255 0 0\n3 0 1 3 0 255 0\n3 1 2 3 0 0 255\n"
+                               "3 2 0 3 7333333333333333333333333333\n";
+    static const char *const heads[] = {"OFF", "COFF"};
+    for (int h = 0; h < 2; h++) {
+        char path[TMPDIR_PATH_MAX], text[512];
+        snprintf(text, sizeof text, "%s\n%s", heads[h], body);
+        assert_int_equal(tmpdir_write_text(path_in(state, "colour.off", path), text), 0);
+        expect_read_error(path, SR_E_FORMAT,
+                          "line 7: face 0 has '255' after its 3 indices (face colours are not "
+                          "supported)");
+    }
 }
 
 static void off_face_index_out_of_range_is_invalid(void **state)
@@ -1096,6 +1115,7 @@ int main(void)
         T(obj_degenerate_face_is_dropped_and_polygons_fanned),
         T(off_huge_count_is_refused_before_reading),
         T(off_content_after_the_faces_is_refused),
+        T(off_face_colour_is_refused),
         T(off_face_index_out_of_range_is_invalid),
         T(ply_header_cut_after_element_is_refused),
         T(ply_header_cut_after_property_is_refused),

@@ -146,6 +146,17 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
             }
             cb.v[c] = (uint32_t)idx;
         }
+        /* Nothing after a face's indices: OpenMesh 9 reads a number there as the next
+         * face's corner count (a fuzzed line "3 3 6 7333...3" made it loop 4 billion
+         * times: fuzz_off), and through a stream it misreads face colours even under a
+         * COFF header. */
+        if (fc_next_token(&p, e, &ts, &te, 1)) {
+            st = fc_fail(err, SR_E_FORMAT, name,
+                         "line %zu: face %zu has '%s' after its %lld indices (face colours are "
+                         "not supported)",
+                         r.number, i, fc_token_str(ts, te, tok), n);
+            goto out;
+        }
         if (!fc_add_face(&f, &acc, cb.v, (size_t)n)) {
             st = fc_fail(err, SR_E_NOMEM, name, "out of memory at line %zu", r.number);
             goto out;
