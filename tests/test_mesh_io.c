@@ -671,6 +671,17 @@ static void off_content_after_the_faces_is_refused(void **state)
     expect_read_error(path, SR_E_FORMAT, "line 13: more after the 4 faces the header declares");
 }
 
+/* fuzz_off: OpenMesh reads the counts from the line after the header keyword. */
+static void off_counts_on_the_header_line_are_refused(void **state)
+{
+    char path[TMPDIR_PATH_MAX];
+    assert_int_equal(tmpdir_write_text(path_in(state, "one.off", path),
+                                       "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                     0);
+    expect_read_error(path, SR_E_FORMAT,
+                      "line 1: '3' after 'OFF': the counts must be on the next line");
+}
+
 static void off_face_colour_is_refused(void **state)
 {
     /* refused, plain or COFF: OpenMesh read each colour as the next face's corner count
@@ -1116,6 +1127,7 @@ int main(void)
         T(off_huge_count_is_refused_before_reading),
         T(off_content_after_the_faces_is_refused),
         T(off_face_colour_is_refused),
+        T(off_counts_on_the_header_line_are_refused),
         T(off_face_index_out_of_range_is_invalid),
         T(ply_header_cut_after_element_is_refused),
         T(ply_header_cut_after_property_is_refused),

@@ -35,7 +35,7 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
     if (!next_content_line(&r, &p, &e, &ts, &te))
         return fc_fail(err, SR_E_FORMAT, name, "no OFF header");
     /* [ST][C][N][4][n]OFF */
-    const char *k = ts;
+    const char *k = ts, *hdr = ts;
     if (te - k >= 2 && k[0] == 'S' && k[1] == 'T')
         k += 2;
     if (k < te && *k == 'C')
@@ -59,10 +59,12 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
     if (fc_next_token(&p, e, &ts, &te, 1)) {
         if (fc_token_is(ts, te, "BINARY"))
             return fc_fail(err, SR_E_UNSUPPORTED, name, "binary OFF is not supported");
-        if (!fc_parse_int(ts, te, &cnt[0]))
-            return fc_fail(err, SR_E_FORMAT, name, "line %zu: bad OFF count '%s'", r.number,
-                           fc_token_str(ts, te, tok));
-        have = 1;
+        /* OpenMesh 9 skips the rest of the header line and reads the counts from the
+         * next: counts here made it read vertices as counts and, out of step, loop 4
+         * billion times on a number taken for a face's corner count (fuzz_off). */
+        return fc_fail(err, SR_E_FORMAT, name,
+                       "line %zu: '%s' after '%.*s': the counts must be on the next line", r.number,
+                       fc_token_str(ts, te, tok), (int)(k + 3 - hdr), hdr);
     } else if (!next_content_line(&r, &p, &e, &ts, &te) || !fc_parse_int(ts, te, &cnt[0])) {
         return fc_fail(err, SR_E_FORMAT, name, "OFF header has no vertex/face/edge counts");
     } else {
