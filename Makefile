@@ -3,7 +3,8 @@
 # packages this project needs, only when missing), demo (the README's main job),
 # test (unit + CLI tests under ASan/UBSan), valgrind (CLI and CGAL-bridge tests under Valgrind),
 # check (deps + test + valgrind: what CI runs), bench (make bench: speed and accuracy
-# ratios measured in one run), clean; habits: format (clang-format on the files named
+# ratios measured in one run), fuzz (libFuzzer targets of the mesh import, one per
+# format, each run FUZZ_SECONDS), clean; habits: format (clang-format on the files named
 # or changed), compdb (compile_commands.json), lint (cppcheck on src/ and cli/).
 
 config ?= debug
@@ -20,6 +21,8 @@ DEB_PACKAGES := pkg-config libsqlite3-dev sqlite3 libopenmesh-dev libtinygltf-de
 DEB_CHECK_PACKAGES := openscad python3-numpy python3-scipy
 # for `make lint` and `make format`
 DEB_LINT_PACKAGES := cppcheck clang-format
+# for `make fuzz` (clang with libFuzzer and the sanitizer runtimes)
+DEB_FUZZ_PACKAGES := clang-14 libclang-rt-14-dev
 
 CC  ?= cc
 CXX ?= g++
@@ -84,14 +87,15 @@ TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 BENCH   := $(BUILD)/bench/symrec_bench
 
 .PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built install \
-        partgen-check quick layers format compdb lint
+        partgen-check quick layers format compdb lint fuzz fuzz-built
 # keep test objects: they are intermediates of the test binaries, not throwaways
 .SECONDARY:
 all: $(LIB) $(BIN)
 
 deps:
 	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)) \
-	  $(if $(filter lint format,$(MAKECMDGOALS)),$(DEB_LINT_PACKAGES)); do \
+	  $(if $(filter lint format,$(MAKECMDGOALS)),$(DEB_LINT_PACKAGES)) \
+	  $(if $(filter fuzz,$(MAKECMDGOALS)),$(DEB_FUZZ_PACKAGES)); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -260,6 +264,63 @@ bench: deps
 
 bench-built: $(BENCH)
 
+# Fuzzing the import (tests/fuzz/): one libFuzzer target per format over
+# sr_mesh_read_memory, the check-and-read path sr_mesh_read uses. Only the mesh I/O is
+# compiled into them, by Debian's clang-14 with coverage, ASan and UBSan, into
+# build/fuzz/ (OpenMesh and tinygltf are linked as installed, uninstrumented). The seed
+# corpus (a box and a cylinder in every format and variant) is written by the project's
+# own writers (tests/fuzz/make_corpus.c) into build/fuzz/corpus/FORMAT, with what the
+# targets once found (tests/fuzz/found/, replayed by test_fuzz_replay too); each run
+# grows it; crashes and hangs land in build/fuzz/crash-* and timeout-*. `make fuzz FUZZ_SECONDS=300` runs longer.
+FUZZ_SECONDS ?= 60
+FUZZ_FORMATS := stl obj ply off gltf glb
+FUZZ_CC  := clang-14
+FUZZ_CXX := clang++-14
+FUZZ_SAN := -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+FUZZ_C_SRC   := $(wildcard src/io/*.c) src/mesh/mesh.c src/base/status.c
+FUZZ_CXX_SRC := $(addprefix src/bridge/,io_bytes.cpp openmesh_io.cpp read_gltf.cpp \
+                gltf_meshes.cpp mesh_io_api.cpp write_text.cpp write_glb.cpp)
+FUZZ_OBJ := $(FUZZ_C_SRC:%.c=build/fuzz/obj/%.o) $(FUZZ_CXX_SRC:%.cpp=build/fuzz/obj/%.o)
+FUZZ_BIN := $(FUZZ_FORMATS:%=build/fuzz/fuzz_%)
+
+build/fuzz/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  FUZZCC  $<")
+	$(Q)$(FUZZ_CC) $(filter-out -fopenmp,$(CFLAGS_COMMON)) $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c $< -o $@
+
+build/fuzz/obj/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  FUZZCXX $<")
+	$(Q)$(FUZZ_CXX) $(CXXFLAGS_COMMON) -Wno-unknown-warning-option $(FUZZ_SAN) -fsanitize=fuzzer-no-link -c $< -o $@
+
+build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_read.h $(FUZZ_OBJ)
+	@$(if $(Q),echo "  FUZZLD  $@")
+	$(Q)$(FUZZ_CXX) -x c -std=c11 -Isrc -Itests $(FUZZ_SAN) -fsanitize=fuzzer -c $< -o $@.o
+	$(Q)$(FUZZ_CXX) $(FUZZ_SAN) -fsanitize=fuzzer $@.o $(FUZZ_OBJ) -lOpenMeshCore -ltinygltf -lm -o $@
+
+$(BUILD)/fuzz/make_corpus: $(BUILD)/tests/fuzz/make_corpus.o $(BUILD)/tests/support/fuzz_seeds.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(Q)$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+fuzz-built: $(FUZZ_BIN) $(BUILD)/fuzz/make_corpus
+
+# Each target for FUZZ_SECONDS on its corpus; prints its executions and exits non-zero
+# at the first crash (the input is kept as build/fuzz/crash-*).
+fuzz: deps
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) fuzz-built
+	$(Q)rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus && \
+	  $(BUILD)/fuzz/make_corpus build/fuzz/corpus && \
+	  for f in tests/fuzz/found/*; do cp "$$f" "build/fuzz/corpus/$${f##*.}/"; done
+	$(Q)for f in $(FUZZ_FORMATS); do \
+	  log=build/fuzz/fuzz_$$f.log; \
+	  if ! build/fuzz/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2560 \
+	       -max_len=65536 -artifact_prefix=build/fuzz/ -print_final_stats=1 \
+	       build/fuzz/corpus/$$f > $$log 2>&1; then \
+	    echo "fuzz_$$f: FAILED, see $$log" >&2; tail -40 $$log >&2; exit 1; fi; \
+	  execs=$$(sed -n 's/^stat::number_of_executed_units: *//p' $$log); \
+	  echo "fuzz_$$f: $$execs executions in $(FUZZ_SECONDS) s, no crash ($$(ls build/fuzz/corpus/$$f | wc -l) corpus files)"; \
+	done
+
 # clang-format (.clang-format) on the files named, `make format FILES="src/a.c src/a.h"`
 # (whole files); without FILES, on the lines changed since HEAD (git clang-format) and
 # on new files whole. Never the whole tree, nor the untouched lines of a changed file: a
@@ -300,4 +361,4 @@ lint: deps
 clean:
 	rm -rf build
 
--include $(shell find $(BUILD) build/cgal -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD) build/cgal build/fuzz -name '*.d' 2>/dev/null)

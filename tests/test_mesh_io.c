@@ -20,6 +20,7 @@
 #include "bridge/mesh_io.h"
 #include "mesh/mesh.h"
 #include "support/assert_near.h"
+#include "support/read_expect.h"
 #include "support/tmpdir.h"
 
 /* ---- fixtures ---------------------------------------------------------------------- */
@@ -49,56 +50,10 @@ static double octa_volume(void)
     return 4.0 / 3.0 * A * B * C;
 }
 
-/* Each test gets its own directory (cmocka state). */
-static int setup(void **state)
-{
-    tmpdir *d = malloc(sizeof *d);
-    if (!d || tmpdir_make(d) != 0) {
-        free(d);
-        return -1;
-    }
-    *state = d;
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    tmpdir_remove(*state);
-    free(*state);
-    return 0;
-}
-
+/* Each test gets its own directory (cmocka state: tmpdir_setup). */
 static const char *path_in(void **state, const char *name, char buf[TMPDIR_PATH_MAX])
 {
     return tmpdir_join(*state, name, buf);
-}
-
-/* Asserts that msg contains part. */
-#define assert_has(msg, part)                                                              \
-    do {                                                                                   \
-        if (!strstr((msg), (part))) {                                                      \
-            print_error("message '%s' lacks '%s'\n", (msg), (part));                       \
-            fail();                                                                        \
-        }                                                                                  \
-    } while (0)
-
-/* Reading must fail with status st and a message naming the file and containing part;
- * *out stays untouched. */
-static void expect_read_error(const char *path, sr_status st, const char *part)
-{
-    sr_mesh m = {(double *)1, (uint32_t *)1, 77, 77};   /* sentinel: must not be written */
-    sr_err err = {{0}};
-    sr_status got = sr_mesh_read(path, &m, &err);
-    if (got != st)
-        print_error("status %d (%s), expected %d; message '%s'\n", got, sr_status_str(got), st,
-                    err.msg);
-    assert_int_equal(got, st);
-    assert_ptr_equal(m.xyz, (double *)1);
-    assert_int_equal(m.vertex_count, 77);
-    char quoted[TMPDIR_PATH_MAX + 16];
-    snprintf(quoted, sizeof quoted, "cannot read '%s': ", path);
-    assert_has(err.msg, quoted);
-    assert_has(err.msg, part);
 }
 
 /* ---- binary STL built by hand ------------------------------------------------------- */
@@ -702,6 +657,49 @@ static void off_huge_count_is_refused_before_reading(void **state)
     expect_read_error(path, SR_E_FORMAT, "OFF header declares 4000000000 vertices");
 }
 
+/* Found by tests/fuzz/fuzz_off.c: OpenMesh reads a number after a face's indices as
+ * the next face's corner count (only a COFF face line has its rest taken as a colour);
+ * "3 3 6 7333...3" made it loop 4 billion times. */
+static void off_content_after_the_faces_is_refused(void **state)
+{
+    char path[TMPDIR_PATH_MAX];
+    assert_int_equal(tmpdir_write_text(path_in(state, "more.off", path),
+                                       "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                       "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n# end\n\n"
+                                       "3 32\n"),
+                     0);
+    expect_read_error(path, SR_E_FORMAT, "line 13: more after the 4 faces the header declares");
+}
+
+/* fuzz_off: OpenMesh reads the counts from the line after the header keyword. */
+static void off_counts_on_the_header_line_are_refused(void **state)
+{
+    char path[TMPDIR_PATH_MAX];
+    assert_int_equal(tmpdir_write_text(path_in(state, "one.off", path),
+                                       "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                     0);
+    expect_read_error(path, SR_E_FORMAT,
+                      "line 1: '3' after 'OFF': the counts must be on the next line");
+}
+
+static void off_face_colour_is_refused(void **state)
+{
+    /* refused, plain or COFF: OpenMesh read each colour as the next face's corner count
+     * (or, under COFF, lost the faces: "bad vertex index") */
+    static const char body[] = "4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                               "3 0 2 1 255 0 0\n3 0 1 3 0 255 0\n3 1 2 3 0 0 255\n"
+                               "3 2 0 3 7333333333333333333333333333\n";
+    static const char *const heads[] = {"OFF", "COFF"};
+    for (int h = 0; h < 2; h++) {
+        char path[TMPDIR_PATH_MAX], text[512];
+        snprintf(text, sizeof text, "%s\n%s", heads[h], body);
+        assert_int_equal(tmpdir_write_text(path_in(state, "colour.off", path), text), 0);
+        expect_read_error(path, SR_E_FORMAT,
+                          "line 7: face 0 has '255' after its 3 indices (face colours are not "
+                          "supported)");
+    }
+}
+
 static void off_face_index_out_of_range_is_invalid(void **state)
 {
     char path[TMPDIR_PATH_MAX];
@@ -1087,7 +1085,7 @@ static void write_refuses_bad_meshes(void **state)
     sr_mesh_release(&m);
 }
 
-#define T(name) cmocka_unit_test_setup_teardown(name, setup, teardown)
+#define T(name) cmocka_unit_test_setup_teardown(name, tmpdir_setup, tmpdir_teardown)
 
 int main(void)
 {
@@ -1127,6 +1125,9 @@ int main(void)
         T(obj_index_zero_is_invalid),
         T(obj_degenerate_face_is_dropped_and_polygons_fanned),
         T(off_huge_count_is_refused_before_reading),
+        T(off_content_after_the_faces_is_refused),
+        T(off_face_colour_is_refused),
+        T(off_counts_on_the_header_line_are_refused),
         T(off_face_index_out_of_range_is_invalid),
         T(ply_header_cut_after_element_is_refused),
         T(ply_header_cut_after_property_is_refused),

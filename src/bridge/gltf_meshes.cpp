@@ -227,6 +227,12 @@ void node_xform(const tinygltf::Node &n, double m[12])
     }
 }
 
+double det3(const double m[12])
+{
+    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+           m[2] * (m[4] * m[9] - m[5] * m[8]);
+}
+
 struct Instance {
     int mesh;
     double xf[12];
@@ -248,6 +254,13 @@ sr_status visit_node(const char *path, const tinygltf::Model &m, int ni, const d
     if (n.mesh >= 0) {
         if ((size_t)n.mesh >= m.meshes.size())
             return rfail(err, SR_E_FORMAT, path, "node %d refers to mesh %d, which does not exist",
+                         ni, n.mesh);
+        /* A singular transform (a scale of 0 on some axis) flattens the mesh into a
+         * plane, line or point: no solid part (envelope.h's rule on degenerate input). */
+        if (det3(in.xf) == 0)
+            return rfail(err, SR_E_INVALID, path,
+                         "node %d's transform is singular (a scale of 0?): it flattens mesh %d "
+                         "to no volume",
                          ni, n.mesh);
         in.mesh = n.mesh;
         out.push_back(in);
@@ -286,12 +299,6 @@ sr_status gltf_instances(const char *path, const tinygltf::Model &m, std::vector
     return SR_OK;
 }
 
-double det3(const double m[12])
-{
-    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-           m[2] * (m[4] * m[9] - m[5] * m[8]);
-}
-
 /* A mesh copy placed by a node transform; a mirroring transform flips the triangles so
  * that they stay outward-facing. */
 sr_status place(const sr_mesh &src, const double xf[12], sr_mesh *out)
@@ -309,10 +316,11 @@ sr_status place(const sr_mesh &src, const double xf[12], sr_mesh *out)
 
 } // namespace
 
-sr_status read_gltf_merged(const char *path, sr_format fmt, sr_mesh *out, sr_err *err)
+sr_status read_gltf_merged(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
+                           sr_mesh *out, sr_err *err)
 {
     tinygltf::Model model;
-    sr_status st = gltf_load(path, fmt, model, err);
+    sr_status st = gltf_load(path, fmt, file, files_allowed, model, err);
     if (st != SR_OK)
         return st;
     std::vector<Instance> inst;
@@ -349,8 +357,12 @@ sr_status scene_read(const char *path, sr_scene *out, sr_err *err)
     sr_format fmt = sr_format_from_path(path);
     if (fmt != SR_FMT_GLTF && fmt != SR_FMT_GLB)
         return rfail(err, SR_E_UNSUPPORTED, path, "a scene needs a .gltf or .glb file");
+    Bytes file;
+    sr_status st = read_file(path, MESH_FILE_MAX, file, err);
+    if (st != SR_OK)
+        return st;
     tinygltf::Model model;
-    sr_status st = gltf_load(path, fmt, model, err);
+    st = gltf_load(path, fmt, file, true, model, err);
     if (st != SR_OK)
         return st;
     std::vector<Instance> inst;
@@ -409,6 +421,10 @@ sr_status scene_read(const char *path, sr_scene *out, sr_err *err)
             return rfail(err, SR_E_INVALID, path,
                          "mesh %zu has %zu non-finite vertices after its node transform", mi,
                          rep.nonfinite_vertices);
+        st = sr_envelope_check_mesh(p.mesh.m.xyz, p.mesh.m.vertex_count, p.mesh.m.tri,
+                                    p.mesh.m.tri_count, path, err);
+        if (st != SR_OK)
+            return st;
     }
     if (parts.empty())
         return rfail(err, SR_E_INVALID, path, "contains no triangles");

@@ -104,8 +104,9 @@ sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err)
     else if (st.st_size == 0)
         rc = rfail(err, SR_E_IO, path, "empty file");
     else if ((unsigned long long)st.st_size > limit)
-        rc = rfail(err, SR_E_UNSUPPORTED, path, "file too large (%lld bytes, at most %zu)",
-                   (long long)st.st_size, limit);
+        rc = rfail(err, SR_E_UNSUPPORTED, path, "file too large (%lld bytes; %s %zu bytes)",
+                   (long long)st.st_size,
+                   limit == MESH_FILE_MAX ? "mesh files are limited to 2 GiB," : "at most", limit);
     if (rc != SR_OK) {
         close(fd);
         return rc;

@@ -37,11 +37,28 @@ sr_format sr_format_from_path(const char *path);
 /* Lower-case extension name of a format ("stl", ...), "unknown" otherwise. */
 const char *sr_format_name(sr_format format);
 
+/* Largest mesh file read, in bytes: 2 GiB. Scans run to 1-5 M triangles; an ASCII STL
+ * of 5 M triangles takes about 1.4 GB, the same as binary STL 250 MB, so 2 GiB holds
+ * every real scan in any format, and a file above it is refused from its size (stat)
+ * before a byte is read (reading is done whole into memory). */
+#define SR_MESH_FILE_MAX ((size_t)1 << 31)
+
 /* Reads a mesh file (format from the extension) into *out, vertices welded where the
  * format shares them. A glTF/GLB file's meshes are merged into one. On success *out
- * is a validated mesh (non-empty, finite, indices in range); on failure *out is
- * untouched. */
+ * is a validated mesh (non-empty, finite, indices in range) inside the physical
+ * envelope of io/envelope.h (|coordinate| <= 1e6 mm, bounding box >= 1e-3 mm, some
+ * triangle with an area; triangles that repeat a vertex dropped); on failure *out is
+ * untouched. A file larger than SR_MESH_FILE_MAX is refused without being read. The
+ * file's bytes go through sr_mesh_read_memory's path. */
 sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err);
+
+/* The same check-and-read path on a file's bytes in memory (data, size; not modified,
+ * need not be NUL-terminated; size at most SR_MESH_FILE_MAX) in format fmt; name is
+ * the file name for messages ("cannot read 'name': ..."). A glTF buffer may only be a
+ * data URI or the GLB BIN chunk: external buffer files are refused in memory. The
+ * entry point of the fuzz targets (tests/fuzz/). */
+sr_status sr_mesh_read_memory(const unsigned char *data, size_t size, sr_format fmt,
+                              const char *name, sr_mesh *out, sr_err *err);
 
 /* Options for writing; zero is the default (binary STL/PLY, full double precision). */
 typedef struct sr_write_opts {
@@ -76,7 +93,8 @@ typedef struct sr_scene {
 } sr_scene;
 
 /* Reads every mesh of a glTF/GLB file separately. External buffers must lie inside the
- * file's own folder. On failure *out is untouched. */
+ * file's own folder. Each mesh, placed by its node, must lie inside the physical
+ * envelope (as sr_mesh_read's). On failure *out is untouched. */
 sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err);
 
 /* Frees a scene; accepts NULL and a zeroed scene. */

@@ -1,8 +1,12 @@
 /*
- * mesh_io_api.cpp: the C interface of mesh_io.h: formats by extension, sr_mesh_read and
- * sr_mesh_write dispatched by format to the readers and writers of the other bridge
- * files, the check that a mesh is fit for writing, and the exception barrier: every
- * extern "C" entry point catches all exceptions.
+ * mesh_io_api.cpp: the C interface of mesh_io.h: formats by extension, sr_mesh_read,
+ * sr_mesh_read_memory and sr_mesh_write dispatched by format to the readers and writers
+ * of the other bridge files, the checks every read result passes (validation and the
+ * physical envelope of io/envelope.h), the check that a mesh is fit for writing, and the
+ * exception barrier: every extern "C" entry point catches all exceptions.
+ *
+ * sr_mesh_read reads the file's bytes and goes on exactly as sr_mesh_read_memory does
+ * (mesh_from_bytes), so the path the fuzz targets exercise is the real one.
  */
 #include "bridge/mesh_io_int.hpp"
 
@@ -36,32 +40,75 @@ sr_status check_for_write(const char *path, const sr_mesh *mesh, const char *wha
 
 namespace {
 
+const char *const KNOWN_EXTENSIONS = "unknown extension (known: .stl .obj .ply .off .gltf .glb)";
+
+/* The one read path: a file's bytes (owned, NUL appended; an OpenMesh format's may be
+ * rewritten in place) in format fmt, checked, parsed, validated and held to the
+ * physical envelope. files_allowed: a glTF may name external buffers beside `name`. */
+sr_status mesh_from_bytes(const char *name, sr_format fmt, Bytes &file, bool files_allowed,
+                          sr_mesh *out, sr_err *err)
+{
+    MeshGuard g;
+    sr_status st;
+    if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB)
+        st = read_gltf_merged(name, fmt, file, files_allowed, &g.m, err);
+    else
+        st = read_openmesh(name, fmt, file, &g.m, err);
+    if (st != SR_OK)
+        return st;
+    st = sr_mesh_validate(&g.m, name, nullptr, err);
+    if (st != SR_OK)
+        return st;
+    /* after glTF node transforms: the coordinates every later stage sees */
+    st = sr_envelope_check_mesh(g.m.xyz, g.m.vertex_count, g.m.tri, g.m.tri_count, name, err);
+    if (st != SR_OK)
+        return st;
+    *out = g.m;
+    g.m = sr_mesh{};
+    return SR_OK;
+}
+
 sr_status mesh_read(const char *path, sr_mesh *out, sr_err *err)
 {
     if (!path || !out)
         return sr_err_set(err, SR_E_INVALID, "no file name given");
     sr_format fmt = sr_format_from_path(path);
     if (fmt == SR_FMT_UNKNOWN)
-        return rfail(err, SR_E_UNSUPPORTED, path,
-                     "unknown extension (known: .stl .obj .ply .off .gltf .glb)");
-    MeshGuard g;
-    sr_status st;
-    if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB) {
-        st = read_gltf_merged(path, fmt, &g.m, err);
-    } else {
-        Bytes file;
-        st = read_file(path, MESH_FILE_MAX, file, err);
-        if (st == SR_OK)
-            st = read_openmesh(path, fmt, file, &g.m, err);
-    }
+        return rfail(err, SR_E_UNSUPPORTED, path, "%s", KNOWN_EXTENSIONS);
+    Bytes file;
+    sr_status st = read_file(path, MESH_FILE_MAX, file, err);
     if (st != SR_OK)
         return st;
-    st = sr_mesh_validate(&g.m, path, nullptr, err);
-    if (st != SR_OK)
-        return st;
-    *out = g.m;
-    g.m = sr_mesh{};
-    return SR_OK;
+    return mesh_from_bytes(path, fmt, file, true, out, err);
+}
+
+sr_status mesh_read_memory(const unsigned char *data, size_t size, sr_format fmt, const char *name,
+                           sr_mesh *out, sr_err *err)
+{
+    if (!name)
+        name = "(memory)";
+    if (!out || (!data && size))
+        return rfail(err, SR_E_INVALID, name, "no output or no bytes given");
+    if (fmt != SR_FMT_STL && fmt != SR_FMT_OBJ && fmt != SR_FMT_PLY && fmt != SR_FMT_OFF &&
+        fmt != SR_FMT_GLTF && fmt != SR_FMT_GLB)
+        return rfail(err, SR_E_UNSUPPORTED, name,
+                     "unknown format (known: stl obj ply off gltf glb)");
+    if (size == 0)
+        return rfail(err, SR_E_IO, name, "empty file");
+    if (size > MESH_FILE_MAX)
+        return rfail(err, SR_E_UNSUPPORTED, name,
+                     "file too large (%zu bytes; mesh files are "
+                     "limited to 2 GiB, %zu bytes)",
+                     size, MESH_FILE_MAX);
+    /* the readers may rewrite the bytes in place and count on a NUL after them */
+    Bytes file;
+    file.data = (unsigned char *)malloc(size + 1);
+    if (!file.data)
+        return rfail(err, SR_E_NOMEM, name, "out of memory for %zu bytes", size);
+    memcpy(file.data, data, size);
+    file.data[size] = 0;
+    file.size = size;
+    return mesh_from_bytes(name, fmt, file, false, out, err);
 }
 
 sr_status mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts *opts, sr_err *err)
@@ -70,8 +117,7 @@ sr_status mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts 
         return sr_err_set(err, SR_E_INVALID, "no file name given");
     sr_format fmt = sr_format_from_path(path);
     if (fmt == SR_FMT_UNKNOWN)
-        return wfail(err, SR_E_UNSUPPORTED, path,
-                     "unknown extension (known: .stl .obj .ply .off .gltf .glb)");
+        return wfail(err, SR_E_UNSUPPORTED, path, "%s", KNOWN_EXTENSIONS);
     sr_status st = check_for_write(path, mesh, "mesh", err);
     if (st != SR_OK)
         return st;
@@ -156,6 +202,15 @@ extern "C" sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err)
         return mesh_read(path, out, err);
     }
     CATCH_ALL(err, "read", path)
+}
+
+extern "C" sr_status sr_mesh_read_memory(const unsigned char *data, size_t size, sr_format fmt,
+                                         const char *name, sr_mesh *out, sr_err *err)
+{
+    try {
+        return mesh_read_memory(data, size, fmt, name, out, err);
+    }
+    CATCH_ALL(err, "read", name)
 }
 
 extern "C" sr_status sr_mesh_write(const char *path, const sr_mesh *mesh,

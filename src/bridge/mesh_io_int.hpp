@@ -20,6 +20,7 @@
 
 extern "C" {
 #include "bridge/mesh_io.h"
+#include "io/envelope.h"
 #include "io/file_check.h"
 }
 
@@ -34,9 +35,9 @@ class Model;
 
 namespace sr_meshio {
 
-/* Largest mesh file read into memory; tinygltf takes an unsigned int length. */
-const size_t MESH_FILE_MAX = (size_t)1 << 32;
-const size_t GLTF_FILE_MAX = (size_t)UINT32_MAX;
+/* Largest mesh file read into memory, every format (mesh_io.h says why); below
+ * tinygltf's unsigned int length too. */
+const size_t MESH_FILE_MAX = SR_MESH_FILE_MAX;
 /* Largest external glTF buffer file. */
 const size_t GLTF_BUFFER_MAX = (size_t)1 << 31;
 /* Deepest JSON nesting and node hierarchy accepted in a glTF. */
@@ -69,7 +70,9 @@ struct Bytes {
     ~Bytes() { free(data); }
 };
 
-/* Reads a whole regular, non-empty file of at most `limit` bytes (NUL appended). */
+/* Reads a whole regular, non-empty file of at most `limit` bytes (NUL appended). The
+ * size is checked (fstat) before anything is read or allocated; a larger file is
+ * refused with SR_E_UNSUPPORTED, naming the limit. */
 sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err);
 
 /* The folder part of path: "." when it has none, "/" for a file in the root. */
@@ -107,11 +110,16 @@ sr_status check_for_write(const char *path, const sr_mesh *mesh, const char *wha
 sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *out,
                         sr_err *err);
 
-/* A .gltf or .glb file (fmt) loaded into model (read_gltf.cpp). */
-sr_status gltf_load(const char *path, sr_format fmt, tinygltf::Model &model, sr_err *err);
+/* A .gltf or .glb file's bytes (fmt) loaded into model (read_gltf.cpp). With
+ * files_allowed, external buffers are read from path's folder (never outside it);
+ * without (bytes from memory), any external buffer is refused. */
+sr_status gltf_load(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
+                    tinygltf::Model &model, sr_err *err);
 
-/* A glTF/GLB file's mesh instances, placed and merged into one mesh (gltf_meshes.cpp). */
-sr_status read_gltf_merged(const char *path, sr_format fmt, sr_mesh *out, sr_err *err);
+/* A glTF/GLB file's mesh instances, placed and merged into one mesh (gltf_meshes.cpp);
+ * file and files_allowed as for gltf_load. */
+sr_status read_gltf_merged(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
+                           sr_mesh *out, sr_err *err);
 
 /* A glTF/GLB file's meshes apart, with names and colours (gltf_meshes.cpp). */
 sr_status scene_read(const char *path, sr_scene *out, sr_err *err);

@@ -2,9 +2,10 @@
  * openmesh_io.cpp: everything of the mesh bridge that touches OpenMesh 9: reading STL, OBJ,
  * PLY and OFF, and writing STL (see mesh_io_int.hpp). OpenMesh accepts bad input
  * silently (shared/DEPENDENCY-NOTES.md), so every read here is:
- *   1. the file read into memory by us (io_bytes.cpp);
- *   2. checked by src/io/ (pure C): sizes, counts, NaN/Inf, indices, PLY header; these
- *      checks also return what the file holds;
+ *   1. the file's bytes in memory, read by us (io_bytes.cpp) or given (a fuzz target);
+ *   2. checked by src/io/ (pure C): sizes, counts, NaN/Inf, indices, PLY header, and
+ *      every coordinate inside the physical envelope (io/envelope.h); these checks
+ *      also return what the file holds;
  *   3. parsed by OpenMesh from that memory (never by path: no second open, and its OBJ
  *      reader gets no chance to open an mtllib), into a Collector that records vertices
  *      and faces as delivered, with no topology to lose faces to;
@@ -388,6 +389,12 @@ sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *o
     default:
         return rfail(err, SR_E_INTERNAL, path, "not an OpenMesh format");
     }
+    if (st != SR_OK)
+        return st;
+    /* Before OpenMesh, which parses into float: a value beyond float range would come
+     * back as inf and lose its face ("bad vertex index"), not as what it is. */
+    st = sr_envelope_check_points(facts.f.xyz, facts.f.vertex_count, fmt == SR_FMT_STL ? 3 : 0,
+                                  path, err);
     if (st != SR_OK)
         return st;
     if (facts.f.tri_count == facts.f.degenerate_tris)

@@ -1,7 +1,8 @@
 /*
  * read_gltf.cpp: loading a glTF or GLB file into a tinygltf 2.7 model, guarded (see
  * mesh_io_int.hpp). tinygltf accepts bad input silently (shared/DEPENDENCY-NOTES.md), so
- * the file is read into memory by us, a GLB's chunks checked by src/io/, the JSON's depth,
+ * it gets the file's bytes from us (read whole by the caller, or given in memory, where
+ * no external file is opened at all), a GLB's chunks checked by src/io/, the JSON's depth,
  * buffer sizes and URIs pre-checked with nlohmann::json, and tinygltf given FsCallbacks
  * that refuse files outside the input's folder, directories and huge files, with image
  * decoding off. What is done with the loaded model is gltf_meshes.cpp's.
@@ -26,6 +27,7 @@ namespace {
 
 /* The input's folder and what the file callbacks refused. */
 struct FsGuard {
+    bool files_allowed = true; /* false: bytes from memory, no external file at all */
     std::string folder;       /* realpath of the folder holding the glTF, no trailing '/' */
     std::string refusal;      /* first refusal, for the message when tinygltf fails */
     sr_status refusal_status = SR_OK;
@@ -65,6 +67,10 @@ sr_status check_external(const FsGuard &g, const std::string &rel, std::string *
     if (rel.empty()) {
         *why = "is empty";
         return SR_E_INVALID;
+    }
+    if (!g.files_allowed) {
+        *why = "is an external file, which a read from memory does not open";
+        return SR_E_UNSUPPORTED;
     }
     if (rel[0] == '/') {
         *why = "is an absolute path";
@@ -280,14 +286,13 @@ const char *const IGNORABLE_EXTENSIONS[] = {"KHR_materials_", "KHR_texture_",
 
 } // namespace
 
-sr_status gltf_load(const char *path, sr_format fmt, tinygltf::Model &model, sr_err *err)
+sr_status gltf_load(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
+                    tinygltf::Model &model, sr_err *err)
 {
-    Bytes file;
-    sr_status st = read_file(path, GLTF_FILE_MAX, file, err);
-    if (st != SR_OK)
-        return st;
+    sr_status st;
     FsGuard g;
-    {
+    g.files_allowed = files_allowed;
+    if (files_allowed) {
         std::string dir = dir_of(path);
         char *real = realpath(dir.c_str(), nullptr);
         if (!real)
@@ -297,6 +302,8 @@ sr_status gltf_load(const char *path, sr_format fmt, tinygltf::Model &model, sr_
         free(real);
         if (g.folder == "/")
             g.folder.clear();   /* so that folder + "/" is "/" */
+    } else {
+        g.folder = "/nonexistent-symrec-memory"; /* matches no path: nothing is opened */
     }
     sr_glb_layout glb = {};
     bool binary = fmt == SR_FMT_GLB;

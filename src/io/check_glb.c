@@ -35,11 +35,22 @@ sr_status sr_file_check_glb(const unsigned char *data, size_t size, const char *
     sr_glb_layout g = {20, json_len, 0, 0, 0};
     size_t pos = 20 + (size_t)json_len;
     for (int chunk = 1; pos < size; chunk++) {
-        if (size - pos < 8)
-            return fc_fail(err, SR_E_FORMAT, name, "GLB has %zu stray bytes after chunk %d",
-                           size - pos, chunk - 1);
-        uint32_t len = fc_le32(data + pos), type = fc_le32(data + pos + 4);
+        uint32_t len = size - pos >= 8 ? fc_le32(data + pos) : 0;
+        uint32_t type = size - pos >= 8 ? fc_le32(data + pos + 4) : 0;
         const char *what = type == GLB_BIN ? "BIN" : type == GLB_JSON ? "JSON" : "unknown";
+        /* Bytes after the BIN chunk that make no chunk of their own are the BIN chunk's
+         * own when its length is too small: say so, not "stray" or "unknown chunk". */
+        if (size - pos < 8 || (type != GLB_BIN && type != GLB_JSON && len > size - pos - 8)) {
+            size_t tail = size - (g.has_bin ? g.bin_offset + g.bin_size : pos);
+            if (g.has_bin)
+                return fc_fail(err, SR_E_FORMAT, name,
+                               "GLB BIN chunk length %zu is too small: the %zu bytes after it "
+                               "make no valid chunk",
+                               g.bin_size, tail);
+            if (size - pos < 8)
+                return fc_fail(err, SR_E_FORMAT, name, "GLB has %zu stray bytes after chunk %d",
+                               size - pos, chunk - 1);
+        }
         if (len > size - pos - 8)
             return fc_fail(err, SR_E_FORMAT, name,
                            "GLB %s chunk length %u runs past the end of the file (%zu bytes after "

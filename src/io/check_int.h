@@ -9,6 +9,7 @@
  *   check_off.c     ASCII OFF
  *   check_ply.c     PLY header and body (ascii, binary little and big endian)
  *   check_glb.c     GLB container chunks and JSON nesting depth
+ *   envelope.c      the physical envelope of envelope.h (uses fc_fail only)
  *
  * Every helper works on [s, e) ranges of the file in memory and never reads past e.
  */

@@ -35,7 +35,7 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
     if (!next_content_line(&r, &p, &e, &ts, &te))
         return fc_fail(err, SR_E_FORMAT, name, "no OFF header");
     /* [ST][C][N][4][n]OFF */
-    const char *k = ts;
+    const char *k = ts, *hdr = ts;
     if (te - k >= 2 && k[0] == 'S' && k[1] == 'T')
         k += 2;
     if (k < te && *k == 'C')
@@ -59,10 +59,12 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
     if (fc_next_token(&p, e, &ts, &te, 1)) {
         if (fc_token_is(ts, te, "BINARY"))
             return fc_fail(err, SR_E_UNSUPPORTED, name, "binary OFF is not supported");
-        if (!fc_parse_int(ts, te, &cnt[0]))
-            return fc_fail(err, SR_E_FORMAT, name, "line %zu: bad OFF count '%s'", r.number,
-                           fc_token_str(ts, te, tok));
-        have = 1;
+        /* OpenMesh 9 skips the rest of the header line and reads the counts from the
+         * next: counts here made it read vertices as counts and, out of step, loop 4
+         * billion times on a number taken for a face's corner count (fuzz_off). */
+        return fc_fail(err, SR_E_FORMAT, name,
+                       "line %zu: '%s' after '%.*s': the counts must be on the next line", r.number,
+                       fc_token_str(ts, te, tok), (int)(k + 3 - hdr), hdr);
     } else if (!next_content_line(&r, &p, &e, &ts, &te) || !fc_parse_int(ts, te, &cnt[0])) {
         return fc_fail(err, SR_E_FORMAT, name, "OFF header has no vertex/face/edge counts");
     } else {
@@ -146,10 +148,29 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
             }
             cb.v[c] = (uint32_t)idx;
         }
+        /* Nothing after a face's indices: OpenMesh 9 reads a number there as the next
+         * face's corner count (a fuzzed line "3 3 6 7333...3" made it loop 4 billion
+         * times: fuzz_off), and through a stream it misreads face colours even under a
+         * COFF header. */
+        if (fc_next_token(&p, e, &ts, &te, 1)) {
+            st = fc_fail(err, SR_E_FORMAT, name,
+                         "line %zu: face %zu has '%s' after its %lld indices (face colours are "
+                         "not supported)",
+                         r.number, i, fc_token_str(ts, te, tok), n);
+            goto out;
+        }
         if (!fc_add_face(&f, &acc, cb.v, (size_t)n)) {
             st = fc_fail(err, SR_E_NOMEM, name, "out of memory at line %zu", r.number);
             goto out;
         }
+    }
+    /* Nothing but blank lines and comments after the last face: OpenMesh 9's OFF reader
+     * looped forever on a file whose faces carried extra numbers followed by more lines
+     * (found by tests/fuzz/fuzz_off.c). */
+    if (next_content_line(&r, &p, &e, &ts, &te)) {
+        st = fc_fail(err, SR_E_FORMAT, name,
+                     "line %zu: more after the %zu faces the header declares", r.number, nf);
+        goto out;
     }
     free(cb.v);
     *out = f;

@@ -192,8 +192,18 @@ sr_status sr_file_check_stl(const unsigned char *data, size_t size, const char *
         if (n > 0 && size == 84ull + 50ull * n)
             return check_stl_binary(data, size, name, out, err);
     }
-    if (fc_first_binary_byte(data, size) < size)
-        return check_stl_binary(data, size, name, out, err);
+    /* A non-text byte inside the 84-byte header (its padding, the count) makes a binary
+     * STL, right or wrong; after a header that is all text it is an ASCII STL with a
+     * stray byte, whose "count" would be text ("rtex": 2019914866 triangles). */
+    size_t bad = fc_first_binary_byte(data, size);
+    if (bad < size) {
+        if (bad < 84)
+            return check_stl_binary(data, size, name, out, err);
+        return fc_fail(err, SR_E_FORMAT, name,
+                       "neither a binary STL (%zu bytes is not 84 + 50 x the header's triangle "
+                       "count) nor ASCII STL text (byte 0x%02x at offset %zu)",
+                       size, data[bad], bad);
+    }
     return check_stl_ascii(data, size, name, out, err);
 }
 

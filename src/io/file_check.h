@@ -82,7 +82,8 @@ void sr_file_obj_drop_mtllib(unsigned char *data, size_t size);
 
 /* ASCII OFF ([ST][C][N]OFF): three counts, plausible against the file size, then one
  * vertex per line (first three numbers taken) and one face per line (k, then k
- * indices; anything after them, such as a colour, ignored). */
+ * indices, and nothing after them: OpenMesh reads a face colour as the next face), then
+ * nothing but blank lines and comments. */
 sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *name,
                             sr_file_facts *out, sr_err *err);
 

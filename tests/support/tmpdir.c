@@ -23,6 +23,24 @@ int tmpdir_make(tmpdir *dir)
     return 0;
 }
 
+int tmpdir_setup(void **state)
+{
+    tmpdir *d = malloc(sizeof *d);
+    if (!d || tmpdir_make(d) != 0) {
+        free(d);
+        return -1;
+    }
+    *state = d;
+    return 0;
+}
+
+int tmpdir_teardown(void **state)
+{
+    tmpdir_remove(*state);
+    free(*state);
+    return 0;
+}
+
 static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
 {
     (void)st;

@@ -35,6 +35,11 @@ void tmpdir_remove(tmpdir *dir);
  * contain '/' (a subfolder) or be "" (the directory itself). */
 char *tmpdir_join(const tmpdir *dir, const char *name, char out[TMPDIR_PATH_MAX]);
 
+/* cmocka group set-up and tear-down: *state becomes a new tmpdir (made), removed and
+ * freed after the test. Return 0, or -1 when the directory cannot be made. */
+int tmpdir_setup(void **state);
+int tmpdir_teardown(void **state);
+
 /* Creates or truncates path and writes exactly size bytes to it. */
 int tmpdir_write_file(const char *path, const void *bytes, size_t size);
 
