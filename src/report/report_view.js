@@ -7,8 +7,8 @@
  * outside the part along the line from the part's centre through the patch, the part's
  * axis (the aligned frame's z) up. Drag rotates about the aimed point, shift-drag or
  * right-drag pans, the wheel zooms; frames are drawn on demand only. Without WebGL the
- * canvas gives way to a note. Sets body's data-view ("webgl", "fallback", "none") and
- * data-redraw-ms (the last frame's time). Plain ES5.
+ * canvas gives way to a note. Sets body's data-view ("webgl", "fallback", "none"),
+ * data-gl (the renderer) and data-redraw-ms (the last frame's time). Plain ES5.
  * Compiled into the binary by the Makefile (report_assets.h), this opening comment left
  * out, every line as it is.
  */
@@ -23,10 +23,14 @@ data.patches.forEach(function(p){parts.push({m:arrays(p.mesh),col:0xe8601c,box:'
 if(data.scan)parts.push({m:arrays(data.scan),col:0x3d7fd9,box:'show-scan',front:false});
 function fallback(why){if(cv)cv.hidden=true;var f=document.getElementById('view-fallback');if(f)f.hidden=false;body.setAttribute('data-view',why);}
 if(!cv||!parts.length){fallback('none');return;}
-var probe=document.createElement('canvas');
-if(!window.THREE||!window.WebGLRenderingContext||!(probe.getContext('webgl')||probe.getContext('experimental-webgl'))){fallback('fallback');return;}
-var T=window.THREE,renderer;
-try{renderer=new T.WebGLRenderer({canvas:cv,antialias:true,preserveDrawingBuffer:true});}catch(e){fallback('fallback');return;}
+var probe=document.createElement('canvas'),pg=window.WebGLRenderingContext&&(probe.getContext('webgl')||probe.getContext('experimental-webgl'));
+if(!window.THREE||!pg){fallback('fallback');return;}
+/* a software renderer (SwiftShader, llvmpipe) pays for antialiasing on the CPU: it
+ * costs such a frame about twice its time, so it is left off there */
+var dri=pg.getExtension('WEBGL_debug_renderer_info'),gpu=dri?String(pg.getParameter(dri.UNMASKED_RENDERER_WEBGL)):'';
+var soft=/swiftshader|llvmpipe|softpipe|software/i.test(gpu),T=window.THREE,renderer;
+try{renderer=new T.WebGLRenderer({canvas:cv,antialias:!soft,preserveDrawingBuffer:true});}catch(e){fallback('fallback');return;}
+body.setAttribute('data-gl',(soft?'software ':'')+gpu);
 renderer.setClearColor(0xffffff,1);
 var scene=new T.Scene(),lo=new T.Vector3(Infinity,Infinity,Infinity),hi=new T.Vector3(-Infinity,-Infinity,-Infinity);
 parts.forEach(function(e){var g=new T.BufferGeometry();g.setAttribute('position',new T.BufferAttribute(e.m.v,3));g.setIndex(new T.BufferAttribute(e.m.t,1));

@@ -149,6 +149,7 @@ async function main() {
       rendered: document.body.getAttribute('data-rendered'),
       view: document.body.getAttribute('data-view'),
       redrawMs: document.body.getAttribute('data-redraw-ms'), jsonCells: cells,
+      gl: document.body.getAttribute('data-gl'),
       svg: !!svg,
       polylines: svg ? svg.querySelectorAll('polyline').length : 0,
       rows: rows.length, classes: classes, title: document.title,
@@ -215,7 +216,7 @@ function finish(v) {
     process.exit(1);
   }
   console.log(`check_report: ok: ${url}: WebGL view drawn (${v.pixels.part} part, ` +
-    `${v.pixels.patch} patch pixels of ${v.pixels.all}; redraw ${v.redrawMs} ms), ` +
+    `${v.pixels.patch} patch pixels of ${v.pixels.all}; ${v.gl}; render ${v.redrawMs} ms), ` +
     `${v.pages} A4 pages printed, ${v.polylines} outline ` +
     `polylines, ${v.rows} feature rows (${v.classes.join(', ')}), ${v.advice} advice rows, ` +
     `tool paths drawn in ${v.planned} plan layers (${v.pathsDrawn} paths)` +
