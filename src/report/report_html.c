@@ -5,11 +5,13 @@
  * inline stylesheet (report.css), the static tables (run facts, missing sections,
  * advice, parameters, alignment, timings) made here with every text HTML-escaped, the
  * layer selector, then the data as one JSON block (<script type="application/json">,
- * with '<', '>' and '&' written as \u escapes so no text can end the element) and the
- * inline script (report.js) that draws the 3D view on a 2D canvas and the outlines of
- * the selected layer as SVG, with the build plans of the sections over them
- * (report_plans.c). No address of any kind appears in the page: it works from a single
- * file, offline.
+ * with '<', '>' and '&' written as \u escapes so no text can end the element; meshes
+ * and outlines compact, report_data.c), three.js, and the inline scripts:
+ * report_view.js draws the 3D view in WebGL, report.js the outlines of the selected
+ * layer as SVG with the build plans of the sections over them (report_plans.c). The
+ * feature and advice cells are report_cells.c's. No address of any kind appears in the
+ * page outside three.js's own text (XML namespace names): it works from one file,
+ * offline.
  *
  * Meshes over the display budget are reduced by vertex clustering (decimate.c); the
  * page states the stored and shown triangle counts.

@@ -21,7 +21,7 @@ var parts=[];
 if(data.restored)parts.push({m:arrays(data.restored),col:0xa8b0bc,box:'show-part',front:false});
 data.patches.forEach(function(p){parts.push({m:arrays(p.mesh),col:0xe8601c,box:'show-patches',front:true,vol:p.volume_mm3});});
 if(data.scan)parts.push({m:arrays(data.scan),col:0x3d7fd9,box:'show-scan',front:false});
-function fallback(why){if(cv)cv.hidden=true;var f=document.getElementById('view-fallback');if(f)f.hidden=false;body.setAttribute('data-view',why);}
+function fallback(why){if(cv)cv.hidden=true;var f=document.getElementById('view-fallback');if(f&&why==='fallback')f.hidden=false;body.setAttribute('data-view',why);}
 if(!cv||!parts.length){fallback('none');return;}
 var probe=document.createElement('canvas'),pg=window.WebGLRenderingContext&&(probe.getContext('webgl')||probe.getContext('experimental-webgl'));
 if(!window.THREE||!pg){fallback('fallback');return;}

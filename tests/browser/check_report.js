@@ -5,8 +5,9 @@
 // the part's grey and the patches' orange on the white background), the outline plot
 // rendered as SVG, the build plans' tool paths drawn in the plot for the layers that
 // have them (as many as the page's data holds), the feature table with the expected
-// rows and no JSON in any table cell, and the page printed to PDF (A4) in at most
-// MAX_PAGES pages (counted as the PDF's /Type /Page objects).
+// rows and no JSON in any table cell, the page without WebGL (its note instead of the
+// canvas, no error), and the page printed to PDF (A4) in at most MAX_PAGES pages
+// (counted as the PDF's /Type /Page objects).
 //
 //   node tests/browser/check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER] [MAX_PAGES]
 //
@@ -190,6 +191,26 @@ async function main() {
     `3D view: the part's grey on ${v.pixels.part} of ${v.pixels.all} pixels of the screenshot`);
   check(expectedRows === 0 || v.pixels.patch > 50,
     `3D view: the patches' orange on only ${v.pixels.patch} pixels of the screenshot`);
+  // without WebGL (getContext gives nothing, as in a browser without it): the note in
+  // the canvas's place, the rest of the page drawn, no error
+  {
+    const { targetId: t3 } = await send('Target.createTarget', { url: 'about:blank' });
+    const { sessionId: s3 } = await send('Target.attachToTarget', { targetId: t3, flatten: true });
+    await send('Runtime.enable', {}, s3);
+    await send('Page.enable', {}, s3);
+    await send('Page.addScriptToEvaluateOnNewDocument', { source:
+      'HTMLCanvasElement.prototype.getContext = function () { return null; };' }, s3);
+    await send('Page.navigate', { url }, s3);
+    await waitFor((m) => m.method === 'Page.loadEventFired' && m.sessionId === s3, 20000);
+    const r = await send('Runtime.evaluate', { returnByValue: true, expression: `({
+      view: document.body.getAttribute('data-view'), rendered: document.body.getAttribute('data-rendered'),
+      note: !document.getElementById('view-fallback').hidden, canvas: !document.getElementById('view').hidden })` }, s3);
+    const f = (r.result && r.result.value) || {};
+    check(f.view === 'fallback' && f.note && !f.canvas && f.rendered === '1',
+      `without WebGL: view '${f.view}', note shown ${f.note}, canvas shown ${f.canvas}, page drawn ${f.rendered}`);
+    events.filter((m) => m.sessionId === s3 && m.method === 'Runtime.exceptionThrown')
+      .forEach((m) => failures.push('without WebGL: ' + JSON.stringify(m.params).slice(0, 300)));
+  }
   // printed: A4, the page count within the bound
   const pdf = Buffer.from((await send('Page.printToPDF', { paperWidth: 8.27, paperHeight: 11.69,
     preferCSSPageSize: true, printBackground: false }, sessionId)).data, 'base64');
