@@ -1016,6 +1016,19 @@ static void meshes_decode_to_the_shown_meshes_and_the_scan_is_offered(void **sta
     free(json);
     free(html);
     sr_mesh_release(&scan);
+    /* a large scan is cut to a quarter of the budget; the run's meshes keep theirs */
+    assert_int_equal(sr_shape_cylinder(10, 0, 20, 400, &scan, &err), SR_OK);
+    assert_true(scan.tri_count > 400);
+    o.max_triangles = 400;
+    assert_int_equal(sr_report_html(&r, &o, &html, &len, &info, &err), SR_OK);
+    assert_false(info.decimated);
+    assert_int_equal(info.tri_shown, 24);
+    json = data_block(html);
+    double scan_shown = jq_num(json, "$.scan.nt");
+    assert_true(scan_shown >= 20 && scan_shown <= 100);
+    free(json);
+    free(html);
+    sr_mesh_release(&scan);
     sr_run_release(&r);
 }
 

@@ -16,7 +16,8 @@
  *   t >= 2, u  dx = unzigzag(t - 2), dy = unzigzag(u): the point is prediction + (dx, dy).
  * (zigzag: 0, -1, 1, -2, ... as 0, 1, 2, 3, ...). Where the part does not change from one
  * layer to the next, or the damaged outline follows the restored one, the layer costs a
- * few bytes: the demo run's 2.5 MB of outlines as decimal text take about 0.1 MB.
+ * few bytes: the demo run's outlines, 2.5 MB as decimal text, take 20 kB; those of a
+ * run on a noisy scan (the shared spur gear's) 0.22 MB.
  *
  * Meshes: {"nv", "nt", "v": base64 of the nv x 3 coordinates as float32, "t": base64
  * of the nt x 3 corner indices as uint32}, both little-endian as every browser is.

@@ -244,13 +244,11 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
 {
     size_t budget = opts && opts->max_triangles ? opts->max_triangles : DEFAULT_BUDGET;
 
-    /* display meshes, each its share of the budget: the restored part, the patches,
-     * then the scan when given */
+    /* display meshes: the restored part, the patches, then the scan when given */
     const sr_mesh *scan = opts && opts->scan && opts->scan->tri_count ? opts->scan : NULL;
     size_t stored = run->restored.tri_count;
     for (size_t i = 0; i < run->section_count; i++)
         stored += run->sections[i].patch.tri_count;
-    size_t all = stored + (scan ? scan->tri_count : 0);
     size_t nm = run->section_count + 2;
     sr_mesh *shown = calloc(nm, sizeof *shown);
     if (!shown)
@@ -264,8 +262,12 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
                                         : scan;
         if (!m || m->tri_count == 0)
             continue;
-        size_t cap = all <= budget ? m->tri_count
-                                   : (size_t)((double)budget * (double)m->tri_count / (double)all);
+        /* the run's meshes share the budget; the scan, hidden at first, gets a quarter
+         * of it on top, so showing it costs the restored part no detail */
+        size_t cap = m == scan ? (m->tri_count < budget / 4 ? m->tri_count : budget / 4)
+                     : stored <= budget
+                         ? m->tri_count
+                         : (size_t)((double)budget * (double)m->tri_count / (double)stored);
         if (cap < 64)
             cap = m->tri_count < 64 ? m->tri_count : 64;
         st = sr_report_decimate(m, cap, &shown[i], err);

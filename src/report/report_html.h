@@ -40,7 +40,8 @@
 #include "base/status.h"
 
 typedef struct sr_report_opts {
-    size_t max_triangles;       /* viewer budget, all meshes together; 0 = 60000 */
+    size_t max_triangles; /* viewer budget, the restored part and the patches
+                                 * together (the scan: a quarter of it more); 0 = 60000 */
     /* The instance's and the part's facts from the catalogue, shown in the run table
      * when given; NULL = the row is left out. */
     const char *serial;         /* the instance's serial */
@@ -50,8 +51,8 @@ typedef struct sr_report_opts {
     const sr_plan_opts *plan;   /* build plan settings; NULL = sr_plan_opts_init's
                                  * defaults (the caller sets the material's density) */
     const sr_mesh *scan;        /* the instance's scan (scan frame), shown in the 3D view
-                                 * on demand; NULL = none. It takes its share of the budget
-                                 * but is not counted in sr_report_info's triangles. */
+                                 * on demand; NULL = none. It is decimated to a quarter of
+                                 * the budget and not counted in sr_report_info. */
 } sr_report_opts;
 
 /* Figures of what the viewer got, for the caller's messages. */
