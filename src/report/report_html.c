@@ -344,8 +344,9 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     if (scan)
         sb_put(&b, " and the scan as received (blue, hidden at first)");
     sb_put(&b, ", in the scan frame, seen from outside the part looking at the largest "
-               "missing section. Drag to rotate, shift-drag or right-drag to pan, wheel to "
-               "zoom.</p>\n<p class=\"controls\"><label><input type=\"checkbox\" "
+               "missing section.<span class=\"controls\"> Drag to rotate, shift-drag or "
+               "right-drag to pan, wheel to zoom.</span></p>\n<p class=\"controls\"><label><input "
+               "type=\"checkbox\" "
                "id=\"show-part\" checked> restored part</label> <label><input "
                "type=\"checkbox\" id=\"show-patches\" checked> patches</label>");
     if (scan)

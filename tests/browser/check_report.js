@@ -2,7 +2,8 @@
 // check_report.js: loads a symrec HTML report in a real headless browser and checks
 // that it works: no console error or uncaught exception, no network request, the 3D
 // view drawn in WebGL (a screenshot of the canvas, decoded by the browser itself, shows
-// the part's grey and the patches' orange on the white background), the outline plot
+// the part's grey and the patches' orange on the white background; zooming and the
+// patches' checkbox change what it draws), the outline plot
 // rendered as SVG, the build plans' tool paths drawn in the plot for the layers that
 // have them (as many as the page's data holds), the feature table with the expected
 // rows and no JSON in any table cell, the page without WebGL (its note instead of the
@@ -167,6 +168,29 @@ async function main() {
   requests.forEach((r) => failures.push('network request: ' + r.params.request.url));
   check(v.rendered === '1', 'the page script did not finish (data-rendered not set)');
   check(v.view === 'webgl', `the 3D view is not drawn in WebGL (data-view '${v.view}')`);
+  // the controls answer: three wheel steps in make the part cover more of the canvas,
+  // hiding the patches takes their orange away (the canvas read back by the page)
+  if (v.view === 'webgl') {
+    const r = await send('Runtime.evaluate', { awaitPromise: true, returnByValue: true,
+      expression: `(async function () {
+        var cv = document.getElementById('view'), box = document.getElementById('show-patches');
+        function frames() { return new Promise(function (r) { requestAnimationFrame(function () { requestAnimationFrame(r); }); }); }
+        function count() { var c = document.createElement('canvas'); c.width = cv.width; c.height = cv.height;
+          var g = c.getContext('2d'); g.drawImage(cv, 0, 0); var d = g.getImageData(0, 0, c.width, c.height).data, n = { ink: 0, orange: 0 };
+          for (var i = 0; i < d.length; i += 4) { if (d[i] < 245 || d[i+1] < 245 || d[i+2] < 245) n.ink++;
+            if (d[i] > 90 && d[i] - d[i+2] > 60 && d[i] - d[i+1] > 40) n.orange++; } return n; }
+        var a = count();
+        for (var k = 0; k < 3; k++) cv.dispatchEvent(new WheelEvent('wheel', { deltaY: -1, cancelable: true }));
+        await frames(); var b = count();
+        box.checked = false; box.dispatchEvent(new Event('change')); await frames(); var c = count();
+        box.checked = true; box.dispatchEvent(new Event('change'));
+        document.getElementById('reset-view').click(); await frames();
+        return { before: a, zoomed: b, hidden: c }; })()` }, sessionId);
+    const z = r.exceptionDetails ? null : r.result.value;
+    check(z && z.zoomed.ink > z.before.ink, `zooming in did not enlarge the part (${JSON.stringify(z)})`);
+    check(z && (expectedRows === 0 || (z.zoomed.orange > 0 && z.hidden.orange === 0)),
+      `hiding the patches did not take their orange away (${JSON.stringify(z)})`);
+  }
   check(v.jsonCells === 0, `${v.jsonCells} table cells show JSON`);
   // the screenshot decoded by the browser: pixels of the part's grey (#a8b0bc, shaded)
   // and of the patches' orange (#e8601c, shaded) against the white background
