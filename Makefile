@@ -15,10 +15,13 @@ BUILD  := build/$(config)
 # Debian packages, installed by `make deps` when missing (as root, fresh Debian 12).
 DEB_PACKAGES := pkg-config libsqlite3-dev sqlite3 libopenmesh-dev libtinygltf-dev \
                 nlohmann-json3-dev libcmocka-dev libpolyclipping-dev libcgal-dev \
-                libgmp-dev libmpfr-dev valgrind
+                libgmp-dev libmpfr-dev valgrind libjs-three
 # for the accuracy checks on generated parts (../shared/partgen draws them with OpenSCAD;
 # ../shared/eval/meshcompare scores them with numpy and scipy)
 DEB_CHECK_PACKAGES := openscad python3-numpy python3-scipy
+# for the HTML report's check in a real browser (tests/browser/check_report.js, run by
+# tests/run_tests.sh from test and quick): node drives a headless Chromium
+DEB_BROWSER_PACKAGES := nodejs chromium-headless-shell
 # for `make lint` and `make format`
 DEB_LINT_PACKAGES := cppcheck clang-format
 # for `make fuzz` (clang with libFuzzer and the sanitizer runtimes)
@@ -75,11 +78,14 @@ BENCH_SRC   := $(wildcard tests/bench/*.c)
 FIX_SRC     := $(wildcard fixtures/*.c)
 
 GEN_SQL := $(BUILD)/gen/sql_embedded.c
-REPORT_ASSETS := src/report/report.css src/report/report.js
+REPORT_ASSETS := src/report/report.css src/report/report.js src/report/report_view.js
 GEN_REPORT := $(BUILD)/gen/report_assets.c
+# three.js (Debian libjs-three, in DEB_PACKAGES): the report's 3D view, compiled in
+THREE_JS ?= /usr/share/javascript/three/three.min.js
+GEN_THREE := $(BUILD)/gen/report_three.c
 CGAL_OBJ := $(CGAL_SRC:%.cpp=build/cgal/%.o)
 # the CGAL objects first: `make -j` starts them first, the quick C files fill in beside
-LIB_OBJ := $(CGAL_OBJ) $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(GEN_SQL:.c=.o) $(GEN_REPORT:.c=.o)
+LIB_OBJ := $(CGAL_OBJ) $(LIB_C_SRC:%.c=$(BUILD)/%.o) $(LIB_CXX_SRC:%.cpp=$(BUILD)/%.o) $(GEN_SQL:.c=.o) $(GEN_REPORT:.c=.o) $(GEN_THREE:.c=.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
 LIB     := $(BUILD)/libsymrec.a
 BIN     := $(BUILD)/symrec
@@ -94,6 +100,7 @@ all: $(LIB) $(BIN)
 
 deps:
 	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)) \
+	  $(if $(filter check test quick,$(MAKECMDGOALS)),$(DEB_BROWSER_PACKAGES)) \
 	  $(if $(filter lint format,$(MAKECMDGOALS)),$(DEB_LINT_PACKAGES)) \
 	  $(if $(filter fuzz,$(MAKECMDGOALS)),$(DEB_FUZZ_PACKAGES)); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
@@ -134,9 +141,9 @@ $(GEN_SQL): $(SQL_SRC) Makefile
 $(GEN_SQL:.c=.o): $(GEN_SQL)
 	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
 
-# The report's stylesheet and script are compiled in the same way (report_assets.h):
+# The report's stylesheet and scripts are compiled in the same way (report_assets.h):
 # each file without its opening comment (up to the first line " */"), the stylesheet's
-# lines joined into one, the script's kept as lines.
+# lines joined into one, the scripts' kept as lines.
 $(GEN_REPORT): $(REPORT_ASSETS) Makefile
 	@mkdir -p $(dir $@)
 	$(Q){ echo '/* generated from src/report/report.css and report.js by the Makefile; do not edit */'; \
@@ -146,9 +153,28 @@ $(GEN_REPORT): $(REPORT_ASSETS) Makefile
 	  echo '    "";'; \
 	  echo 'const char sr_report_js[] ='; \
 	  sed -e '1,/^ \*\/$$/d' -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/\\n"/' src/report/report.js; \
+	  echo '    "";'; \
+	  echo 'const char sr_report_view_js[] ='; \
+	  sed -e '1,/^ \*\/$$/d' -e 's/\\/\\\\/g' -e 's/"/\\"/g' -e 's/^/    "/' -e 's/$$/\\n"/' src/report/report_view.js; \
 	  echo '    "";'; } > $@
 
 $(GEN_REPORT:.c=.o): $(GEN_REPORT)
+	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
+
+# three.js as bytes (report_assets.h: sr_report_three_js), so the report's 3D view works
+# offline from the one file. Refused when missing (make deps installs libjs-three) or
+# when its text could end the page's <script> element.
+$(GEN_THREE): Makefile $(wildcard $(THREE_JS))
+	@mkdir -p $(dir $@)
+	$(Q)[ -f "$(THREE_JS)" ] || { echo "symrec: no $(THREE_JS): run 'make deps' (Debian libjs-three)" >&2; exit 1; }
+	$(Q)! grep -qi '</script' "$(THREE_JS)" || { echo "symrec: $(THREE_JS) contains '</script'" >&2; exit 1; }
+	$(Q){ echo '/* generated from $(THREE_JS) (Debian libjs-three) by the Makefile; do not edit */'; \
+	  echo '#include "report/report_assets.h"'; \
+	  echo 'const char sr_report_three_js[] = {'; \
+	  od -An -v -tx1 "$(THREE_JS)" | sed -e 's/ \([0-9a-f][0-9a-f]\)/0x\1,/g'; \
+	  echo '0x00};'; } > $@.tmp && mv $@.tmp $@
+
+$(GEN_THREE:.c=.o): $(GEN_THREE)
 	$(Q)$(CC) $(CFLAGS_COMMON) $(OPT) $(CFLAGS) -c $< -o $@
 
 # made afresh: `ar rcs` into the old archive would keep the objects of deleted sources
@@ -184,7 +210,7 @@ demo: deps
 test: deps layers
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=sanitize all tests-built
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release build/release/tests/test_accuracy
-	$(Q)SYMREC_BIN=build/sanitize/symrec SYMREC_ACCURACY_BUILD=build/release \
+	$(Q)SYMREC_BIN=build/sanitize/symrec SYMREC_ACCURACY_BUILD=build/release SYMREC_REQUIRE_BROWSER=1 \
 	  sh tests/run_tests.sh build/sanitize
 
 tests-built: $(TESTS)
@@ -238,7 +264,7 @@ partgen-check: deps
 # no sanitizer, no Valgrind.
 quick: deps layers
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
-	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_QUICK=1 sh tests/run_tests.sh build/debug
+	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_QUICK=1 SYMREC_REQUIRE_BROWSER=1 sh tests/run_tests.sh build/debug
 
 # What CI runs: every stage, its wall time printed at the end.
 check: deps

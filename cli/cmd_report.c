@@ -25,18 +25,21 @@ static const char usage_report[] =
     "usage: symrec [--db FILE] report RUN --out FILE.html [--max-triangles N] [--json]\n"
     "\n"
     "Writes the report of run RUN as one self-contained HTML file that works offline\n"
-    "(no network; the style, the script and the data are inside the file): the restored\n"
-    "part with its patches highlighted in 3D (drag to rotate), the damaged and restored\n"
+    "(no network; the style, the scripts, three.js and the data are inside the file):\n"
+    "the restored part with its patches highlighted and the scan in 3D (WebGL; it opens\n"
+    "on the largest missing section; drag to rotate), the damaged and restored\n"
     "outline of each layer (mm, aligned frame) with the build plan drawn over it (the\n"
     "layer's missing region, deposit region and deposition paths: contour rings and\n"
     "raster), the build plan's figures per section (as 'symrec plan' makes it with its\n"
     "default settings and the density of the part's material; none for a section\n"
     "advised 'replace'), the missing sections with their features (z range mm, angles\n"
     "degrees or side, depth mm, volume mm³, area mm²), the advice with the rules that\n"
-    "fired, and the run's parameters, alignment and timings.\n"
+    "fired, and the run's parameters, alignment and timings. It prints to A4 (print it\n"
+    "to PDF from a browser to send it).\n"
     "\n"
     "  --out FILE           the HTML file to write (replaced atomically)\n"
-    "  --max-triangles N    display budget of the 3D view, all meshes together\n"
+    "  --max-triangles N    display budget of the 3D view, the restored part and its\n"
+    "                       patches together (the scan gets a quarter of it more)\n"
     "                       (default 60000; larger meshes are decimated for display)\n"
     "  --json               print {\"run\", \"out\", \"bytes\", \"triangles_stored\",\n"
     "                       \"triangles_shown\", \"decimated\", \"plan_sections\",\n"
@@ -147,18 +150,29 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_material_get(cat, part.material, &mat, &quiet) == SR_OK &&
         isfinite(mat.density_g_cm3) && mat.density_g_cm3 > 0)
         po.density_g_cm3 = mat.density_g_cm3;
+    /* the scan as received, for the 3D view (shown on demand); a run without one is
+     * still reported */
+    sr_mesh scan = {0};
+    if (st == SR_OK && sr_catalog_instance_mesh(cat, run.instance_id, &scan, &quiet) != SR_OK)
+        sr_mesh_release(&scan);
     sr_catalog_close(cat);
     if (st != SR_OK) {
+        sr_mesh_release(&scan);
         sr_run_release(&run);
         return cli_fail(st, &err);
     }
-    sr_report_opts ro = {.max_triangles = (size_t)budget, .serial = inst.serial,
-                         .received = inst.received, .part_name = part.name,
-                         .material = part.material, .plan = &po};
+    sr_report_opts ro = {.max_triangles = (size_t)budget,
+                         .serial = inst.serial,
+                         .received = inst.received,
+                         .part_name = part.name,
+                         .material = part.material,
+                         .plan = &po,
+                         .scan = scan.tri_count ? &scan : NULL};
     char *html = NULL;
     size_t len = 0;
     sr_report_info info;
     st = sr_report_html(&run, &ro, &html, &len, &info, &err);
+    sr_mesh_release(&scan);
     sr_run_release(&run);
     if (st != SR_OK)
         return cli_fail(st, &err);

@@ -23,9 +23,11 @@
 # the paper method on all nine parts and the robust method on the posed shaft, bracket
 # and rail (one per kind of symmetry).
 #
-# Without NAMES, it then runs the optional browser check of the HTML report (skipped
-# with a message when node or a headless Chromium is missing) and the Khronos glTF
-# validator on the GLB that reconstruct writes (skipped without node and npm).
+# Without NAMES, it then runs the browser check of the HTML report (node and Debian's
+# chromium-headless-shell, which `make deps` installs for test, quick and check: there
+# it fails when they are missing; elsewhere it is skipped with a message) and the
+# Khronos glTF validator on the GLB that reconstruct writes (skipped without node and
+# npm).
 #
 # Environment: SYMREC_BIN (the CLI under test; default BUILD_DIR/symrec) and
 # SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli,
@@ -204,16 +206,25 @@ for bin in $bins; do
     done
 done
 
-# Optional: the HTML report in a real headless browser (tests/browser/check_report.js).
-# Needs node and a Chromium (Debian chromium-headless-shell); skipped, with a line
-# saying so, when either is missing, so CI without them still passes.
+# The HTML report in a real headless browser (tests/browser/check_report.js): the demo
+# run's report rendered (no script error, no network request), its WebGL view checked on
+# a screenshot (the part's and the patches' colours), printed to A4 PDF in at most
+# SYMREC_REPORT_MAX_PAGES pages (default 4; the demo's report printed to 8 before it had
+# print rules). Needs node and a Chromium (Debian chromium-headless-shell, installed
+# by `make deps` for test, quick and check). SYMREC_REQUIRE_BROWSER=1 (the Makefile's
+# test, quick) makes their absence a failure; otherwise it is skipped with a line.
 if [ -z "$only" ]; then
     out=$logs/browser.out
     browser=${SYMREC_BROWSER:-}
     [ -z "$browser" ] && [ -x /usr/bin/chromium-headless-shell ] && browser=/usr/bin/chromium-headless-shell
     [ -z "$browser" ] && [ -x /usr/bin/chromium ] && browser=/usr/bin/chromium
     if ! command -v node >/dev/null 2>&1 || [ -z "$browser" ]; then
-        echo "browser_check  skipped: no node or no headless browser (apt-get install chromium-headless-shell)"
+        if [ -n "${SYMREC_REQUIRE_BROWSER:-}" ]; then
+            echo "browser_check    0 passed, 1 failed  FAILED: no node or no headless browser (make deps installs nodejs and chromium-headless-shell)"
+            total_fail=$((total_fail + 1))
+        else
+            echo "browser_check  skipped: no node or no headless browser (apt-get install nodejs chromium-headless-shell)"
+        fi
     else
         bdir=$(mktemp -d /tmp/symrec-browser-test-XXXXXX)
         start=$(date +%s)
@@ -224,12 +235,14 @@ if [ -z "$only" ]; then
           rows=$("$SYMREC_BIN" --db "$bdir/c.db" run show 1 --json |
                  node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).sections.length))'); } >"$out" 2>&1 || rc=$?
         if [ "$rc" -eq 0 ]; then
-            node tests/browser/check_report.js "$bdir/r.html" "$rows" "$browser" >"$out" 2>&1
+            node tests/browser/check_report.js "$bdir/r.html" "$rows" "$browser" \
+                "${SYMREC_REPORT_MAX_PAGES:-4}" >"$out" 2>&1
             rc=$?
         fi
         secs=$(( $(date +%s) - start ))
         if [ "$rc" -eq 0 ]; then
             printf '%-14s %3d passed, %d failed  ok  (%ss)\n' browser_check 1 0 "$secs"
+            sed 's/^check_report: ok: [^:]*:[^:]*: /    | /' "$out"
             total_pass=$((total_pass + 1))
         else
             printf '%-14s %3d passed, %d failed  FAILED (exit %d)  (%ss)\n' browser_check 0 1 "$rc" "$secs"

@@ -5,7 +5,10 @@
  * fresh catalogue and read back whole, then the page is checked: the section figures
  * and classes in the feature table, the advice text escaped, the parameters,
  * alignment and timings, balanced structure, nothing that reaches the network, and
- * the decimation of meshes over the display budget.
+ * the decimation of meshes over the display budget. The feature and advice cells are
+ * read as figures with units and lists, never JSON; the compact outlines and meshes of
+ * the data block are decoded here in C (the format of src/report/report_data.c) and
+ * compared with the run's; three.js is in the page once.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -76,8 +79,9 @@ static void box(double at, double size, sr_mesh *out)
 #define LAYERS 3
 #define SECTORS 8
 
-/* Stores the synthetic run and reads it back whole into *out. */
-static void stored_run(fixture *fx, sr_run *out)
+/* Stores the synthetic run, the first section's features and advice details as given,
+ * and reads it back whole into *out. */
+static void stored_run_with(fixture *fx, const char *features, const char *details, sr_run *out)
 {
     sr_run r;
     memset(&r, 0, sizeof r);
@@ -126,7 +130,7 @@ static void stored_run(fixture *fx, sr_run *out)
     sec[0].depth_max_mm = 3.05;
     sec[0].depth_mean_mm = 1.5;
     snprintf(sec[0].damage_class, sizeof sec[0].damage_class, "chip");
-    sec[0].features_json = "{\"location\":\"shoulder <A>\"}";
+    sec[0].features_json = (char *)features; /* stored, not changed */
     box(8, 2, &sec[0].patch);
     sec[1].index = 1;
     sec[1].layer_first = 1;
@@ -145,7 +149,7 @@ static void stored_run(fixture *fx, sr_run *out)
         {0, 0, "", "spray_forming", "fill <b>chip</b> & machine \"flush\"", NULL},
         {-1, 0, "", "inspect", "check runout", NULL},
     };
-    adv[0].details_json = "{\"rules\":[\"spray-small-chip\"],\"layers\":12}";
+    adv[0].details_json = (char *)details;
     r.advice = adv;
     r.advice_count = 2;
     box(-10, 20, &r.restored);
@@ -160,6 +164,13 @@ static void stored_run(fixture *fx, sr_run *out)
         fail_msg("run get: %s", err.msg);
 }
 
+/* The synthetic run with small features and details texts. */
+static void stored_run(fixture *fx, sr_run *out)
+{
+    stored_run_with(fx, "{\"location\":\"shoulder <A>\"}",
+                    "{\"rules_fired\":[\"spray-small-chip\"],\"layers\":12}", out);
+}
+
 static size_t count_of(const char *hay, const char *needle)
 {
     size_t n = 0, len = strlen(needle);
@@ -167,6 +178,8 @@ static size_t count_of(const char *hay, const char *needle)
         n++;
     return n;
 }
+
+static char *data_block(const char *html);
 
 static char *build(const sr_run *r, size_t budget, sr_report_info *info)
 {
@@ -232,12 +245,31 @@ static void report_escapes_advice_and_names(void **state)
     sr_run_release(&r);
 }
 
+/* The page without the embedded three.js (its <script id="three-js"> element), malloc'd;
+ * the library's own text is checked apart (it names XML namespaces, not addresses). */
+static char *page_without_three(const char *html)
+{
+    const char *open = "<script id=\"three-js\">";
+    const char *a = strstr(html, open);
+    assert_non_null(a);
+    const char *e = strstr(a, "</script>");
+    assert_non_null(e);
+    e += strlen("</script>");
+    size_t n = (size_t)(a - html), m = strlen(e);
+    char *out = malloc(n + m + 1);
+    assert_non_null(out);
+    memcpy(out, html, n);
+    memcpy(out + n, e, m + 1);
+    return out;
+}
+
 static void report_is_self_contained_and_balanced(void **state)
 {
     fixture *fx = *state;
     sr_run r;
     stored_run(fx, &r);
-    char *html = build(&r, 0, NULL);
+    char *whole = build(&r, 0, NULL);
+    char *html = page_without_three(whole);
     assert_int_equal(strncmp(html, "<!DOCTYPE html>\n<html lang=\"en\">", 31), 0);
     size_t len = strlen(html);
     assert_string_equal(html + len - 8, "</html>\n");
@@ -248,7 +280,8 @@ static void report_is_self_contained_and_balanced(void **state)
     assert_null(strstr(html, "url("));
     assert_null(strstr(html, "import "));
     static const char *const tags[] = {"table", "section", "script", "style", "select",
-                                       "thead", "tbody", "code", "p"};
+                                       "thead", "tbody",   "code",   "p",     "ul",
+                                       "ol",    "li",      "div"};
     for (size_t i = 0; i < sizeof tags / sizeof tags[0]; i++) {
         char open1[32], open2[32], close[32];
         snprintf(open1, sizeof open1, "<%s>", tags[i]);
@@ -259,7 +292,34 @@ static void report_is_self_contained_and_balanced(void **state)
             fail_msg("<%s>: %zu opened, %zu closed", tags[i], o, c);
     }
     assert_int_equal(count_of(html, "<script"), 2);
+    assert_int_equal(count_of(whole, "<script"), 3);
     assert_int_equal(count_of(html, "<canvas id=\"view\""), 1);
+    free(html);
+    free(whole);
+    sr_run_release(&r);
+}
+
+static void report_embeds_three_js_once_and_a_fallback_without_webgl(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    const char *lib = strstr(html, "<script id=\"three-js\">");
+    assert_non_null(lib);
+    assert_int_equal(count_of(html, "<script id=\"three-js\">"), 1);
+    /* three.js itself (Debian libjs-three's three.min.js), whole: its revision, its
+     * renderer, and the element closed only after it */
+    const char *end = strstr(lib, "</script>");
+    assert_non_null(end);
+    assert_true(end - lib > 500000);
+    char *text = strndup(lib, (size_t)(end - lib));
+    assert_non_null(strstr(text, "REVISION=\""));
+    assert_non_null(strstr(text, "WebGLRenderer"));
+    free(text);
+    /* the view's script after it, and the note shown without WebGL */
+    assert_non_null(strstr(end, "new T.WebGLRenderer("));
+    assert_non_null(strstr(html, "<p id=\"view-fallback\" hidden>The 3D view needs WebGL"));
     free(html);
     sr_run_release(&r);
 }
@@ -279,12 +339,14 @@ static void report_shows_parameters_alignment_timings_and_layers(void **state)
     /* one option per layer, the first section's first layer selected */
     assert_int_equal(count_of(html, "<option value="), LAYERS);
     assert_non_null(strstr(html, "<option value=\"0\" selected>0, z 2.00 mm (section 1)"));
-    /* the data block: 3 layers, the missing point as null */
-    assert_int_equal(count_of(html, "{\"z\":"), LAYERS);
-    assert_non_null(strstr(html, "null,null"));
+    /* the data block: 3 layers (decoded in outlines_round_trip) */
+    char *json = data_block(html);
+    assert_int_equal(jq_len(json, "$.layers.z"), LAYERS);
+    assert_near(jq_num(json, "$.layers.n"), SECTORS, 0);
+    free(json);
     /* the restored box and one patch, all shown */
     assert_non_null(strstr(html, "All 24 stored triangles shown."));
-    assert_int_equal(count_of(html, "{\"section\":1,\"v\":["), 1);
+    assert_int_equal(count_of(html, "{\"section\":1,\"volume_mm3\":345.6,\"mesh\":{"), 1);
     free(html);
     sr_run_release(&r);
 }
@@ -596,6 +658,380 @@ static void a_section_without_a_plan_says_why(void **state)
     sr_run_release(&r);
 }
 
+/* ---- readable cells ---- */
+
+/* A section's features and an advice's details as the demo's run stores them (shortened),
+ * with a member no table knows, a yes, an unknown and an escaped degree sign. */
+static const char demo_features[] =
+    "{\"class\":\"chip\",\"layers\":{\"first\":160,\"last\":204,\"count\":45},"
+    "\"z_min_mm\":50.0001,\"z_max_mm\":63.9987,\"depth_max_mm\":6.002,"
+    "\"height_mm\":13.99862804557371,\"part_fraction\":0.008816033369990591,"
+    "\"local_radius_mm\":29.999938776559762,\"aspect\":2.917473127849353,\"cells\":2215,"
+    "\"location\":\"shoulder\",\"locations\":[\"shoulder\"],\"surface\":\"outer\","
+    "\"reasons\":[\"shoulder: the restored radius steps by 15 mm beside the loss\","
+    "\"chip: 40.8 mm long by 14 mm, 6 mm deep at 80\\u00b0 <x>\"],"
+    "\"new_gap_mm2\":2.5,\"flag\":true,\"nothing\":null}";
+static const char demo_details[] =
+    "{\"applied\":\"shoulder-ded\",\"rules_fired\":[\"shoulder-ded\",\"ded-medium-depth\","
+    "\"catch-all-review\"],\"rules_blocked\":[{\"rule\":\"spray-small\",\"why\":\"depth "
+    "6 mm > 2 mm\"}],\"rules_unevaluated\":[{\"rule\":\"hard-alloy\",\"scope\":\"section\","
+    "\"why\":\"the part has no material family\",\"outranks_applied\":true}],"
+    "\"parameters\":{\"layer_mm\":0.8,\"step_over_mm\":1.2,\"allowance_mm\":0.8,"
+    "\"deposition_rate_g_min\":10,\"efficiency\":0.8},\"class\":\"chip\","
+    "\"material\":\"42CrMo4\",\"density_g_cm3\":7.85,\"missing_mass_g\":9.722449295845495,"
+    "\"lost_fraction\":0.008816033369990591,\"preheat_c\":250}";
+
+/* The text of an HTML fragment: tags dropped, the five entities decoded; malloc'd. */
+static char *text_of(const char *html, size_t n)
+{
+    char *out = malloc(n + 1);
+    assert_non_null(out);
+    size_t o = 0;
+    static const char *const ent[][2] = {
+        {"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}, {"&quot;", "\""}, {"&#39;", "'"}};
+    for (size_t i = 0; i < n; i++) {
+        if (html[i] == '<') {
+            while (i < n && html[i] != '>')
+                i++;
+            continue;
+        }
+        bool done = false;
+        for (size_t e = 0; e < 5 && !done; e++) {
+            size_t el = strlen(ent[e][0]);
+            if (i + el <= n && strncmp(html + i, ent[e][0], el) == 0) {
+                out[o++] = ent[e][1][0];
+                i += el - 1;
+                done = true;
+            }
+        }
+        if (!done)
+            out[o++] = html[i];
+    }
+    out[o] = '\0';
+    return out;
+}
+
+/* The text of the element that starts at the first `open` in html (up to `close`). */
+static char *text_at(const char *html, const char *open, const char *close)
+{
+    const char *a = strstr(html, open);
+    if (!a)
+        fail_msg("no '%s' in the page", open);
+    const char *e = strstr(a, close);
+    assert_non_null(e);
+    return text_of(a, (size_t)(e - a));
+}
+
+static void feature_and_advice_cells_read_as_figures_with_units(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run_with(fx, demo_features, demo_details, &r);
+    char *html = build(&r, 0, NULL);
+    char *f = text_at(html, "<tr class=\"section\" id=\"section-1\">", "</tr>");
+    static const char *const want_f[] = {
+        "at the shoulder",
+        "height 14 mm",
+        "share of the part's volume 0.882 %",
+        "local radius 30 mm",
+        "length / breadth 2.92",
+        "grid cells 2215",
+        "surface outer",
+        "new gap 2.5 mm²",
+        "flag yes",
+        "nothing unknown",
+        "why this class:",
+        "shoulder: the restored radius steps by 15 mm beside the loss",
+        "6 mm deep at 80° <x>"};
+    for (size_t i = 0; i < sizeof want_f / sizeof want_f[0]; i++)
+        if (!strstr(f, want_f[i]))
+            fail_msg("feature cell: no '%s' in '%s'", want_f[i], f);
+    /* the figures in their own columns are not repeated, and no key shows */
+    assert_null(strstr(f, "z min"));
+    assert_null(strstr(f, "_mm"));
+    /* the reasons as a list, the markup escaped */
+    assert_non_null(strstr(html, "<li>shoulder: the restored radius steps by 15 mm beside "
+                                 "the loss</li>"));
+    assert_non_null(strstr(html, "at 80° &lt;x&gt;</li>"));
+    char *a = text_at(html, "<tr class=\"advice\">", "</tr>");
+    static const char *const want_a[] = {
+        "process parameters: layer 0.8 mm, step-over 1.2 mm, allowance 0.8 mm, "
+        "deposition rate 10 g/min, efficiency 80 %",
+        "rules fired:shoulder-ded (applied)ded-medium-depthcatch-all-review",
+        "rules passed over:spray-small: depth 6 mm > 2 mm",
+        "rules not evaluated:hard-alloy: the part has no material family (scope section, "
+        "outranks applied yes)",
+        "class chip",
+        "material 42CrMo4",
+        "density 7.85 g/cm³",
+        "missing mass 9.72 g",
+        "lost share of the part 0.882 %",
+        "preheat 250 °C"};
+    for (size_t i = 0; i < sizeof want_a / sizeof want_a[0]; i++)
+        if (!strstr(a, want_a[i]))
+            fail_msg("advice cell: no '%s' in '%s'", want_a[i], a);
+    /* the rules fired as an ordered list */
+    assert_non_null(strstr(html, "<ol><li>shoulder-ded <em>(applied)</em></li>"
+                                 "<li>ded-medium-depth</li><li>catch-all-review</li></ol>"));
+    free(a);
+    free(f);
+    free(html);
+    sr_run_release(&r);
+}
+
+static void no_table_cell_shows_json(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run_with(fx, demo_features, demo_details, &r);
+    char *html = build(&r, 0, NULL);
+    size_t cells = 0;
+    for (const char *p = strstr(html, "<td"); p; p = strstr(p + 1, "<td")) {
+        const char *e = strstr(p, "</td>");
+        assert_non_null(e);
+        char *t = text_of(p, (size_t)(e - p));
+        if (strstr(t, "{\"") || strstr(t, "\":") || strstr(t, "[\"") || strstr(t, "<code>"))
+            fail_msg("a table cell shows JSON: '%s'", t);
+        free(t);
+        cells++;
+    }
+    assert_true(cells > 40);
+    assert_null(strstr(html, "&quot;:"));
+    /* the texts stay in the data block for scripts, as stored */
+    char *json = data_block(html);
+    assert_near(jq_num(json, "$.sections[0].features.height_mm"), 13.99862804557371, 1e-12);
+    char *reason = jq_text(json, "$.sections[0].features.reasons[1]");
+    assert_string_equal(reason, "chip: 40.8 mm long by 14 mm, 6 mm deep at 80° <x>");
+    free(reason);
+    assert_near(jq_num(json, "$.advice[0].details.parameters.step_over_mm"), 1.2, 0);
+    assert_true(jq_has(json, "$.advice[0].details.rules_fired", "catch-all-review"));
+    assert_true(isnan(jq_num(json, "$.advice[1].section")));
+    free(json);
+    free(html);
+    sr_run_release(&r);
+}
+
+/* ---- compact data ---- */
+
+/* base64 text (n characters) into bytes; returns how many. */
+static size_t unbase64(const char *s, size_t n, unsigned char *out, size_t cap)
+{
+    size_t o = 0;
+    uint32_t acc = 0;
+    int bits = 0;
+    for (size_t i = 0; i < n && s[i] != '='; i++) {
+        const char *abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const char *c = strchr(abc, s[i]);
+        assert_non_null(c);
+        acc = (acc << 6) | (uint32_t)(c - abc);
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            assert_true(o < cap);
+            out[o++] = (unsigned char)(acc >> bits);
+        }
+    }
+    return o;
+}
+
+/* A string member at path of the data block, base64-decoded (malloc'd, *n bytes). */
+static unsigned char *b64_member(const char *json, const char *path, size_t *n)
+{
+    char *text = jq_text(json, path);
+    assert_non_null(text);
+    size_t len = strlen(text);
+    unsigned char *out = malloc(len + 1);
+    assert_non_null(out);
+    *n = unbase64(text, len, out, len + 1);
+    free(text);
+    return out;
+}
+
+typedef struct dpt {
+    long long x, y;
+    bool present;
+} dpt;
+
+/* Decodes the "layers" member (report_data.c's format) into xy (layers x 2 outlines,
+ * restored then damaged, x n points, NaN for a missing one). */
+static void decode_outlines(const char *json, size_t layers, size_t n, double *rest_xy,
+                            double *dam_xy)
+{
+    size_t len;
+    unsigned char *p = b64_member(json, "$.layers.enc", &len);
+    double q = jq_num(json, "$.layers.q");
+    assert_near(q, 0.001, 0);
+    size_t pos = 0, run = 0;
+    dpt *below = calloc(n, sizeof *below), *rest = calloc(n, sizeof *rest);
+    assert_true(below && rest);
+#define VARINT(v)                                                                                  \
+    do {                                                                                           \
+        unsigned long long v_ = 0;                                                                 \
+        int sh_ = 0;                                                                               \
+        unsigned char c_;                                                                          \
+        do {                                                                                       \
+            assert_true(pos < len);                                                                \
+            c_ = p[pos++];                                                                         \
+            v_ |= (unsigned long long)(c_ & 127) << sh_;                                           \
+            sh_ += 7;                                                                              \
+        } while (c_ & 128);                                                                        \
+        (v) = v_;                                                                                  \
+    } while (0)
+    for (size_t l = 0; l < layers; l++)
+        for (int kind = 0; kind < 2; kind++) {
+            dpt last = {0, 0, false};
+            double *xy = (kind ? dam_xy : rest_xy) + 2 * n * l;
+            for (size_t k = 0; k < n; k++) {
+                dpt ref = kind ? rest[k] : (l ? below[k] : (dpt){0, 0, false});
+                dpt pred = ref.present ? ref : last;
+                if (!pred.present)
+                    pred.x = pred.y = 0;
+                dpt pt = {pred.x, pred.y, true};
+                if (run) {
+                    run--;
+                } else {
+                    unsigned long long t, u;
+                    VARINT(t);
+                    if (t == 0) {
+                        pt.present = false;
+                    } else if (t == 1) {
+                        VARINT(u);
+                        run = (size_t)u;
+                    } else {
+                        t -= 2;
+                        VARINT(u);
+                        pt.x += t & 1 ? -(long long)((t + 1) / 2) : (long long)(t / 2);
+                        pt.y += u & 1 ? -(long long)((u + 1) / 2) : (long long)(u / 2);
+                    }
+                }
+                if (pt.present)
+                    last = pt;
+                if (!kind)
+                    rest[k] = pt;
+                xy[2 * k] = pt.present ? (double)pt.x * q : NAN;
+                xy[2 * k + 1] = pt.present ? (double)pt.y * q : NAN;
+            }
+            if (kind == 1)
+                memcpy(below, rest, n * sizeof *below);
+        }
+#undef VARINT
+    assert_int_equal(pos, len); /* every byte used */
+    assert_int_equal(run, 0);
+    free(below);
+    free(rest);
+    free(p);
+}
+
+/* The outlines of r through the page and back: every point within half the quantum,
+ * every missing point missing. Returns the encoded text's length. */
+static size_t outlines_round_trip(const sr_run *r)
+{
+    char *html = build(r, 0, NULL);
+    char *json = data_block(html);
+    size_t n = r->sectors, L = r->layer_count;
+    assert_int_equal(jq_len(json, "$.layers.z"), (long)L);
+    double *rest = malloc(2 * n * L * sizeof *rest), *dam = malloc(2 * n * L * sizeof *dam);
+    assert_true(rest && dam);
+    decode_outlines(json, L, n, rest, dam);
+    for (size_t i = 0; i < 2 * n * L; i++) {
+        double want[2] = {r->restored_xy[i], r->damaged_xy[i]}, got[2] = {rest[i], dam[i]};
+        for (int k = 0; k < 2; k++) {
+            /* a point with one coordinate missing is missing */
+            size_t pair = i & ~(size_t)1;
+            const double *w = k ? r->damaged_xy : r->restored_xy;
+            bool missing = isnan(w[pair]) || isnan(w[pair + 1]);
+            if (missing)
+                assert_true(isnan(got[k]));
+            else if (!(fabs(got[k] - want[k]) <= 0.0005 + 1e-12))
+                fail_msg("outline value %zu (%s): %.6f, stored %.6f", i, k ? "damaged" : "restored",
+                         got[k], want[k]);
+        }
+    }
+    char *enc = jq_text(json, "$.layers.enc");
+    size_t len = strlen(enc);
+    free(enc);
+    free(rest);
+    free(dam);
+    free(json);
+    free(html);
+    return len;
+}
+
+static void outlines_are_compact_and_decode_to_the_run_s(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r); /* 3 x 8, a missing point */
+    outlines_round_trip(&r);
+    sr_run_release(&r);
+    chipped_shaft_run(fx, "ded", SR_RUN_WITH_MESHES | SR_RUN_WITH_LAYERS, &r);
+    assert_int_equal(r.layer_count * r.sectors, 720);
+    size_t len = outlines_round_trip(&r);
+    /* 2 x 720 points: as decimal text ("-12.3456," twice) about 26 kB; encoded, the
+     * layers that repeat the one below and the damaged points on the restored cost a
+     * byte a run */
+    if (len > 1500)
+        fail_msg("outlines of 2 x 720 points take %zu characters", len);
+    sr_run_release(&r);
+}
+
+static void meshes_decode_to_the_shown_meshes_and_the_scan_is_offered(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    char *json = data_block(html);
+    size_t n;
+    unsigned char *v = b64_member(json, "$.restored.v", &n);
+    assert_int_equal(n, 3 * r.restored.vertex_count * 4);
+    assert_near(jq_num(json, "$.restored.nv"), (double)r.restored.vertex_count, 0);
+    for (size_t i = 0; i < 3 * r.restored.vertex_count; i++) {
+        float f;
+        memcpy(&f, v + 4 * i, 4); /* little-endian, as the machine running the tests */
+        assert_near(f, r.restored.xyz[i], 1e-5);
+    }
+    free(v);
+    unsigned char *t = b64_member(json, "$.restored.t", &n);
+    assert_int_equal(n, 3 * r.restored.tri_count * 4);
+    assert_memory_equal(t, r.restored.tri, n);
+    free(t);
+    assert_near(jq_num(json, "$.patches[0].mesh.nt"), 12, 0);
+    assert_null(jq_text(json, "$.scan"));
+    assert_null(strstr(html, "id=\"show-scan\""));
+    free(json);
+    free(html);
+    /* with the scan: a mesh of its own, its checkbox off at first */
+    sr_mesh scan = {0};
+    box(-10, 20, &scan);
+    sr_report_opts o = {.scan = &scan};
+    size_t len;
+    sr_err err = {{0}};
+    sr_report_info info;
+    assert_int_equal(sr_report_html(&r, &o, &html, &len, &info, &err), SR_OK);
+    assert_int_equal(info.tri_stored, 24); /* the scan is not the run's */
+    json = data_block(html);
+    assert_near(jq_num(json, "$.scan.nt"), 12, 0);
+    assert_non_null(strstr(html, "<input type=\"checkbox\" id=\"show-scan\"> scan</label>"));
+    free(json);
+    free(html);
+    sr_mesh_release(&scan);
+    /* a large scan is cut to a quarter of the budget; the run's meshes keep theirs */
+    assert_int_equal(sr_shape_cylinder(10, 0, 20, 400, &scan, &err), SR_OK);
+    assert_true(scan.tri_count > 400);
+    o.max_triangles = 400;
+    assert_int_equal(sr_report_html(&r, &o, &html, &len, &info, &err), SR_OK);
+    assert_false(info.decimated);
+    assert_int_equal(info.tri_shown, 24);
+    json = data_block(html);
+    double scan_shown = jq_num(json, "$.scan.nt");
+    assert_true(scan_shown >= 20 && scan_shown <= 100);
+    free(json);
+    free(html);
+    sr_mesh_release(&scan);
+    sr_run_release(&r);
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -603,6 +1039,11 @@ int main(void)
         T(report_shows_the_section_figures_in_the_feature_table),
         T(report_escapes_advice_and_names),
         T(report_is_self_contained_and_balanced),
+        T(report_embeds_three_js_once_and_a_fallback_without_webgl),
+        T(feature_and_advice_cells_read_as_figures_with_units),
+        T(no_table_cell_shows_json),
+        T(outlines_are_compact_and_decode_to_the_run_s),
+        T(meshes_decode_to_the_shown_meshes_and_the_scan_is_offered),
         T(report_shows_parameters_alignment_timings_and_layers),
         T(report_decimates_meshes_over_the_budget_and_says_so),
         cmocka_unit_test(decimate_keeps_a_small_mesh_and_reduces_a_large_one),

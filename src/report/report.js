@@ -1,55 +1,30 @@
 /*
- * report.js: the HTML report's script (report_html.c): the 3D view of the restored part
- * and its patches on a 2D canvas (painter's order, flat shading, rotate by dragging,
- * zoom by the wheel) and the outlines of the selected layer as SVG with the build plans
- * over them, from the page's JSON data block. Plain ES5, no external anything.
+ * report.js: the HTML report's outline plot (report_html.c): the layer outlines decoded
+ * from the page's JSON data block (report_data.c's encoding) and the selected layer's
+ * drawn as SVG with the build plans over it. The 3D view is report_view.js's. Plain
+ * ES5, no external anything. Sets body's data-rendered when done.
  * Compiled into the binary by the Makefile (report_assets.h), this opening comment left
  * out, every line as it is.
  */
 (function(){'use strict';
 var data=JSON.parse(document.getElementById('report-data').textContent);
-var cv=document.getElementById('view');
-var sp=document.getElementById('show-part'),sq=document.getElementById('show-patches');
-var meshes=[];
-if(data.restored)meshes.push({m:data.restored,col:[168,176,188],patch:false});
-data.patches.forEach(function(p){meshes.push({m:p,col:[232,96,28],patch:true});});
-var lo=[Infinity,Infinity,Infinity],hi=[-Infinity,-Infinity,-Infinity];
-meshes.forEach(function(e){var v=e.m.v;for(var i=0;i<v.length;i+=3)for(var k=0;k<3;k++){if(v[i+k]<lo[k])lo[k]=v[i+k];if(v[i+k]>hi[k])hi[k]=v[i+k];}});
-var ctr=[(lo[0]+hi[0])/2,(lo[1]+hi[1])/2,(lo[2]+hi[2])/2];
-var rad=Math.max(1e-9,Math.sqrt(Math.pow(hi[0]-lo[0],2)+Math.pow(hi[1]-lo[1],2)+Math.pow(hi[2]-lo[2],2))/2);
-var yaw=0.6,pitch=0.45,zoom=1,pending=false;
-function draw(){pending=false;if(!cv||!cv.getContext)return;var g=cv.getContext('2d');
- var W=cv.width,H=cv.height;g.fillStyle='#ffffff';g.fillRect(0,0,W,H);
- if(!meshes.length){g.fillStyle='#5b6673';g.font='16px sans-serif';g.fillText('no meshes stored with this run',20,40);return;}
- var cy=Math.cos(yaw),sy=Math.sin(yaw),cp=Math.cos(pitch),spn=Math.sin(pitch);
- var s=zoom*0.45*Math.min(W,H)/rad;var faces=[];
- meshes.forEach(function(e){if(e.patch?(sq&&!sq.checked):(sp&&!sp.checked))return;
-  var v=e.m.v,t=e.m.t,n=v.length/3,P=new Float64Array(v.length);
-  for(var i=0;i<n;i++){var x=v[3*i]-ctr[0],y=v[3*i+1]-ctr[1],z=v[3*i+2]-ctr[2];
-   var x1=cy*x-sy*y,y1=sy*x+cy*y;P[3*i]=x1;P[3*i+1]=cp*y1-spn*z;P[3*i+2]=spn*y1+cp*z;}
-  var bias=e.patch?-4*rad:0;
-  for(var j=0;j<t.length;j+=3){var a=3*t[j],b=3*t[j+1],c=3*t[j+2];
-   var ux=P[b]-P[a],uy=P[b+1]-P[a+1],uz=P[b+2]-P[a+2],vx=P[c]-P[a],vy=P[c+1]-P[a+1],vz=P[c+2]-P[a+2];
-   var nx=uy*vz-uz*vy,ny=uz*vx-ux*vz,nz=ux*vy-uy*vx,nl=Math.sqrt(nx*nx+ny*ny+nz*nz);
-   if(!(nl>0))continue;var lum=0.35+0.65*Math.abs(ny)/nl;
-   faces.push({d:(P[a+1]+P[b+1]+P[c+1])/3+bias,P:P,a:a,b:b,c:c,col:e.col,lum:lum});}});
- faces.sort(function(p,q){return q.d-p.d;});
- for(var f=0;f<faces.length;f++){var F=faces[f],P=F.P;
-  var col='rgb('+Math.round(F.col[0]*F.lum)+','+Math.round(F.col[1]*F.lum)+','+Math.round(F.col[2]*F.lum)+')';g.fillStyle=col;g.strokeStyle=col;g.lineWidth=0.6;
-  g.beginPath();g.moveTo(W/2+s*P[F.a],H/2-s*P[F.a+2]);g.lineTo(W/2+s*P[F.b],H/2-s*P[F.b+2]);g.lineTo(W/2+s*P[F.c],H/2-s*P[F.c+2]);g.closePath();g.fill();g.stroke();}
-}
-function later(){if(!pending){pending=true;window.requestAnimationFrame(draw);}}
-if(cv){var drag=null;
- cv.addEventListener('pointerdown',function(ev){drag=[ev.clientX,ev.clientY];cv.setPointerCapture(ev.pointerId);});
- cv.addEventListener('pointermove',function(ev){if(!drag)return;yaw+=(ev.clientX-drag[0])*0.01;pitch+=(ev.clientY-drag[1])*0.01;drag=[ev.clientX,ev.clientY];later();});
- cv.addEventListener('pointerup',function(){drag=null;});
- cv.addEventListener('wheel',function(ev){ev.preventDefault();zoom*=ev.deltaY<0?1.1:1/1.1;later();},{passive:false});}
-if(sp)sp.addEventListener('change',later);if(sq)sq.addEventListener('change',later);
-var rs=document.getElementById('reset-view');if(rs)rs.addEventListener('click',function(){yaw=0.6;pitch=0.45;zoom=1;later();});
-draw();
+/* the outlines, decoded (report_data.c says how they are encoded) */
+function outlines(o){var out=[],n=o.n,q=o.q,t=atob(o.enc),pos=0,run=0;
+ function vint(){var v=0,m=1,c;do{c=t.charCodeAt(pos++);v+=(c&127)*m;m*=128;}while(c&128&&pos<t.length);return v;}
+ function unzig(u){return u%2?-(u+1)/2:u/2;}
+ var below=null;
+ for(var l=0;l<o.z.length;l++){var rest=new Array(n),lay={z:o.z[l],r:[],d:[]};
+  for(var kind=0;kind<2;kind++){var last=null,a=kind?lay.d:lay.r;
+   for(var k=0;k<n;k++){var ref=kind?rest[k]:(below?below[k]:null),p=ref||last||[0,0],pt;
+    if(run>0){run--;pt=[p[0],p[1]];}
+    else{var tk=vint();if(tk===0)pt=null;else if(tk===1){run=vint();pt=[p[0],p[1]];}else{var dx=unzig(tk-2),dy=unzig(vint());pt=[p[0]+dx,p[1]+dy];}}
+    if(pt)last=pt;if(!kind)rest[k]=pt;
+    a.push(pt?pt[0]*q:null,pt?pt[1]*q:null);}}
+  below=rest;out.push(lay);}
+ return out;}
 var sel=document.getElementById('layer-select'),plot=document.getElementById('layer-plot');
 var zb=document.getElementById('plot-zoom');
-var L=data.layers,ex=[Infinity,Infinity,-Infinity,-Infinity];
+var L=outlines(data.layers),ex=[Infinity,Infinity,-Infinity,-Infinity];
 function grow(a){for(var i=0;i+1<a.length;i+=2){if(a[i]===null||a[i+1]===null)continue;if(a[i]<ex[0])ex[0]=a[i];if(a[i+1]<ex[1])ex[1]=a[i+1];if(a[i]>ex[2])ex[2]=a[i];if(a[i+1]>ex[3])ex[3]=a[i+1];}}
 L.forEach(function(l){grow(l.d);grow(l.r);});
 var PL=data.plans||[];

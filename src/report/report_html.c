@@ -5,11 +5,13 @@
  * inline stylesheet (report.css), the static tables (run facts, missing sections,
  * advice, parameters, alignment, timings) made here with every text HTML-escaped, the
  * layer selector, then the data as one JSON block (<script type="application/json">,
- * with '<', '>' and '&' written as \u escapes so no text can end the element) and the
- * inline script (report.js) that draws the 3D view on a 2D canvas and the outlines of
- * the selected layer as SVG, with the build plans of the sections over them
- * (report_plans.c). No address of any kind appears in the page: it works from a single
- * file, offline.
+ * with '<', '>' and '&' written as \u escapes so no text can end the element; meshes
+ * and outlines compact, report_data.c), three.js, and the inline scripts:
+ * report_view.js draws the 3D view in WebGL, report.js the outlines of the selected
+ * layer as SVG with the build plans of the sections over them (report_plans.c). The
+ * feature and advice cells are report_cells.c's. No address of any kind appears in the
+ * page outside three.js's own text (XML namespace names): it works from one file,
+ * offline.
  *
  * Meshes over the display budget are reduced by vertex clustering (decimate.c); the
  * page states the stored and shown triangle counts.
@@ -29,33 +31,6 @@
 #include "report/report_assets.h"
 
 #define DEFAULT_BUDGET 60000
-
-/* ---- data block ---- */
-
-static void put_mesh(sb *b, const sr_mesh *m)
-{
-    sb_put(b, "\"v\":[");
-    for (size_t i = 0; i < 3 * m->vertex_count; i++) {
-        if (i)
-            sb_put(b, ",");
-        sb_jnum(b, m->xyz[i], "%.6g");
-    }
-    sb_put(b, "],\"t\":[");
-    for (size_t i = 0; i < 3 * m->tri_count; i++)
-        sb_printf(b, i ? ",%u" : "%u", m->tri[i]);
-    sb_put(b, "]");
-}
-
-static void put_points(sb *b, const double *xy, size_t n)
-{
-    sb_put(b, "[");
-    for (size_t i = 0; i < 2 * n; i++) {
-        if (i)
-            sb_put(b, ",");
-        sb_jnum(b, xy[i], "%.4f");
-    }
-    sb_put(b, "]");
-}
 
 /* ---- tables ---- */
 
@@ -164,13 +139,7 @@ static void section_table(sb *b, const sr_run *r)
                   "</td><td class=\"n\">%.2f</td><td class=\"n\">%.2f</td>"
                   "<td class=\"n\">%.1f</td><td class=\"n\">%.1f</td><td>",
                   s->depth_max_mm, s->depth_mean_mm, s->volume_mm3, s->area_mm2);
-        if (s->features_json) {
-            sb_put(b, "<code>");
-            sb_html(b, s->features_json);
-            sb_put(b, "</code>");
-        } else {
-            sb_put(b, "-");
-        }
+        rp_feature_cell(b, s->features_json);
         sb_put(b, "</td></tr>\n");
     }
     sb_put(b, "</tbody></table></section>\n");
@@ -184,7 +153,7 @@ static void advice_table(sb *b, const sr_run *r)
         return;
     }
     sb_put(b, "<table id=\"advice-table\"><thead><tr><th>section</th><th>process</th>"
-              "<th>rule</th><th>reason</th><th>plan and rules fired</th></tr></thead>"
+              "<th>rule</th><th>reason</th><th>parameters and rules fired</th></tr></thead>"
               "<tbody>\n");
     for (size_t i = 0; i < r->advice_count; i++) {
         const sr_run_advice *a = &r->advice[i];
@@ -204,9 +173,9 @@ static void advice_table(sb *b, const sr_run *r)
             sb_put(b, "built in");
         sb_put(b, "</td><td>");
         sb_html(b, a->reason);
-        sb_put(b, "</td><td><code>");
-        sb_html(b, a->details_json ? a->details_json : "{}");
-        sb_put(b, "</code></td></tr>\n");
+        sb_put(b, "</td><td class=\"details\">");
+        rp_advice_cell(b, a->details_json);
+        sb_put(b, "</td></tr>\n");
     }
     sb_put(b, "</tbody></table></section>\n");
 }
@@ -275,11 +244,12 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
 {
     size_t budget = opts && opts->max_triangles ? opts->max_triangles : DEFAULT_BUDGET;
 
-    /* display meshes: each its share of the budget */
+    /* display meshes: the restored part, the patches, then the scan when given */
+    const sr_mesh *scan = opts && opts->scan && opts->scan->tri_count ? opts->scan : NULL;
     size_t stored = run->restored.tri_count;
     for (size_t i = 0; i < run->section_count; i++)
         stored += run->sections[i].patch.tri_count;
-    size_t nm = run->section_count + 1;
+    size_t nm = run->section_count + 2;
     sr_mesh *shown = calloc(nm, sizeof *shown);
     if (!shown)
         return sr_err_set(err, SR_E_NOMEM, "out of memory building the report");
@@ -287,16 +257,21 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     size_t tri_shown = 0;
     bool decimated = false;
     for (size_t i = 0; i < nm && st == SR_OK; i++) {
-        const sr_mesh *m = i == 0 ? &run->restored : &run->sections[i - 1].patch;
-        if (m->tri_count == 0)
+        const sr_mesh *m = i == 0       ? &run->restored
+                           : i < nm - 1 ? &run->sections[i - 1].patch
+                                        : scan;
+        if (!m || m->tri_count == 0)
             continue;
-        size_t cap = stored <= budget ? m->tri_count
-                                      : (size_t)((double)budget * (double)m->tri_count /
-                                                 (double)stored);
+        /* the run's meshes share the budget; the scan, hidden at first, gets a quarter
+         * of it on top, so showing it costs the restored part no detail */
+        size_t cap = m == scan ? (m->tri_count < budget / 4 ? m->tri_count : budget / 4)
+                     : stored <= budget
+                         ? m->tri_count
+                         : (size_t)((double)budget * (double)m->tri_count / (double)stored);
         if (cap < 64)
             cap = m->tri_count < 64 ? m->tri_count : 64;
         st = sr_report_decimate(m, cap, &shown[i], err);
-        if (st == SR_OK) {
+        if (st == SR_OK && i < nm - 1) {
             tri_shown += shown[i].tri_count;
             decimated |= shown[i].tri_count < m->tri_count;
         }
@@ -362,15 +337,25 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     fact(&b, "missing sections", num);
     sb_put(&b, "</table></section>\n");
 
-    /* 3D view */
+    /* 3D view (report_view.js) */
     sb_put(&b, "<section id=\"view3d\"><h2>Part and patches</h2>\n"
                "<p class=\"note\">The restored part (grey) with the patches that fill the "
-               "missing sections (orange), in the scan frame; patches are drawn over the part, so a patch on "
-               "the far side shows through. Drag to rotate, wheel to zoom."
-               "</p>\n<p><label><input type=\"checkbox\" id=\"show-part\" checked> restored "
-               "part</label> <label><input type=\"checkbox\" id=\"show-patches\" checked> "
-               "patches</label> <button type=\"button\" id=\"reset-view\">reset view</button>"
-               "</p>\n<canvas id=\"view\" width=\"720\" height=\"480\"></canvas>\n"
+               "missing sections (orange)");
+    if (scan)
+        sb_put(&b, " and the scan as received (blue, hidden at first)");
+    sb_put(&b, ", in the scan frame, seen from outside the part looking at the largest "
+               "missing section.<span class=\"controls\"> Drag to rotate, shift-drag or "
+               "right-drag to pan, wheel to zoom.</span></p>\n<p class=\"controls\"><label><input "
+               "type=\"checkbox\" "
+               "id=\"show-part\" checked> restored part</label> <label><input "
+               "type=\"checkbox\" id=\"show-patches\" checked> patches</label>");
+    if (scan)
+        sb_put(&b, " <label><input type=\"checkbox\" id=\"show-scan\"> scan</label>");
+    sb_put(&b, " <button type=\"button\" id=\"reset-view\">view the damage</button></p>\n"
+               "<div id=\"view-box\"><canvas id=\"view\" width=\"720\" height=\"480\">"
+               "</canvas><p id=\"view-fallback\" hidden>The 3D view needs WebGL, which this "
+               "browser does not offer: the tables and the outlines below are complete "
+               "without it.</p></div>\n"
                "<p class=\"note\" id=\"view-note\">");
     if (stored == 0)
         sb_put(&b, "No meshes were stored with this run (or they were not read).");
@@ -434,38 +419,69 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     sb_printf(&b, "%lld,\"part\":", (long long)run->id);
     sb_jstr(&b, run->part_number);
     sb_put(&b, ",\"restored\":");
-    if (shown[0].tri_count) {
-        sb_put(&b, "{");
-        put_mesh(&b, &shown[0]);
-        sb_put(&b, "}");
-    } else {
+    if (shown[0].tri_count)
+        rp_put_mesh(&b, &shown[0]);
+    else
         sb_put(&b, "null");
-    }
+    sb_put(&b, ",\"scan\":");
+    if (shown[nm - 1].tri_count)
+        rp_put_mesh(&b, &shown[nm - 1]);
+    else
+        sb_put(&b, "null");
     sb_put(&b, ",\"patches\":[");
     bool first_patch = true;
-    for (size_t i = 1; i < nm; i++) {
+    for (size_t i = 1; i + 1 < nm; i++) {
         if (!shown[i].tri_count)
             continue;
-        sb_printf(&b, "%s{\"section\":%zu,", first_patch ? "" : ",",
+        sb_printf(&b, "%s{\"section\":%zu,\"volume_mm3\":", first_patch ? "" : ",",
                   run->sections[i - 1].index + 1);
-        put_mesh(&b, &shown[i]);
+        sb_jnum(&b, run->sections[i - 1].volume_mm3, "%.6g");
+        sb_put(&b, ",\"mesh\":");
+        rp_put_mesh(&b, &shown[i]);
         sb_put(&b, "}");
         first_patch = false;
     }
-    sb_put(&b, "],\"layers\":[");
-    size_t per = 2 * run->sectors;
-    for (size_t l = 0; l < run->layer_count && run->sectors; l++) {
-        sb_put(&b, l ? ",{\"z\":" : "{\"z\":");
-        sb_jnum(&b, run->layer_z[l], "%.4f");
-        sb_put(&b, ",\"d\":");
-        put_points(&b, run->damaged_xy + l * per, run->sectors);
-        sb_put(&b, ",\"r\":");
-        put_points(&b, run->restored_xy + l * per, run->sectors);
+    /* scan -> aligned frame: the view takes the part's axis (aligned z) as up */
+    sb_put(&b, "],\"alignment\":");
+    if (run->has_alignment) {
+        sb_put(&b, "[");
+        for (int i = 0; i < 12; i++) {
+            if (i)
+                sb_put(&b, ",");
+            sb_jnum(&b, run->alignment[i], "%.9g");
+        }
+        sb_put(&b, "]");
+    } else {
+        sb_put(&b, "null");
+    }
+    rp_put_layers(&b, run);
+    /* the stored texts behind the feature and advice cells, for scripts */
+    sb_put(&b, ",\"sections\":[");
+    for (size_t i = 0; i < run->section_count; i++) {
+        sb_printf(&b, "%s{\"section\":%zu,\"features\":", i ? "," : "", run->sections[i].index + 1);
+        rp_put_json(&b, run->sections[i].features_json);
+        sb_put(&b, "}");
+    }
+    sb_put(&b, "],\"advice\":[");
+    for (size_t i = 0; i < run->advice_count; i++) {
+        const sr_run_advice *a = &run->advice[i];
+        sb_put(&b, i ? ",{\"section\":" : "{\"section\":");
+        if (a->section_index >= 0)
+            sb_printf(&b, "%ld", a->section_index + 1);
+        else
+            sb_put(&b, "null");
+        sb_put(&b, ",\"process\":");
+        sb_jstr(&b, a->process);
+        sb_put(&b, ",\"details\":");
+        rp_put_json(&b, a->details_json);
         sb_put(&b, "}");
     }
     sb_put(&b, "]");
     rp_put_plans(&b, run, plans);
-    sb_put(&b, "}</script>\n<script>\n");
+    sb_put(&b, "}</script>\n<script id=\"three-js\">\n");
+    sb_put(&b, sr_report_three_js);
+    sb_put(&b, "\n</script>\n<script>\n");
+    sb_put(&b, sr_report_view_js);
     sb_put(&b, sr_report_js);
     sb_put(&b, "</script>\n</body>\n</html>\n");
 

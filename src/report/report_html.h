@@ -1,8 +1,10 @@
 /*
  * report_html.h: the HTML report of one reconstruction run, as one self-contained
  * text (no network, nothing outside the file: the CSS, the script and the data are
- * inline). It shows the part and its patches in 3D (a small canvas viewer, rotate by
- * dragging, patches highlighted), the per-layer outlines (damaged vs restored, an SVG
+ * inline, three.js included). It shows the part and its patches in 3D (WebGL through
+ * three.js: the restored part, the patches and the scan as meshes shown or hidden one by
+ * one, opening from outside the part on the largest missing section; a note in its place
+ * without WebGL), the per-layer outlines (damaged vs restored, an SVG
  * plot with a layer selector) with each section's build plan drawn over them (the
  * layer's missing region, the deposit region and the deposition paths, contour rings
  * and raster, computed by plan.h exactly as `symrec plan` does), the build plan's
@@ -16,6 +18,13 @@
  * row; only running out of memory fails the whole report. The plan data in the page's
  * JSON block ("plans") carry coordinates to 1e-5 mm, the polygon library's own grid,
  * so they read back as the very numbers plan.h produced.
+ *
+ * The tables read as a shop's document: features as named figures with units and the
+ * reasons for the class as a list; the advice's process parameters on one line and the
+ * rules fired as a list (report_cells.c); the stored JSON behind them is in the data block
+ * ("sections", "advice"). Printed (the stylesheet's print rules), the page is A4 with
+ * the controls left out, sections starting on new pages and no table row cut in two.
+ * The outlines and meshes in the data block are encoded compactly (report_data.c).
  *
  * Meshes above a display budget are decimated by vertex clustering for the viewer
  * (the page says so, with the counts); every figure in the tables is the stored one.
@@ -31,7 +40,8 @@
 #include "base/status.h"
 
 typedef struct sr_report_opts {
-    size_t max_triangles;       /* viewer budget, all meshes together; 0 = 60000 */
+    size_t max_triangles; /* viewer budget, the restored part and the patches
+                                 * together (the scan: a quarter of it more); 0 = 60000 */
     /* The instance's and the part's facts from the catalogue, shown in the run table
      * when given; NULL = the row is left out. */
     const char *serial;         /* the instance's serial */
@@ -40,6 +50,9 @@ typedef struct sr_report_opts {
     const char *material;
     const sr_plan_opts *plan;   /* build plan settings; NULL = sr_plan_opts_init's
                                  * defaults (the caller sets the material's density) */
+    const sr_mesh *scan;        /* the instance's scan (scan frame), shown in the 3D view
+                                 * on demand; NULL = none. It is decimated to a quarter of
+                                 * the budget and not counted in sr_report_info. */
 } sr_report_opts;
 
 /* Figures of what the viewer got, for the caller's messages. */

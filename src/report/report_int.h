@@ -5,8 +5,12 @@
  *   report_html.c   the page: head, tables, data block, script; sr_report_html
  *   report_text.c   the growing text the page is written into, HTML- and JSON-escaped
  *   report_plans.c  the build plan of each section, its table and its data
+ *   report_cells.c  the feature and advice cells, readable, from the stored JSON
+ *   report_data.c   the data block's meshes and layer outlines, compactly encoded
  *   decimate.c      meshes reduced to the display budget (sr_report_decimate)
- *   report.css, report.js  the stylesheet and script, compiled in (report_assets.h)
+ *   report.css, report.js, report_view.js  the stylesheet and the scripts (report.js:
+ *                   the outlines; report_view.js: the 3D view on three.js), compiled
+ *                   in (report_assets.h) with three.js itself
  */
 #ifndef SR_REPORT_INT_H
 #define SR_REPORT_INT_H
@@ -29,6 +33,7 @@ typedef struct sb {
 } sb;
 
 void sb_put(sb *b, const char *s);
+void sb_putn(sb *b, const char *s, size_t n);
 void sb_printf(sb *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* Text as HTML character data or attribute value (NULL writes nothing). */
 void sb_html(sb *b, const char *s);
@@ -61,5 +66,31 @@ void rp_plans_release(report_plan *p, size_t n);
 void rp_plan_table(sb *b, const sr_run *r, const report_plan *p);
 /* The data block's "plans" member (",\"plans\":[...]"), one entry per section. */
 void rp_put_plans(sb *b, const sr_run *r, const report_plan *p);
+
+/* ---- readable cells (report_cells.c) ---- */
+
+/* The "further features" cell of a section from its features_json (section_features.h):
+ * where it is, the figures the other columns do not show, named with their units, and
+ * the reasons for its class as a list; "-" when there is no object. */
+void rp_feature_cell(sb *b, const char *features_json);
+/* The advice cell from details_json (rules.h): the process parameters on one line, the
+ * rules fired as a list (the applied one marked), the rules passed over or not
+ * evaluated with why, then the other figures; "-" when there is no object. */
+void rp_advice_cell(sb *b, const char *details_json);
+/* A stored JSON text (valid, as the catalogue keeps it) into the data block, '<', '>'
+ * and '&' as \u escapes; null for NULL or empty. */
+void rp_put_json(sb *b, const char *json);
+
+/* ---- compact data (report_data.c) ---- */
+
+/* The quantum of the encoded outlines, mm. */
+#define RP_OUTLINE_QUANTUM 0.001
+
+/* The data block's "layers" member (",\"layers\":{...}", report_data.c says how the
+ * outlines are encoded) for r's layer_count x sectors outlines. */
+void rp_put_layers(sb *b, const sr_run *r);
+/* A mesh as {"nv", "nt", "v": base64 of nv x 3 float32 (little-endian), "t": base64 of
+ * nt x 3 uint32}. */
+void rp_put_mesh(sb *b, const sr_mesh *m);
 
 #endif

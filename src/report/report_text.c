@@ -36,7 +36,7 @@ static bool sb_room(sb *b, size_t n)
     return true;
 }
 
-static void sb_putn(sb *b, const char *s, size_t n)
+void sb_putn(sb *b, const char *s, size_t n)
 {
     if (!sb_room(b, n))
         return;

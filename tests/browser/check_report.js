@@ -1,11 +1,18 @@
 #!/usr/bin/env node
 // check_report.js: loads a symrec HTML report in a real headless browser and checks
 // that it works: no console error or uncaught exception, no network request, the 3D
-// canvas drawn (pixels that are not the background), the outline plot rendered as SVG,
-// the build plans' tool paths drawn in the plot for the layers that have them (as many
-// as the page's data holds), and the feature table with the expected rows.
+// view drawn in WebGL (a screenshot of the canvas, decoded by the browser itself, shows
+// the part's grey and the patches' orange on the white background; zooming and the
+// patches' checkbox change what it draws), the outline plot
+// rendered as SVG, the build plans' tool paths drawn in the plot for the layers that
+// have them (as many as the page's data holds), the feature table with the expected
+// rows and no JSON in any table cell, the page without WebGL (its note instead of the
+// canvas, no error), and the page printed to PDF (A4) in at most MAX_PAGES pages
+// (counted as the PDF's /Type /Page objects).
 //
-//   node tests/browser/check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER]
+//   node tests/browser/check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER] [MAX_PAGES]
+//
+// SYMREC_REPORT_PDF=FILE keeps the PDF, SYMREC_REPORT_PNG=FILE the screenshot.
 //
 // The browser is Debian's chromium-headless-shell (or $SYMREC_BROWSER / BROWSER, any
 // Chromium), driven over the DevTools protocol on a pipe (--remote-debugging-pipe:
@@ -18,9 +25,10 @@ const fs = require('fs');
 const os = require('os');
 const path = require('path');
 
-const [, , reportArg, rowsArg, browserArg] = process.argv;
+const [, , reportArg, rowsArg, browserArg, pagesArg] = process.argv;
+const maxPages = pagesArg ? parseInt(pagesArg, 10) : 4;
 if (!reportArg || rowsArg === undefined) {
-  console.error('usage: node check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER]');
+  console.error('usage: node check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER] [MAX_PAGES]');
   process.exit(2);
 }
 const candidates = [browserArg, process.env.SYMREC_BROWSER, '/usr/bin/chromium-headless-shell',
@@ -36,7 +44,8 @@ const expectedRows = parseInt(rowsArg, 10);
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'symrec-browser-'));
 
 const proc = spawn(browser, ['--headless', '--no-sandbox', '--disable-gpu',
-  '--remote-debugging-pipe', '--user-data-dir=' + profile, '--no-first-run',
+  '--remote-debugging-pipe', '--user-data-dir=' + profile, '--use-angle=swiftshader',
+  '--enable-unsafe-swiftshader', '--window-size=1200,900', '--no-first-run',
   '--disable-extensions', '--disable-background-networking', 'about:blank'],
 { stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe'] });
 let stderr = '';
@@ -98,10 +107,23 @@ async function main() {
     if (r.exceptionDetails) throw new Error('evaluate failed: ' + r.exceptionDetails.text);
     return r.result.value;
   };
+  await send('Emulation.setDeviceMetricsOverride',
+    { width: 1200, height: 900, deviceScaleFactor: 1, mobile: false }, sessionId);
+  // the 3D view as the screen shows it: a screenshot of the canvas's box
+  const box = await evaluate(`(function(){ var cv = document.getElementById('view');
+    if (!cv || cv.hidden) return null; cv.scrollIntoView(); var r = cv.getBoundingClientRect();
+    return { x: r.left + window.scrollX, y: r.top + window.scrollY, w: r.width, h: r.height }; })()`);
+  let shot = null;
+  if (box && box.w > 0) {
+    await new Promise((r) => setTimeout(r, 200));
+    shot = (await send('Page.captureScreenshot', { format: 'png', captureBeyondViewport: true,
+      clip: { x: box.x, y: box.y, width: box.w, height: box.h, scale: 1 } }, sessionId)).data;
+    if (process.env.SYMREC_REPORT_PNG) fs.writeFileSync(process.env.SYMREC_REPORT_PNG, Buffer.from(shot, 'base64'));
+  }
   const v = await evaluate(`(function(){
-    var cv = document.getElementById('view'), ink = 0;
-    if (cv) { var d = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data;
-      for (var i = 0; i < d.length; i += 4) if (d[i] < 250 || d[i+1] < 250 || d[i+2] < 250) ink++; }
+    var cv = document.getElementById('view');
+    var cells = Array.prototype.filter.call(document.querySelectorAll('td'),
+      function (td) { return /[{[]\s*"|"\s*:/.test(td.textContent); }).length;
     var plot = document.getElementById('layer-plot');
     var svg = plot ? plot.querySelector('svg') : null;
     var rows = document.querySelectorAll('#feature-table tbody tr');
@@ -126,8 +148,11 @@ async function main() {
     return { planned: planned, pathsDrawn: drawn, pathsWanted: want, planProblems: bad,
       replaced: replaced, allReplace: (data.plans || []).length > 0 && replaced === data.plans.length,
       noPlanText: noPlan ? noPlan.textContent : '',
-      rendered: document.body.getAttribute('data-rendered'), ink: ink,
-      canvas: cv ? cv.width * cv.height : 0, svg: !!svg,
+      rendered: document.body.getAttribute('data-rendered'),
+      view: document.body.getAttribute('data-view'),
+      redrawMs: document.body.getAttribute('data-redraw-ms'), jsonCells: cells,
+      gl: document.body.getAttribute('data-gl'),
+      svg: !!svg,
       polylines: svg ? svg.querySelectorAll('polyline').length : 0,
       rows: rows.length, classes: classes, title: document.title,
       advice: document.querySelectorAll('#advice-table tbody tr').length };
@@ -142,7 +167,80 @@ async function main() {
     !m.params.request.url.startsWith('data:') && !m.params.request.url.startsWith('about:'));
   requests.forEach((r) => failures.push('network request: ' + r.params.request.url));
   check(v.rendered === '1', 'the page script did not finish (data-rendered not set)');
-  check(v.ink > 0.01 * v.canvas, `3D canvas nearly empty (${v.ink} of ${v.canvas} pixels drawn)`);
+  check(v.view === 'webgl', `the 3D view is not drawn in WebGL (data-view '${v.view}')`);
+  // the controls answer: three wheel steps in make the part cover more of the canvas,
+  // hiding the patches takes their orange away (the canvas read back by the page)
+  if (v.view === 'webgl') {
+    const r = await send('Runtime.evaluate', { awaitPromise: true, returnByValue: true,
+      expression: `(async function () {
+        var cv = document.getElementById('view'), box = document.getElementById('show-patches');
+        function frames() { return new Promise(function (r) { requestAnimationFrame(function () { requestAnimationFrame(r); }); }); }
+        function count() { var c = document.createElement('canvas'); c.width = cv.width; c.height = cv.height;
+          var g = c.getContext('2d'); g.drawImage(cv, 0, 0); var d = g.getImageData(0, 0, c.width, c.height).data, n = { ink: 0, orange: 0 };
+          for (var i = 0; i < d.length; i += 4) { if (d[i] < 245 || d[i+1] < 245 || d[i+2] < 245) n.ink++;
+            if (d[i] > 90 && d[i] - d[i+2] > 60 && d[i] - d[i+1] > 40) n.orange++; } return n; }
+        var a = count();
+        for (var k = 0; k < 3; k++) cv.dispatchEvent(new WheelEvent('wheel', { deltaY: -1, cancelable: true }));
+        await frames(); var b = count();
+        box.checked = false; box.dispatchEvent(new Event('change')); await frames(); var c = count();
+        box.checked = true; box.dispatchEvent(new Event('change'));
+        document.getElementById('reset-view').click(); await frames();
+        return { before: a, zoomed: b, hidden: c }; })()` }, sessionId);
+    const z = r.exceptionDetails ? null : r.result.value;
+    check(z && z.zoomed.ink > z.before.ink, `zooming in did not enlarge the part (${JSON.stringify(z)})`);
+    check(z && (expectedRows === 0 || (z.zoomed.orange > 0 && z.hidden.orange === 0)),
+      `hiding the patches did not take their orange away (${JSON.stringify(z)})`);
+  }
+  check(v.jsonCells === 0, `${v.jsonCells} table cells show JSON`);
+  // the screenshot decoded by the browser: pixels of the part's grey (#a8b0bc, shaded)
+  // and of the patches' orange (#e8601c, shaded) against the white background
+  v.pixels = { part: 0, patch: 0, ink: 0, all: 0 };
+  if (shot) {
+    const { targetId: t2 } = await send('Target.createTarget', { url: 'about:blank' });
+    const { sessionId: s2 } = await send('Target.attachToTarget', { targetId: t2, flatten: true });
+    const r = await send('Runtime.evaluate', { awaitPromise: true, returnByValue: true,
+      expression: `new Promise(function (ok, no) { var im = new Image(); im.onerror = no;
+        im.onload = function () { var c = document.createElement('canvas'); c.width = im.width;
+          c.height = im.height; var g = c.getContext('2d'); g.drawImage(im, 0, 0);
+          var d = g.getImageData(0, 0, c.width, c.height).data, n = { part: 0, patch: 0, ink: 0, all: d.length / 4 };
+          for (var i = 0; i < d.length; i += 4) { var R = d[i], G = d[i+1], B = d[i+2];
+            if (R < 245 || G < 245 || B < 245) n.ink++;
+            if (R > 90 && R - B > 60 && R - G > 40) n.patch++;
+            else if (Math.abs(R - G) < 20 && B >= R && B - R < 30 && R > 40 && R < 235) n.part++; }
+          ok(n); }; im.src = 'data:image/png;base64,${shot}'; })` }, s2);
+    if (r.exceptionDetails) failures.push('screenshot not decoded: ' + r.exceptionDetails.text);
+    else v.pixels = r.result.value;
+  }
+  check(v.pixels.part > 0.03 * v.pixels.all,
+    `3D view: the part's grey on ${v.pixels.part} of ${v.pixels.all} pixels of the screenshot`);
+  check(expectedRows === 0 || v.pixels.patch > 50,
+    `3D view: the patches' orange on only ${v.pixels.patch} pixels of the screenshot`);
+  // without WebGL (getContext gives nothing, as in a browser without it): the note in
+  // the canvas's place, the rest of the page drawn, no error
+  {
+    const { targetId: t3 } = await send('Target.createTarget', { url: 'about:blank' });
+    const { sessionId: s3 } = await send('Target.attachToTarget', { targetId: t3, flatten: true });
+    await send('Runtime.enable', {}, s3);
+    await send('Page.enable', {}, s3);
+    await send('Page.addScriptToEvaluateOnNewDocument', { source:
+      'HTMLCanvasElement.prototype.getContext = function () { return null; };' }, s3);
+    await send('Page.navigate', { url }, s3);
+    await waitFor((m) => m.method === 'Page.loadEventFired' && m.sessionId === s3, 20000);
+    const r = await send('Runtime.evaluate', { returnByValue: true, expression: `({
+      view: document.body.getAttribute('data-view'), rendered: document.body.getAttribute('data-rendered'),
+      note: !document.getElementById('view-fallback').hidden, canvas: !document.getElementById('view').hidden })` }, s3);
+    const f = (r.result && r.result.value) || {};
+    check(f.view === 'fallback' && f.note && !f.canvas && f.rendered === '1',
+      `without WebGL: view '${f.view}', note shown ${f.note}, canvas shown ${f.canvas}, page drawn ${f.rendered}`);
+    events.filter((m) => m.sessionId === s3 && m.method === 'Runtime.exceptionThrown')
+      .forEach((m) => failures.push('without WebGL: ' + JSON.stringify(m.params).slice(0, 300)));
+  }
+  // printed: A4, the page count within the bound
+  const pdf = Buffer.from((await send('Page.printToPDF', { paperWidth: 8.27, paperHeight: 11.69,
+    preferCSSPageSize: true, printBackground: false }, sessionId)).data, 'base64');
+  if (process.env.SYMREC_REPORT_PDF) fs.writeFileSync(process.env.SYMREC_REPORT_PDF, pdf);
+  v.pages = (pdf.toString('latin1').match(/\/Type\s*\/Page(?![a-zA-Z])/g) || []).length;
+  check(v.pages >= 1 && v.pages <= maxPages, `printed to ${v.pages} A4 pages, expected 1 to ${maxPages}`);
   check(v.svg && v.polylines > 0, `outline plot not rendered (svg ${v.svg}, ${v.polylines} polylines)`);
   check(v.rows === expectedRows, `feature table has ${v.rows} rows, expected ${expectedRows}`);
   check(v.classes.every((c) => c.length > 0), 'a feature row without a damage class');
@@ -162,7 +260,9 @@ function finish(v) {
     failures.forEach((f) => console.log('check_report: FAIL: ' + f));
     process.exit(1);
   }
-  console.log(`check_report: ok: ${url}: canvas ${v.ink} px drawn, ${v.polylines} outline ` +
+  console.log(`check_report: ok: ${url}: WebGL view drawn (${v.pixels.part} part, ` +
+    `${v.pixels.patch} patch pixels of ${v.pixels.all}; ${v.gl}; render ${v.redrawMs} ms), ` +
+    `${v.pages} A4 pages printed, ${v.polylines} outline ` +
     `polylines, ${v.rows} feature rows (${v.classes.join(', ')}), ${v.advice} advice rows, ` +
     `tool paths drawn in ${v.planned} plan layers (${v.pathsDrawn} paths)` +
     (v.replaced ? `, ${v.replaced} section(s) advised replace` : ''));
