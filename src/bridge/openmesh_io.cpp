@@ -401,12 +401,36 @@ sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *o
         return rfail(err, SR_E_INVALID, path, "contains no triangles%s",
                      facts.f.tri_count ? " (all degenerate)" : "");
 
+    /* OFF: OpenMesh 9's reader takes a comment for data (read 0 vertices), a face's
+     * colour for the next face's corner count, and hung on fuzzed files. It reads a
+     * plain restatement of the checked file instead (every vertex with 17 digits, every
+     * face, nothing else), so it checks the numbers the check parsed and cannot
+     * contradict the file over syntax it misreads. */
+    std::string plain;
+    if (fmt == SR_FMT_OFF) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "OFF\n" << facts.f.vertex_count << ' ' << facts.f.face_count << " 0\n";
+        for (size_t v = 0; v < facts.f.vertex_count; v++)
+            os << facts.f.xyz[3 * v] << ' ' << facts.f.xyz[3 * v + 1] << ' '
+               << facts.f.xyz[3 * v + 2] << '\n';
+        size_t at = 0;
+        for (size_t i = 0; i < facts.f.face_count; i++) {
+            os << facts.f.face_size[i];
+            for (uint32_t k = 0; k < facts.f.face_size[i]; k++)
+                os << ' ' << facts.f.face_index[at + k];
+            at += facts.f.face_size[i];
+            os << '\n';
+        }
+        plain = os.str();
+    }
     Collector c;
     bool ok;
     std::string log;
     {
         OmSession session;
-        MemBuf mb(file.data, file.size);
+        MemBuf mb(plain.empty() ? file.data : (const unsigned char *)plain.data(),
+                  plain.empty() ? file.size : plain.size());
         std::istream in(&mb);
         OpenMesh::IO::Options opt;
         if (fmt == SR_FMT_STL && facts.f.binary)

@@ -216,6 +216,48 @@ long long base64_size(const std::string &uri)
     return (long long)(n / 4 * 3 - pad);
 }
 
+const char *const IGNORABLE_EXTENSIONS[] = {"KHR_materials_", "KHR_texture_",
+                                            "KHR_lights_punctual"};
+
+/* What a required extension does, for the message. */
+const char *extension_says(const std::string &ext)
+{
+    if (ext == "KHR_draco_mesh_compression")
+        return " (Draco-compressed geometry)";
+    if (ext == "EXT_meshopt_compression" || ext == "KHR_meshopt_compression")
+        return " (meshoptimizer-compressed buffers)";
+    if (ext == "KHR_mesh_quantization")
+        return " (quantised vertex attributes)";
+    return "";
+}
+
+/* extensionsRequired first: a file that needs one symrec cannot read is refused by
+ * its name, before tinygltf fails on what the extension changed (a Draco file's
+ * accessors have no bufferView, a meshopt file's buffers no uri). */
+sr_status gltf_required_extensions(const char *path, const nlohmann::json &j, sr_err *err)
+{
+    auto req = j.find("extensionsRequired");
+    if (req == j.end())
+        return SR_OK;
+    if (!req->is_array())
+        return rfail(err, SR_E_FORMAT, path, "glTF 'extensionsRequired' is not an array");
+    for (const nlohmann::json &e : *req) {
+        if (!e.is_string())
+            return rfail(err, SR_E_FORMAT, path, "glTF 'extensionsRequired' holds a non-string");
+        std::string ext = e.get<std::string>();
+        bool fine = false;
+        for (const char *ok_ext : IGNORABLE_EXTENSIONS)
+            fine |= ext.compare(0, strlen(ok_ext), ok_ext) == 0;
+        if (!fine)
+            return rfail(err, SR_E_UNSUPPORTED, path,
+                         "requires glTF extension '%s'%s, which symrec does not read: write "
+                         "the file without it (e.g. gltf-transform's 'copy' from an uncompressed "
+                         "source) or export STL/PLY",
+                         ext.c_str(), extension_says(ext));
+    }
+    return SR_OK;
+}
+
 /* Buffers declared in the JSON against the bytes that back them, before tinygltf. */
 sr_status gltf_precheck(const char *path, const unsigned char *json, size_t n,
                         const sr_glb_layout *glb, const FsGuard &g, sr_err *err)
@@ -226,6 +268,9 @@ sr_status gltf_precheck(const char *path, const unsigned char *json, size_t n,
     nlohmann::json j = nlohmann::json::parse(json, json + n, nullptr, false);
     if (j.is_discarded() || !j.is_object())
         return rfail(err, SR_E_FORMAT, path, "malformed glTF JSON");
+    st = gltf_required_extensions(path, j, err);
+    if (st != SR_OK)
+        return st;
     auto bufs = j.find("buffers");
     if (bufs == j.end())
         return SR_OK;
@@ -281,9 +326,6 @@ sr_status gltf_precheck(const char *path, const unsigned char *json, size_t n,
     return SR_OK;
 }
 
-const char *const IGNORABLE_EXTENSIONS[] = {"KHR_materials_", "KHR_texture_",
-                                            "KHR_lights_punctual"};
-
 } // namespace
 
 sr_status gltf_load(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
@@ -333,14 +375,7 @@ sr_status gltf_load(const char *path, sr_format fmt, const Bytes &file, bool fil
             return rfail(err, g.refusal_status, path, "%s", g.refusal.c_str());
         return rfail(err, SR_E_FORMAT, path, "tinygltf: %s", first_line(terr).c_str());
     }
-    for (const std::string &ext : model.extensionsRequired) {
-        bool fine = false;
-        for (const char *ok_ext : IGNORABLE_EXTENSIONS)
-            fine |= ext.compare(0, strlen(ok_ext), ok_ext) == 0;
-        if (!fine)
-            return rfail(err, SR_E_UNSUPPORTED, path, "requires glTF extension '%s'", ext.c_str());
-    }
-    return SR_OK;
+    return SR_OK; /* extensionsRequired: checked before (gltf_required_extensions) */
 }
 
 } // namespace sr_meshio

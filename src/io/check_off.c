@@ -148,16 +148,20 @@ sr_status sr_file_check_off(const unsigned char *data, size_t size, const char *
             }
             cb.v[c] = (uint32_t)idx;
         }
-        /* Nothing after a face's indices: OpenMesh 9 reads a number there as the next
-         * face's corner count (a fuzzed line "3 3 6 7333...3" made it loop 4 billion
-         * times: fuzz_off), and through a stream it misreads face colours even under a
-         * COFF header. */
-        if (fc_next_token(&p, e, &ts, &te, 1)) {
-            st = fc_fail(err, SR_E_FORMAT, name,
-                         "line %zu: face %zu has '%s' after its %lld indices (face colours are "
-                         "not supported)",
-                         r.number, i, fc_token_str(ts, te, tok), n);
-            goto out;
+        /* After a face's indices only its colour: up to four numbers (r g b [a], or a
+         * colour-map index). OpenMesh never sees them (openmesh_io.cpp hands it a plain
+         * restatement of what this check read): through the file itself it took them
+         * for the next face's corner count (a fuzzed "3 3 6 7333...3" looped 4 billion
+         * times: fuzz_off). */
+        for (int extra = 0; fc_next_token(&p, e, &ts, &te, 1); extra++) {
+            double cv;
+            if (extra >= 4 || !fc_parse_real(ts, te, &cv) || !isfinite(cv)) {
+                st = fc_fail(err, SR_E_FORMAT, name,
+                             "line %zu: face %zu has '%s' after its %lld indices (at most a "
+                             "colour of four numbers may follow)",
+                             r.number, i, fc_token_str(ts, te, tok), n);
+                goto out;
+            }
         }
         if (!fc_add_face(&f, &acc, cb.v, (size_t)n)) {
             st = fc_fail(err, SR_E_NOMEM, name, "out of memory at line %zu", r.number);
