@@ -285,6 +285,29 @@ static void print_instance_text(const sr_instance_info *in, const sr_part_info *
     printf("  created:    %s\n", in->created_at);
 }
 
+/* An instance with its part's figures, as `instance show` and `instance set` print it:
+ * the text view, or one JSON object with the part's name and the volumes. */
+static int print_instance(const sr_instance_info *in, const sr_part_info *p, bool json)
+{
+    if (!json) {
+        print_instance_text(in, p);
+        return CLI_OK;
+    }
+    bool has = p->mesh_id && in->mesh_id;
+    json_out j;
+    json_init(&j, stdout);
+    json_object_begin(&j);
+    json_instance_members(&j, in);
+    json_key(&j, "part_name");
+    json_string(&j, p->name);
+    json_key(&j, "intact_volume_mm3");
+    has ? json_number(&j, p->volume_mm3) : json_null(&j);
+    json_key(&j, "missing_volume_mm3");
+    has ? json_number(&j, p->volume_mm3 - in->volume_mm3) : json_null(&j);
+    json_object_end(&j);
+    return json_finish(&j);
+}
+
 static int instance_show(const cli_ctx *ctx, int argc, char **argv)
 {
     bool json = false;
@@ -311,24 +334,7 @@ static int instance_show(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         return cli_fail(st, &err);
     }
-    if (json) {
-        bool has = p.mesh_id && in.mesh_id;
-        json_out j;
-        json_init(&j, stdout);
-        json_object_begin(&j);
-        json_instance_members(&j, &in);
-        json_key(&j, "part_name");
-        json_string(&j, p.name);
-        json_key(&j, "intact_volume_mm3");
-        has ? json_number(&j, p.volume_mm3) : json_null(&j);
-        json_key(&j, "missing_volume_mm3");
-        has ? json_number(&j, p.volume_mm3 - in.volume_mm3) : json_null(&j);
-        json_object_end(&j);
-        rc = json_finish(&j);
-    } else {
-        print_instance_text(&in, &p);
-        rc = CLI_OK;
-    }
+    rc = print_instance(&in, &p, json);
     sr_catalog_close(cat);
     return rc;
 }
@@ -375,15 +381,7 @@ static int instance_set(const cli_ctx *ctx, int argc, char **argv)
         return cli_fail(st, &err);
     }
     cli_note("changed instance %lld of part '%s'", (long long)id, cli_tx(in.part_number));
-    if (json) {
-        json_out j;
-        json_init(&j, stdout);
-        json_instance(&j, &in);
-        rc = json_finish(&j);
-    } else {
-        print_instance_text(&in, &p);
-        rc = CLI_OK;
-    }
+    rc = print_instance(&in, &p, json);
     sr_catalog_close(cat);
     return rc;
 }

@@ -3106,7 +3106,7 @@ static void compare_registers_a_moved_scan_to_its_part(void **state)
      * back on A's z axis at the same z */
     double reg[12];
     for (int i = 0; i < 12; i++) {
-        char path[32];
+        char path[48];
         snprintf(path, sizeof path, "$.registration.matrix[%d]", i);
         reg[i] = jq_num(r.out, path);
     }
