@@ -20,6 +20,8 @@
 #include "catalog/catalog.h"
 #include "base/status.h"
 #include "base/symmetry.h"
+#include "mesh/mesh.h"
+#include "mesh/units.h"
 
 enum {
     CLI_OK = 0,
@@ -139,6 +141,26 @@ typedef struct cli_subcommand {
  * naming the group. Returns the exit code. */
 int cli_run_subcommand(const cli_ctx *ctx, const char *cmd, const char *usage,
                        const cli_subcommand *subs, int argc, char **argv);
+
+/* ---- mesh files the user names (cli/mesh_in.c) ---- */
+
+/* The help line every command that reads a mesh file shows for --units. */
+#define CLI_UNITS_HELP                                                                             \
+    "  --units U      the unit the mesh file is drawn in: mm, cm, m or in (default: the\n"         \
+    "                 format's own: mm for .stl .obj .ply .off, m for .gltf .glb, glTF's\n"        \
+    "                 unit); read into mm. A glTF keeps its axes (Y up) unless symrec\n"           \
+    "                 wrote it\n"
+
+/* --units' value (`opt` names the option in messages) into *out: NULL gives
+ * SR_UNIT_DEFAULT. Anything but mm, cm, m, in is a usage error ("bad --units 'x':
+ * expected mm, cm, m or in", printed) and false. */
+bool cli_parse_units(const char *opt, const char *text, sr_unit *out);
+
+/* Reads mesh file `path` drawn in `unit` (SR_UNIT_DEFAULT: its format's own) into *out
+ * in mm (sr_mesh_read_units), and prints one warning when its size is not a machined
+ * part's but would be in another unit. *used (may be NULL) gets the unit read in, never
+ * SR_UNIT_DEFAULT. On failure *out is untouched and err says why. */
+sr_status cli_mesh_read(const char *path, sr_unit unit, sr_mesh *out, sr_unit *used, sr_err *err);
 
 /* ---- catalogue (cli/open.c) ---- */
 

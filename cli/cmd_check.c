@@ -12,24 +12,28 @@
 #include "mesh/mesh_facts.h"
 
 static const char usage[] =
-    "usage: symrec check FILE [--json]\n"
+    "usage: symrec check FILE [--units U] [--json]\n"
     "\n"
-    "Reads a mesh file (.stl .obj .ply .off .gltf .glb) and prints what it holds, as\n"
-    "read (numbers in mm unless the file is in another unit): vertices and triangles,\n"
+    "Reads a mesh file (.stl .obj .ply .off .gltf .glb) and prints what it holds, in mm\n"
+    "(the file read in --units, scaled to mm): vertices and triangles,\n"
     "the bounding box, volume and area, whether it is a closed solid (every edge shared\n"
     "by two triangles, consistently oriented, facing outward), degenerate and duplicate\n"
     "triangles, the connected pieces, and the unit its size suggests for a machined\n"
-    "part (a guess: a part 2.5 long is more likely 2.5 in than 2.5 mm).\n"
-    "\n"
-    "  --json   one JSON object with the same facts\n";
+    "part (a guess on the numbers as written in the file: a part 2.5 long is more likely\n"
+    "2.5 in than 2.5 mm); a size outside 5 mm .. 3 m is warned about on stderr.\n"
+    "\n" CLI_UNITS_HELP
+    "  --json         one JSON object with the same facts (lengths in mm, volume mm³, area\n"
+    "                 mm²; \"units\": the unit read in)\n";
 
-static void print_json(const char *path, const sr_mesh_facts *f)
+static void print_json(const char *path, sr_unit unit, const sr_mesh_facts *f)
 {
     json_out j;
     json_init(&j, stdout);
     json_object_begin(&j);
     json_key(&j, "path");
     json_string(&j, path);
+    json_key(&j, "units");
+    json_string(&j, sr_unit_name(unit));
     json_key(&j, "vertices");
     json_int(&j, (int64_t)f->vertices);
     json_key(&j, "triangles");
@@ -74,9 +78,10 @@ static void print_json(const char *path, const sr_mesh_facts *f)
     json_finish(&j);
 }
 
-static void print_text(const char *path, const sr_mesh_facts *f)
+static void print_text(const char *path, sr_unit unit, const sr_mesh_facts *f)
 {
     printf("%s\n", cli_tx(path));
+    printf("  read in             %s (numbers below in mm)\n", sr_unit_name(unit));
     printf("  vertices            %zu\n", f->vertices);
     printf("  triangles           %zu\n", f->triangles);
     printf("  bounding box        %.4g .. %.4g x %.4g .. %.4g x %.4g .. %.4g\n", f->bbox_min[0],
@@ -110,26 +115,30 @@ int cmd_check(const cli_ctx *ctx, int argc, char **argv)
 {
     (void)ctx;
     bool json = false;
-    const cli_opt opts[] = {{"--json", NULL, &json}, {NULL, NULL, NULL}};
+    const char *units = NULL;
+    const cli_opt opts[] = {{"--json", NULL, &json}, {"--units", &units, NULL}, {NULL, NULL, NULL}};
     const cli_spec spec = {"check", usage, opts, 1, 1, "FILE"};
     const char *path;
     int rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, &path, NULL, &rc))
         return rc;
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
+        return CLI_USAGE;
     sr_err err;
     sr_err_clear(&err);
     sr_mesh mesh;
     sr_mesh_init(&mesh);
     sr_mesh_facts f;
-    sr_status st = sr_mesh_read(path, &mesh, &err);
+    sr_status st = cli_mesh_read(path, unit, &mesh, &unit, &err);
     if (st == SR_OK)
         st = sr_mesh_facts_get(&mesh, &f, &err);
     sr_mesh_release(&mesh);
     if (st != SR_OK)
         return cli_fail(st, &err);
     if (json)
-        print_json(path, &f);
+        print_json(path, unit, &f);
     else
-        print_text(path, &f);
+        print_text(path, unit, &f);
     return CLI_OK;
 }

@@ -17,7 +17,8 @@
 #include "json_out.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] compare A B [--samples N] [--align | --no-align] [--json]\n"
+    "usage: symrec [--db FILE] compare A B [--units U] [--samples N] [--align | --no-align]\n"
+    "                                [--json]\n"
     "\n"
     "Compares mesh B with mesh A (the reference): the volume of each (mm³, meaningful\n"
     "for closed meshes), the volume difference B - A (mm³ and % of A), the surface\n"
@@ -25,13 +26,17 @@ static const char usage[] =
     "sample points of one surface to the nearest point of the other) and the\n"
     "Hausdorff distance (the larger maximum).\n"
     "\n"
-    "  A, B          a mesh file (.stl .obj .ply .off .gltf .glb, in mm; at most 2 GiB,\n"
-    "                |coordinate| <= 1e6 mm, largest extent >= 1e-3 mm), or a mesh\n"
+    "  A, B          a mesh file (.stl .obj .ply .off .gltf .glb, read in --units into\n"
+    "                mm; at most 2 GiB, |coordinate| <= 1e6 mm, largest extent >= 1e-3\n"
+    "                mm), or a mesh\n"
     "                stored in the catalogue:\n"
     "                  instance:N  the scan of damaged instance N\n"
     "                  part:P      the intact mesh of part P (number or id)\n"
     "                  run:N       the restored mesh of reconstruction run N\n"
     "                (write ./instance:3 for a file of that name)\n"
+    "  --units U     the unit the file operands are drawn in: mm, cm, m or in\n"
+    "                (default: each file's format's own: mm for .stl .obj .ply .off, m\n"
+    "                for .gltf .glb); stored meshes are in mm already\n"
     "  --samples N   at least N sample points per surface, spread by area (default:\n"
     "                the vertices and triangle centroids). Deviations are measured at\n"
     "                the samples, so the maxima are lower bounds; more samples tighten\n"
@@ -56,8 +61,8 @@ static bool need_catalog(const cli_ctx *ctx, sr_catalog **cat)
 
 /* Loads `ref` into *out and describes it in `what`. Returns an exit code; on failure
  * the error or usage line is printed. */
-static int load(const cli_ctx *ctx, sr_catalog **cat, const char *ref, sr_mesh *out,
-                 char *what, size_t what_size)
+static int load(const cli_ctx *ctx, sr_catalog **cat, const char *ref, sr_unit unit, sr_mesh *out,
+                char *what, size_t what_size)
 {
     sr_err err;
     sr_err_clear(&err);
@@ -88,7 +93,7 @@ static int load(const cli_ctx *ctx, sr_catalog **cat, const char *ref, sr_mesh *
         st = sr_catalog_run_restored_mesh(*cat, id, out, &err);
         snprintf(what, what_size, "run %lld", (long long)id);
     } else {
-        st = sr_mesh_read(ref, out, &err);
+        st = cli_mesh_read(ref, unit, out, NULL, &err);
         snprintf(what, what_size, "%s", ref);
     }
     if (st != SR_OK)
@@ -233,13 +238,11 @@ static void print_registration(const registration *g)
 
 int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *samples_text = NULL;
+    const char *samples_text = NULL, *units = NULL;
     bool json = false, align = false, no_align = false;
-    const cli_opt opts[] = {{"--samples", &samples_text, NULL},
-                            {"--align", NULL, &align},
-                            {"--no-align", NULL, &no_align},
-                            {"--json", NULL, &json},
-                            {NULL, NULL, NULL}};
+    const cli_opt opts[] = {
+        {"--samples", &samples_text, NULL}, {"--units", &units, NULL}, {"--align", NULL, &align},
+        {"--no-align", NULL, &no_align},    {"--json", NULL, &json},   {NULL, NULL, NULL}};
     const cli_spec spec = {"compare", usage, opts, 2, 2, "mesh (file or instance:N, part:P, run:N)"};
     const char *pos[2];
     int npos = 0, rc;
@@ -247,6 +250,9 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
         return rc;
     if (align && no_align)
         return cli_usage_error("'compare' takes --align or --no-align, not both");
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
+        return CLI_USAGE;
     sr_compare_opts co = {0};
     if (samples_text) {
         int n;
@@ -260,9 +266,9 @@ int cmd_compare(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh_init(&a);
     sr_mesh_init(&b);
     char what_a[4200], what_b[4200];
-    rc = load(ctx, &cat, pos[0], &a, what_a, sizeof what_a);
+    rc = load(ctx, &cat, pos[0], unit, &a, what_a, sizeof what_a);
     if (rc == CLI_OK)
-        rc = load(ctx, &cat, pos[1], &b, what_b, sizeof what_b);
+        rc = load(ctx, &cat, pos[1], unit, &b, what_b, sizeof what_b);
     if (rc != CLI_OK)
         goto done;
     sr_catalog_close(cat);

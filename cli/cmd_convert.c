@@ -9,25 +9,33 @@
 #include "json_out.h"
 
 static const char usage[] =
-    "usage: symrec convert IN OUT [--json]\n"
+    "usage: symrec convert IN OUT [--units U] [--json]\n"
     "\n"
     "Reads mesh file IN and writes it to OUT, each format from its extension: .stl\n"
     "(binary), .obj, .ply (binary), .off, .gltf or .glb. IN is checked as every input\n"
     "is (one line naming the file when it is bad); OUT is replaced atomically. A glTF\n"
-    "scene's meshes become one mesh.\n"
-    "\n"
-    "  --json   print {\"in\", \"out\", \"format\", \"vertices\", \"triangles\"} as JSON\n";
+    "scene's meshes become one mesh. IN is read in --units and scaled to mm; OUT is\n"
+    "written in mm (.stl .obj .ply .off) or, as glTF means, in metres with Y up\n"
+    "(.gltf .glb: one root node scales symrec's mm, Z up, to that), so a viewer shows\n"
+    "it at its true size.\n"
+    "\n" CLI_UNITS_HELP
+    "  --json         print {\"in\", \"out\", \"format\", \"units\", \"vertices\",\n"
+    "                 \"triangles\"} as JSON (units: what IN was read in)\n";
 
 int cmd_convert(const cli_ctx *ctx, int argc, char **argv)
 {
     (void)ctx;
     bool json = false;
-    const cli_opt opts[] = {{"--json", NULL, &json}, {NULL, NULL, NULL}};
+    const char *units = NULL;
+    const cli_opt opts[] = {{"--json", NULL, &json}, {"--units", &units, NULL}, {NULL, NULL, NULL}};
     const cli_spec spec = {"convert", usage, opts, 2, 2, "IN OUT"};
     const char *pos[2];
     int rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, pos, NULL, &rc))
         return rc;
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
+        return CLI_USAGE;
     sr_format out_fmt = sr_format_from_path(pos[1]);
     if (out_fmt == SR_FMT_UNKNOWN)
         return cli_usage_error("bad OUT '%s': expected a file ending in .stl, .obj, .ply, "
@@ -37,7 +45,7 @@ int cmd_convert(const cli_ctx *ctx, int argc, char **argv)
     sr_err_clear(&err);
     sr_mesh mesh;
     sr_mesh_init(&mesh);
-    sr_status st = sr_mesh_read(pos[0], &mesh, &err);
+    sr_status st = cli_mesh_read(pos[0], unit, &mesh, &unit, &err);
     if (st == SR_OK)
         st = sr_mesh_write(pos[1], &mesh, NULL, &err);
     if (st != SR_OK) {
@@ -54,6 +62,8 @@ int cmd_convert(const cli_ctx *ctx, int argc, char **argv)
         json_string(&j, pos[1]);
         json_key(&j, "format");
         json_string(&j, sr_format_name(out_fmt));
+        json_key(&j, "units");
+        json_string(&j, sr_unit_name(unit));
         json_key(&j, "vertices");
         json_int(&j, (int64_t)mesh.vertex_count);
         json_key(&j, "triangles");

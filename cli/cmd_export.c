@@ -23,7 +23,9 @@ static const char usage[] =
     "patches (the missing sections, exactly the missing volume) or both. The format\n"
     "comes from FILE's extension: .stl (binary), .obj, .ply (binary), .off, .gltf or\n"
     ".glb. Coordinates are in mm, in the frame of the stored mesh (a run's meshes: the\n"
-    "scan's frame, so they overlay it).\n"
+    "scan's frame, so they overlay it); a .gltf or .glb means metres with Y up, as glTF\n"
+    "does: one root node scales and turns the mm, Z up, meshes to that, and symrec\n"
+    "reads it back in mm, Z up.\n"
     "\n"
     "  --out FILE      where to write (replaced atomically if it exists)\n"
     "  --what W        run only: restored (default), patches (every section's patch\n"
@@ -90,7 +92,7 @@ static sr_status export_run(sr_catalog *cat, int64_t id, const char *what, int s
                         (long long)id, section > 0 ? "that section" : "its sections");
     if (st == SR_OK) {
         if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB)
-            st = sr_scene_write(out, nodes, n, "{\"units\":\"mm\"}", err);
+            st = sr_scene_write(out, nodes, n, "{\"units\":\"m\",\"up\":\"Y\"}", err);
         else
             st = sr_mesh_write(out, mesh, NULL, err);
     }

@@ -54,22 +54,23 @@ static const char usage_remove[] =
     "                \"meshes\"}\n";
 
 static const char usage_add[] =
-    "usage: symrec [--db FILE] instance add --part P --mesh FILE [--serial S]\n"
-    "                               [--received YYYY-MM-DD] [--notes T]\n"
+    "usage: symrec [--db FILE] instance add --part P --mesh FILE [--units U]\n"
+    "                               [--serial S] [--received YYYY-MM-DD] [--notes T]\n"
     "                               [--symmetry K [--order N] [--shift MM]] [--json]\n"
     "\n"
     "Adds a damaged instance of a part with its scanned mesh and prints the new id.\n"
     "\n"
     "  --part P       the part: its number or id\n"
-    "  --mesh FILE    the damaged mesh: .stl .obj .ply .off .gltf .glb, in mm; at most\n"
-    "                 2 GiB, |coordinate| <= 1e6 mm, largest extent >= 1e-3 mm\n"
+    "  --mesh FILE    the damaged mesh: .stl .obj .ply .off .gltf .glb, read in --units\n"
+    "                 and stored in mm with the unit noted; at most 2 GiB,\n"
+    "                 |coordinate| <= 1e6 mm, largest extent >= 1e-3 mm once in mm\n"
     "  --serial S     the instance's serial number\n"
     "  --received D   the date it was received, YYYY-MM-DD (default today, UTC)\n"
     "  --notes T      free text: what is broken\n"
     "  --symmetry K   override the part's symmetry: axial, mirror or glide\n"
     "  --order N      axial only: n-fold order 2..360, or 0 for continuous\n"
     "  --shift MM     glide only: the shift along the plane in mm (0 = search)\n"
-    "  --json         print the new instance as a JSON object instead of its id\n";
+    "  --json         print the new instance as a JSON object instead of its id\n" CLI_UNITS_HELP;
 
 static const char usage_list[] =
     "usage: symrec [--db FILE] instance list [--part P] [--json]\n"
@@ -153,14 +154,20 @@ bool cli_instance_table(sr_catalog *cat, const cli_instances *list, bool with_pa
 static int instance_add(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *part = NULL, *mesh_path = NULL, *serial = NULL, *received = NULL;
-    const char *notes = NULL, *sym_kind = NULL, *order = NULL, *shift = NULL;
+    const char *notes = NULL, *sym_kind = NULL, *order = NULL, *shift = NULL, *units = NULL;
     bool json = false;
     const cli_opt opts[] = {
-        {"--part", &part, NULL},         {"--mesh", &mesh_path, NULL},
-        {"--serial", &serial, NULL},     {"--received", &received, NULL},
-        {"--notes", &notes, NULL},       {"--symmetry", &sym_kind, NULL},
-        {"--order", &order, NULL},       {"--shift", &shift, NULL},
-        {"--json", NULL, &json},         {NULL, NULL, NULL},
+        {"--part", &part, NULL},
+        {"--mesh", &mesh_path, NULL},
+        {"--units", &units, NULL},
+        {"--serial", &serial, NULL},
+        {"--received", &received, NULL},
+        {"--notes", &notes, NULL},
+        {"--symmetry", &sym_kind, NULL},
+        {"--order", &order, NULL},
+        {"--shift", &shift, NULL},
+        {"--json", NULL, &json},
+        {NULL, NULL, NULL},
     };
     const cli_spec spec = {"instance add", usage_add, opts, 0, 0, NULL};
     int rc;
@@ -174,6 +181,9 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("bad --received '%s': expected a date YYYY-MM-DD", received);
     sr_symmetry sym;
     if (!cli_parse_symmetry(sym_kind, order, shift, 0, &sym))
+        return CLI_USAGE;
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
         return CLI_USAGE;
 
     sr_catalog *cat;
@@ -189,11 +199,17 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
     /* The part first: a wrong part number is reported before a large scan is read. */
     sr_status st = sr_catalog_part_find(cat, part, &p, &err);
     if (st == SR_OK)
-        st = sr_mesh_read(mesh_path, &mesh, &err);
+        st = cli_mesh_read(mesh_path, unit, &mesh, &unit, &err);
     if (st == SR_OK) {
         sr_instance_new inst = {
-            .part = part, .mesh = &mesh, .serial = serial, .received = received,
-            .notes = notes, .source_file = mesh_path, .symmetry = sym,
+            .part = part,
+            .mesh = &mesh,
+            .serial = serial,
+            .received = received,
+            .notes = notes,
+            .source_file = mesh_path,
+            .source_unit = unit,
+            .symmetry = sym,
         };
         st = sr_catalog_instance_add(cat, &inst, &id, &err);
     }
@@ -272,7 +288,8 @@ static void print_instance_text(const sr_instance_info *in, const sr_part_info *
     if (in->notes[0])
         cli_print_field(stdout, "  notes:      ", in->notes);
     printf("  symmetry:   %s\n", cli_sym_str(&in->symmetry, sym, sizeof sym));
-    printf("  mesh:       %zu vertices, %zu triangles\n", in->vertex_count, in->tri_count);
+    printf("  mesh:       %zu vertices, %zu triangles, read in %s\n", in->vertex_count,
+           in->tri_count, in->source_unit);
     cli_print_bbox(stdout, "  bbox:       ", in->bbox_min, in->bbox_max);
     printf("  area:       %.1f mm²\n", in->area_mm2);
     printf("  volume:     %.1f mm³\n", in->volume_mm3);

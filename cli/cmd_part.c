@@ -60,7 +60,7 @@ static const char usage_remove[] =
 
 static const char usage_add[] =
     "usage: symrec [--db FILE] part add --number P --name N --material M --mesh FILE\n"
-    "                               [--notes T] [--symmetry axial|mirror|glide]\n"
+    "                               [--units U] [--notes T] [--symmetry axial|mirror|glide]\n"
     "                               [--order N] [--shift MM] [--allow-open] [--json]\n"
     "\n"
     "Adds a part (a model) with its intact mesh and prints the new part's id. The mesh\n"
@@ -71,15 +71,16 @@ static const char usage_add[] =
     "  --name N       what the part is called (1..127 characters)\n"
     "  --material M   its material, one in the catalogue (see 'symrec materials list';\n"
     "                 add one with 'symrec materials add M --density G_CM3')\n"
-    "  --mesh FILE    the intact mesh: .stl .obj .ply .off .gltf .glb, in mm; at most\n"
-    "                 2 GiB, |coordinate| <= 1e6 mm, largest extent >= 1e-3 mm\n"
+    "  --mesh FILE    the intact mesh: .stl .obj .ply .off .gltf .glb, read in --units\n"
+    "                 and stored in mm with the unit noted; at most 2 GiB,\n"
+    "                 |coordinate| <= 1e6 mm, largest extent >= 1e-3 mm once in mm\n"
     "  --notes T      free text\n"
     "  --symmetry K   how the part is restored: axial, mirror or glide\n"
     "  --order N      axial only: n-fold order 2..360, or 0 for continuous (default 0)\n"
     "  --shift MM     glide only: the shift along the plane in mm (default 0 = search)\n"
     "  --allow-open   store a mesh that is not a closed solid anyway, with a warning\n"
     "                 (its volume is then not meaningful)\n"
-    "  --json         print the new part as a JSON object instead of its id\n";
+    "  --json         print the new part as a JSON object instead of its id\n" CLI_UNITS_HELP;
 
 static const char usage_list[] =
     "usage: symrec [--db FILE] part list [--name S] [--number S] [--material M] [--json]\n"
@@ -96,17 +97,19 @@ static const char usage_show[] =
     "usage: symrec [--db FILE] part show P [--json]\n"
     "\n"
     "Shows part P (its number, or its id) in full: name, material, notes, symmetry,\n"
-    "mesh size, bounding box (mm), area (mm²), volume (mm³) and its damaged instances.\n"
+    "mesh size and the unit its file was read in, bounding box (mm), area (mm²),\n"
+    "volume (mm³) and its damaged instances.\n"
     "\n"
     "  --json   one JSON object, with an \"instances\" array\n";
 
 static int part_add(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *number = NULL, *name = NULL, *material = NULL, *mesh_path = NULL;
-    const char *notes = NULL, *sym_kind = NULL, *order = NULL, *shift = NULL;
+    const char *notes = NULL, *sym_kind = NULL, *order = NULL, *shift = NULL, *units = NULL;
     bool json = false, allow_open = false;
     const cli_opt opts[] = {
         {"--allow-open", NULL, &allow_open},
+        {"--units", &units, NULL},
         {"--number", &number, NULL},
         {"--name", &name, NULL},
         {"--material", &material, NULL},
@@ -129,6 +132,9 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
     sr_symmetry sym;
     if (!cli_parse_symmetry(sym_kind, order, shift, 0, &sym))
         return CLI_USAGE;
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
+        return CLI_USAGE;
 
     sr_catalog *cat;
     if (!cli_open(ctx, CLI_WRITE, "add the part", &cat))
@@ -144,9 +150,10 @@ static int part_add(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         return CLI_FAIL;
     }
-    sr_status st = sr_mesh_read(mesh_path, &mesh, &err);
+    sr_status st = cli_mesh_read(mesh_path, unit, &mesh, &unit, &err);
     if (st == SR_OK) {
         sr_part_new part = {
+            .source_unit = unit,
             .number = number,
             .name = name,
             .material = material,
@@ -246,7 +253,8 @@ static void print_part_text(const sr_part_info *p)
         cli_print_field(stdout, "  notes:      ", p->notes);
     printf("  symmetry:   %s\n", cli_sym_str(&p->symmetry, sym, sizeof sym));
     if (p->mesh_id) {
-        printf("  mesh:       %zu vertices, %zu triangles\n", p->vertex_count, p->tri_count);
+        printf("  mesh:       %zu vertices, %zu triangles, read in %s\n", p->vertex_count,
+               p->tri_count, p->source_unit);
         cli_print_bbox(stdout, "  bbox:       ", p->bbox_min, p->bbox_max);
         printf("  area:       %.1f mm²\n", p->area_mm2);
         printf("  volume:     %.1f mm³\n", p->volume_mm3);

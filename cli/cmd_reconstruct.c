@@ -29,7 +29,7 @@
 #include "run/run_build.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"
+    "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE [--units U])\n"
     "              --symmetry axial|mirror|glide [--order N|auto] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
     "              [--gamma-axis G] [--gamma-plane G]\n"
@@ -53,6 +53,9 @@ static const char usage[] =
     "                  default for --symmetry)\n"
     "  --mesh FILE     reconstruct a mesh file instead (STL, OBJ, PLY, OFF, glTF, GLB;\n"
     "                  at most 2 GiB, |coordinate| <= 1e6 mm, extent >= 1e-3 mm)\n"
+    "  --units U       --mesh only: the unit FILE is drawn in: mm, cm, m or in\n"
+    "                  (default: mm for .stl .obj .ply .off, m for .gltf .glb); the\n"
+    "                  run and its outputs are in mm\n"
     "  --symmetry K    axial, mirror or glide\n"
     "  --order N       axial: n-fold order (2..360); default continuous. 'auto'\n"
     "                  finds it from the aligned layers (a gear's tooth count; 0 for\n"
@@ -69,7 +72,8 @@ static const char usage[] =
     "  --gamma-axis G, --gamma-plane G  one of the two alone, as 'params set' names them\n"
     "  --min-depth MM  smallest depth counted as damage, mm (overrides the set's)\n"
     "  --out DIR       write restored.<fmt>, patches.<fmt> and result.glb into DIR,\n"
-    "                  all in the frame of the input scan, as a set: DIR is a new\n"
+    "                  all in the frame of the input scan (restored and patches in\n"
+    "                  mm; result.glb in metres, Y up, as glTF means), as a set: DIR is a new\n"
     "                  folder, an empty one or one symrec wrote, replaced at once\n"
     "                  (a folder holding other files is refused before the run)\n"
     "  --format F      format of restored/patches (default stl)\n"
@@ -445,8 +449,9 @@ static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
         items[i] = (sr_scene_mesh){names[i], &r->sections[i - 1].patch, {0.1f, 0.75f, 0.95f, 1.0f}};
     }
     snprintf(path, sizeof path, "%s/result.glb", dir);
-    st = sr_scene_write(path, items, n, "{\"units\":\"mm\",\"generator\":\"symrec reconstruct\"}",
-                        &err);
+    st =
+        sr_scene_write(path, items, n,
+                       "{\"units\":\"m\",\"up\":\"Y\",\"generator\":\"symrec reconstruct\"}", &err);
     if (st != SR_OK)
         return cli_fail(st, &err);
     return CLI_OK;
@@ -504,9 +509,11 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *mesh_file = NULL, *kind = NULL, *order = NULL, *shift = NULL, *layers = NULL,
                *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
-               *params_name = NULL, *method = NULL, *gamma_axis = NULL, *gamma_plane = NULL;
+               *params_name = NULL, *method = NULL, *gamma_axis = NULL, *gamma_plane = NULL,
+               *units = NULL;
     bool json = false, no_union = false, no_record = false;
     const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},
+                            {"--units", &units, NULL},
                             {"--symmetry", &kind, NULL},
                             {"--order", &order, NULL},
                             {"--shift", &shift, NULL},
@@ -532,6 +539,12 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if ((npos == 1) == (mesh_file != NULL))
         return cli_usage_error("'reconstruct' needs an INSTANCE id or --mesh FILE, not both "
                                "(see 'symrec reconstruct --help')");
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
+        return CLI_USAGE;
+    if (units && !mesh_file)
+        return cli_usage_error("--units applies to --mesh FILE only (a catalogue instance is "
+                               "stored in mm)");
     /* Every option is checked before anything is opened. */
     int layers_v = 0, sectors_v = 0;
     double gamma_v = 0, gamma_axis_v = 0, gamma_plane_v = 0, min_depth_v = 0;
@@ -593,7 +606,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         st = sr_catalog_params_get(cat, params_name ? params_name : "default", &params, &err);
     }
     if (st == SR_OK && mesh_file) {
-        st = sr_mesh_read(mesh_file, &scan, &err);
+        st = cli_mesh_read(mesh_file, unit, &scan, NULL, &err);
         snprintf(source, sizeof source, "'%s'", mesh_file);
     } else if (st == SR_OK) {
         st = sr_catalog_instance_get(cat, id, &inst, &err);

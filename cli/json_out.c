@@ -101,9 +101,9 @@ static void json_vec3(json_out *j, const double v[3])
 }
 
 /* The mesh summary fields shared by parts and instances; null when there is no mesh. */
-static void json_mesh_fields(json_out *j, int64_t mesh_id, size_t vertex_count,
-                             size_t tri_count, double volume, double area,
-                             const double bmin[3], const double bmax[3])
+static void json_mesh_fields(json_out *j, int64_t mesh_id, size_t vertex_count, size_t tri_count,
+                             double volume, double area, const double bmin[3], const double bmax[3],
+                             const char *unit)
 {
     bool has = mesh_id != 0;
     json_key(j, "mesh_id");
@@ -123,6 +123,8 @@ static void json_mesh_fields(json_out *j, int64_t mesh_id, size_t vertex_count,
     has ? json_vec3(j, bmin) : json_null(j);
     json_key(j, "bbox_max_mm");
     has ? json_vec3(j, bmax) : json_null(j);
+    json_key(j, "source_unit"); /* the unit the file was drawn in; the figures are mm */
+    json_string(j, has && unit[0] ? unit : NULL);
 }
 
 void json_part(json_out *j, const sr_part_info *p)
@@ -144,8 +146,8 @@ void json_part_members(json_out *j, const sr_part_info *p)
     json_string(j, p->material);
     json_key(j, "notes");
     json_string(j, p->notes);
-    json_mesh_fields(j, p->mesh_id, p->vertex_count, p->tri_count, p->volume_mm3,
-                     p->area_mm2, p->bbox_min, p->bbox_max);
+    json_mesh_fields(j, p->mesh_id, p->vertex_count, p->tri_count, p->volume_mm3, p->area_mm2,
+                     p->bbox_min, p->bbox_max, p->source_unit);
     json_key(j, "symmetry");
     json_symmetry(j, &p->symmetry);
     json_key(j, "instance_count");
@@ -175,8 +177,8 @@ void json_instance_members(json_out *j, const sr_instance_info *in)
     json_string(j, in->received[0] ? in->received : NULL);
     json_key(j, "notes");
     json_string(j, in->notes);
-    json_mesh_fields(j, in->mesh_id, in->vertex_count, in->tri_count, in->volume_mm3,
-                     in->area_mm2, in->bbox_min, in->bbox_max);
+    json_mesh_fields(j, in->mesh_id, in->vertex_count, in->tri_count, in->volume_mm3, in->area_mm2,
+                     in->bbox_min, in->bbox_max, in->source_unit);
     json_key(j, "symmetry");
     json_symmetry(j, &in->symmetry);
     json_key(j, "created_at");

@@ -24,7 +24,7 @@ static const char usage[] =
     "  --db FILE    the catalogue; default: $SYMREC_DB if set, else " CLI_DEFAULT_DB "\n"
     "  --read-only  open the catalogue read-only: commands that only read work (as they\n"
     "               do on a catalogue this user cannot write), the others refuse\n"
-    "  --quiet, -q  no progress and no notes on stderr (errors and warnings stay)\n"
+    "  --quiet, -q  no progress, notes or warnings on stderr (errors stay)\n"
     "               The options above may also follow the command\n"
     "               ('symrec part list --db shop.db').\n"
     "  --help       this text\n"

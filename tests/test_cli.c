@@ -1256,7 +1256,7 @@ static void part_show_by_number_and_by_id(void **state)
     expect_contains(a.out, "  name:       block\n");
     expect_contains(a.out, "  material:   AlSi10Mg\n");
     expect_contains(a.out, "  symmetry:   -\n");
-    expect_contains(a.out, "  mesh:       8 vertices, 12 triangles\n");
+    expect_contains(a.out, "  mesh:       8 vertices, 12 triangles, read in mm\n");
     expect_contains(a.out, "x 0.000 .. 10.000, y 0.000 .. 20.000, z 0.000 .. 30.000 mm\n");
     expect_contains(a.out, "  area:       2200.0 mm²\n");
     expect_contains(a.out, "  volume:     6000.0 mm³\n");

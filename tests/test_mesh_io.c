@@ -951,7 +951,7 @@ static void gltf_strips_short_indices_and_unindexed_triangles_read(void **state)
         0);
     sr_mesh m = {0};
     sr_err err = {{0}};
-    sr_status st = sr_mesh_read(path, &m, &err);
+    sr_status st = sr_mesh_read_units(path, SR_UNIT_MM, &m, &err); /* numbers as written */
     if (st)
         print_error("%s\n", err.msg);
     assert_int_equal(st, SR_OK);
@@ -992,7 +992,8 @@ static void gltf_with_external_buffer_reads_and_places(void **state)
     assert_int_equal(st, SR_OK);
     assert_int_equal(m.tri_count, 1);
     assert_int_equal(m.vertex_count, 3);
-    assert_true(m.xyz[3] == 6.0);   /* x = 1, moved by the node's translation 5 */
+    /* x = 1, moved by the node's translation 5: 6 m, glTF's unit, is 6000 mm */
+    assert_true(m.xyz[3] == 6000.0);
     sr_mesh_release(&m);
 }
 

@@ -3,7 +3,10 @@
  * accessor and bufferView range-checked before a byte is read, triangle lists, strips
  * and fans, the default scene's node hierarchy walked with each node's transform, mesh
  * instances placed (a mirroring transform flips the winding) and merged for
- * sr_mesh_read, or kept apart with names and colours for sr_scene_read.
+ * sr_mesh_read, or kept apart with names and colours for sr_scene_read. A file symrec
+ * wrote (its one root node's extras name the symrec frame) is turned back from glTF's
+ * Y up to symrec's Z up; the file's unit (the caller's for a merged mesh, metres for
+ * sr_scene_read) is scaled to mm in the same transform.
  */
 #include "bridge/mesh_io_int.hpp"
 
@@ -273,13 +276,34 @@ sr_status visit_node(const char *path, const tinygltf::Model &m, int ni, const d
     return SR_OK;
 }
 
-/* Mesh instances of the default scene (or scene 0); every mesh once, untransformed,
- * when the file has no scene. */
-sr_status gltf_instances(const char *path, const tinygltf::Model &m, std::vector<Instance> &out,
-                         sr_err *err)
+size_t default_scene(const tinygltf::Model &m)
 {
-    double id[12];
-    sr_xform_identity(id);
+    return m.defaultScene >= 0 && (size_t)m.defaultScene < m.scenes.size() ? (size_t)m.defaultScene
+                                                                           : 0;
+}
+
+/* Whether symrec wrote the file (sr_scene_write): the default scene has one root node
+ * whose extras name the symrec frame. Its transform takes symrec's mm, Z up, to glTF's
+ * metres, Y up. */
+bool symrec_frame(const tinygltf::Model &m)
+{
+    if (m.scenes.empty())
+        return false;
+    const std::vector<int> &roots = m.scenes[default_scene(m)].nodes;
+    if (roots.size() != 1 || roots[0] < 0 || (size_t)roots[0] >= m.nodes.size())
+        return false;
+    const tinygltf::Value &x = m.nodes[(size_t)roots[0]].extras;
+    return x.IsObject() && x.Has("symrec_frame") && x.Get("symrec_frame").IsString();
+}
+
+/* Mesh instances of the default scene (or scene 0); every mesh once, untransformed
+ * but for the unit, when the file has no scene. The transforms take the file's numbers
+ * to mm (times mm_per_unit) in the glTF scene's frame (Y up), but for a file symrec
+ * wrote, which is turned back to Z up (y = -z', z = y'). */
+sr_status gltf_instances(const char *path, const tinygltf::Model &m, double mm_per_unit,
+                         std::vector<Instance> &out, sr_err *err)
+{
+    double id[12] = {mm_per_unit, 0, 0, 0, 0, mm_per_unit, 0, 0, 0, 0, mm_per_unit, 0};
     if (m.scenes.empty()) {
         for (size_t i = 0; i < m.meshes.size(); i++) {
             Instance in;
@@ -289,10 +313,14 @@ sr_status gltf_instances(const char *path, const tinygltf::Model &m, std::vector
         }
         return SR_OK;
     }
-    size_t s = m.defaultScene >= 0 && (size_t)m.defaultScene < m.scenes.size()
-                   ? (size_t)m.defaultScene : 0;
-    for (int root : m.scenes[s].nodes) {
-        sr_status st = visit_node(path, m, root, id, 0, out, err);
+    double top[12];
+    memcpy(top, id, sizeof top);
+    if (symrec_frame(m)) {
+        static const double y_up_to_z_up[12] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0};
+        sr_xform_mul(top, id, y_up_to_z_up);
+    }
+    for (int root : m.scenes[default_scene(m)].nodes) {
+        sr_status st = visit_node(path, m, root, top, 0, out, err);
         if (st != SR_OK)
             return st;
     }
@@ -300,9 +328,22 @@ sr_status gltf_instances(const char *path, const tinygltf::Model &m, std::vector
 }
 
 /* A mesh copy placed by a node transform; a mirroring transform flips the triangles so
- * that they stay outward-facing. */
-sr_status place(const sr_mesh &src, const double xf[12], sr_mesh *out)
+ * that they stay outward-facing. The linear part's entries within 1e-12 of 0 or +-1 are
+ * rounding (a quarter turn from the rounded sqrt(0.5), a scale of 0.001 times 1000):
+ * they are made exact, so symrec's own file reads back to the very coordinates it
+ * wrote and a 90-degree turn moves no vertex off its grid. */
+sr_status place(const sr_mesh &src, const double xf_in[12], sr_mesh *out)
 {
+    double xf[12];
+    memcpy(xf, xf_in, sizeof xf);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double &e = xf[4 * r + c];
+            if (std::fabs(e) < 1e-12)
+                e = 0;
+            else if (std::fabs(std::fabs(e) - 1) < 1e-12)
+                e = std::copysign(1.0, e);
+        }
     sr_mesh c;
     sr_status st = sr_mesh_copy(&c, &src);
     if (st != SR_OK)
@@ -317,14 +358,14 @@ sr_status place(const sr_mesh &src, const double xf[12], sr_mesh *out)
 } // namespace
 
 sr_status read_gltf_merged(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
-                           sr_mesh *out, sr_err *err)
+                           double mm_per_unit, sr_mesh *out, sr_err *err)
 {
     tinygltf::Model model;
     sr_status st = gltf_load(path, fmt, file, files_allowed, model, err);
     if (st != SR_OK)
         return st;
     std::vector<Instance> inst;
-    st = gltf_instances(path, model, inst, err);
+    st = gltf_instances(path, model, mm_per_unit, inst, err);
     if (st != SR_OK)
         return st;
     std::vector<MeshGuard> meshes(model.meshes.size());
@@ -366,7 +407,7 @@ sr_status scene_read(const char *path, sr_scene *out, sr_err *err)
     if (st != SR_OK)
         return st;
     std::vector<Instance> inst;
-    st = gltf_instances(path, model, inst, err);
+    st = gltf_instances(path, model, sr_unit_mm(SR_UNIT_M), inst, err);
     if (st != SR_OK)
         return st;
     struct Part {
@@ -391,13 +432,10 @@ sr_status scene_read(const char *path, sr_scene *out, sr_err *err)
                 first = &in;
                 break;
             }
-        if (first) {
-            if (place(raw.m, first->xf, &p.mesh.m) != SR_OK)
-                return rfail(err, SR_E_NOMEM, path, "out of memory for mesh %zu", mi);
-        } else {
-            p.mesh.m = raw.m;
-            raw.m = sr_mesh{};
-        }
+        /* a mesh no node places is in metres (glTF's unit), scaled to mm */
+        double mm[12] = {1000, 0, 0, 0, 0, 1000, 0, 0, 0, 0, 1000, 0};
+        if (place(raw.m, first ? first->xf : mm, &p.mesh.m) != SR_OK)
+            return rfail(err, SR_E_NOMEM, path, "out of memory for mesh %zu", mi);
         p.name = model.meshes[mi].name;
         if (p.name.empty())
             for (const tinygltf::Node &n : model.nodes)

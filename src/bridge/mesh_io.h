@@ -19,6 +19,7 @@
 #include <stddef.h>
 
 #include "mesh/mesh.h"
+#include "mesh/units.h"
 #include "base/status.h"
 
 typedef enum sr_format {
@@ -37,6 +38,11 @@ sr_format sr_format_from_path(const char *path);
 /* Lower-case extension name of a format ("stl", ...), "unknown" otherwise. */
 const char *sr_format_name(sr_format format);
 
+/* The unit a format's numbers are in when the caller states none: SR_UNIT_M for glTF and
+ * GLB (glTF's own unit, metres), SR_UNIT_MM for STL, OBJ, PLY and OFF (which state no
+ * unit; a shop's CAD writes mm). SR_UNIT_MM for SR_FMT_UNKNOWN. */
+sr_unit sr_format_unit(sr_format format);
+
 /* Largest mesh file read, in bytes: 2 GiB. Scans run to 1-5 M triangles; an ASCII STL
  * of 5 M triangles takes about 1.4 GB, the same as binary STL 250 MB, so 2 GiB holds
  * every real scan in any format, and a file above it is refused from its size (stat)
@@ -49,8 +55,20 @@ const char *sr_format_name(sr_format format);
  * envelope of io/envelope.h (|coordinate| <= 1e6 mm, bounding box >= 1e-3 mm, some
  * triangle with an area; triangles that repeat a vertex dropped); on failure *out is
  * untouched. A file larger than SR_MESH_FILE_MAX is refused without being read. The
- * file's bytes go through sr_mesh_read_memory's path. */
+ * file's bytes go through sr_mesh_read_memory's path. The file is read in its format's
+ * own unit (sr_format_unit) and scaled to mm: sr_mesh_read_units with SR_UNIT_DEFAULT.
+ *
+ * glTF/GLB: the default scene's node transforms are applied, so the coordinates are
+ * the scene's, in the glTF frame (Y up). A file symrec wrote (sr_scene_write: its one
+ * root node says so in its extras) is turned back into symrec's frame (Z up), so a
+ * write and a read give the same millimetre coordinates; a foreign file keeps its
+ * axes. */
 sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err);
+
+/* sr_mesh_read with the unit the file's numbers are in stated (SR_UNIT_DEFAULT: the
+ * format's own): every coordinate is multiplied by sr_unit_mm(unit) before the
+ * physical envelope (which is in mm) is checked, so *out is in mm. */
+sr_status sr_mesh_read_units(const char *path, sr_unit unit, sr_mesh *out, sr_err *err);
 
 /* The same check-and-read path on a file's bytes in memory (data, size; not modified,
  * need not be NUL-terminated; size at most SR_MESH_FILE_MAX) in format fmt; name is
@@ -79,7 +97,12 @@ typedef struct sr_scene_mesh {
 /* Writes several meshes, one node + mesh + material each, to a .gltf (buffer embedded
  * as a data URI) or .glb file. extras_json, if non-NULL, is a JSON object stored as the
  * asset's `extras` (metadata such as run id, units). Positions are float32 as glTF
- * requires, with POSITION min/max set. */
+ * requires, with POSITION min/max set, in symrec's mm with Z up; so that the file means
+ * what glTF says (metres, Y up), the scene has one root node carrying the change of
+ * frame (scale 0.001 and a rotation of -90 degrees about X: x to x, z to y, y to -z),
+ * the meshes' nodes its children, and the root's extras say so
+ * ({"symrec_frame": "children in mm, Z up"}), which the readers undo exactly.
+ * sr_mesh_write's glTF/GLB is the same with one mesh. */
 sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
                          const char *extras_json, sr_err *err);
 
@@ -92,8 +115,9 @@ typedef struct sr_scene {
     char *extras_json;       /* the asset's extras as JSON text, or NULL; owned */
 } sr_scene;
 
-/* Reads every mesh of a glTF/GLB file separately. External buffers must lie inside the
- * file's own folder. Each mesh, placed by its node, must lie inside the physical
+/* Reads every mesh of a glTF/GLB file separately, in metres (glTF's unit) scaled to mm,
+ * placed by its nodes, a file symrec wrote turned back to Z up (as sr_mesh_read). External
+ * buffers must lie inside the file's own folder. Each mesh must lie inside the physical
  * envelope (as sr_mesh_read's). On failure *out is untouched. */
 sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err);
 

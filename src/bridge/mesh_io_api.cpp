@@ -6,7 +6,9 @@
  * exception barrier: every extern "C" entry point catches all exceptions.
  *
  * sr_mesh_read reads the file's bytes and goes on exactly as sr_mesh_read_memory does
- * (mesh_from_bytes), so the path the fuzz targets exercise is the real one.
+ * (mesh_from_bytes), so the path the fuzz targets exercise is the real one. A read
+ * result is scaled to mm (the stated unit, or the format's own) before the envelope
+ * check, so the envelope's limits are millimetres whatever the file's unit.
  */
 #include "bridge/mesh_io_int.hpp"
 
@@ -45,17 +47,24 @@ const char *const KNOWN_EXTENSIONS = "unknown extension (known: .stl .obj .ply .
 /* The one read path: a file's bytes (owned, NUL appended; an OpenMesh format's may be
  * rewritten in place) in format fmt, checked, parsed, validated and held to the
  * physical envelope. files_allowed: a glTF may name external buffers beside `name`. */
-sr_status mesh_from_bytes(const char *name, sr_format fmt, Bytes &file, bool files_allowed,
-                          sr_mesh *out, sr_err *err)
+sr_status mesh_from_bytes(const char *name, sr_format fmt, sr_unit unit, Bytes &file,
+                          bool files_allowed, sr_mesh *out, sr_err *err)
 {
     MeshGuard g;
     sr_status st;
-    if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB)
-        st = read_gltf_merged(name, fmt, file, files_allowed, &g.m, err);
+    /* in mm: the unit the envelope and every later stage speak (a glTF's scale goes
+     * into its node transforms) */
+    double mm = sr_unit_mm(unit == SR_UNIT_DEFAULT ? sr_format_unit(fmt) : unit);
+    bool gltf = fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB;
+    if (gltf)
+        st = read_gltf_merged(name, fmt, file, files_allowed, mm, &g.m, err);
     else
         st = read_openmesh(name, fmt, file, &g.m, err);
     if (st != SR_OK)
         return st;
+    if (!gltf && mm != 1.0)
+        for (size_t i = 0; i < 3 * g.m.vertex_count; i++)
+            g.m.xyz[i] *= mm;
     st = sr_mesh_validate(&g.m, name, nullptr, err);
     if (st != SR_OK)
         return st;
@@ -68,7 +77,7 @@ sr_status mesh_from_bytes(const char *name, sr_format fmt, Bytes &file, bool fil
     return SR_OK;
 }
 
-sr_status mesh_read(const char *path, sr_mesh *out, sr_err *err)
+sr_status mesh_read(const char *path, sr_unit unit, sr_mesh *out, sr_err *err)
 {
     if (!path || !out)
         return sr_err_set(err, SR_E_INVALID, "no file name given");
@@ -79,7 +88,7 @@ sr_status mesh_read(const char *path, sr_mesh *out, sr_err *err)
     sr_status st = read_file(path, MESH_FILE_MAX, file, err);
     if (st != SR_OK)
         return st;
-    return mesh_from_bytes(path, fmt, file, true, out, err);
+    return mesh_from_bytes(path, fmt, unit, file, true, out, err);
 }
 
 sr_status mesh_read_memory(const unsigned char *data, size_t size, sr_format fmt, const char *name,
@@ -108,7 +117,7 @@ sr_status mesh_read_memory(const unsigned char *data, size_t size, sr_format fmt
     memcpy(file.data, data, size);
     file.data[size] = 0;
     file.size = size;
-    return mesh_from_bytes(name, fmt, file, false, out, err);
+    return mesh_from_bytes(name, fmt, SR_UNIT_DEFAULT, file, false, out, err);
 }
 
 sr_status mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts *opts, sr_err *err)
@@ -196,10 +205,20 @@ extern "C" const char *sr_format_name(sr_format format)
     }
 }
 
+extern "C" sr_unit sr_format_unit(sr_format format)
+{
+    return format == SR_FMT_GLTF || format == SR_FMT_GLB ? SR_UNIT_M : SR_UNIT_MM;
+}
+
 extern "C" sr_status sr_mesh_read(const char *path, sr_mesh *out, sr_err *err)
 {
+    return sr_mesh_read_units(path, SR_UNIT_DEFAULT, out, err);
+}
+
+extern "C" sr_status sr_mesh_read_units(const char *path, sr_unit unit, sr_mesh *out, sr_err *err)
+{
     try {
-        return mesh_read(path, out, err);
+        return mesh_read(path, unit, out, err);
     }
     CATCH_ALL(err, "read", path)
 }

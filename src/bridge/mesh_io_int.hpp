@@ -117,9 +117,10 @@ sr_status gltf_load(const char *path, sr_format fmt, const Bytes &file, bool fil
                     tinygltf::Model &model, sr_err *err);
 
 /* A glTF/GLB file's mesh instances, placed and merged into one mesh (gltf_meshes.cpp);
- * file and files_allowed as for gltf_load. */
+ * file and files_allowed as for gltf_load; the file's numbers are multiplied by
+ * mm_per_unit (1000 for glTF's metres) as they are placed. */
 sr_status read_gltf_merged(const char *path, sr_format fmt, const Bytes &file, bool files_allowed,
-                           sr_mesh *out, sr_err *err);
+                           double mm_per_unit, sr_mesh *out, sr_err *err);
 
 /* A glTF/GLB file's meshes apart, with names and colours (gltf_meshes.cpp). */
 sr_status scene_read(const char *path, sr_scene *out, sr_err *err);

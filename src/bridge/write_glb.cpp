@@ -1,8 +1,9 @@
 /*
  * write_glb.cpp: glTF and GLB written through tinygltf 2.7 (see mesh_io.h's
  * sr_scene_write): one node, mesh and material per input mesh, positions as float32 with
- * POSITION min/max, the caller's extras JSON as the asset's extras; the result checked
- * (a GLB's chunks by src/io/) before the atomic write.
+ * POSITION min/max, under one root node that takes symrec's mm, Z up, to glTF's metres,
+ * Y up; the caller's extras JSON as the asset's extras; the result checked (a GLB's
+ * chunks by src/io/) before the atomic write.
  */
 #include "bridge/mesh_io_int.hpp"
 
@@ -189,8 +190,20 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
         node.name = gm.name;
         node.mesh = (int)i;
         model.nodes.push_back(node);
-        scene.nodes.push_back((int)i);
     }
+    /* the root: symrec's mm, Z up, to glTF's metres, Y up (x to x, z to y, y to -z: a
+     * rotation of -90 degrees about X); the readers know it by its extras */
+    tinygltf::Node root;
+    root.name = "symrec frame (children in mm, Z up)";
+    root.scale = {0.001, 0.001, 0.001};
+    root.rotation = {-0.7071067811865476, 0.0, 0.0, 0.7071067811865476};
+    for (size_t i = 0; i < count; i++)
+        root.children.push_back((int)i);
+    tinygltf::Value::Object frame;
+    frame["symrec_frame"] = tinygltf::Value(std::string("children in mm, Z up"));
+    root.extras = tinygltf::Value(std::move(frame));
+    scene.nodes.push_back((int)model.nodes.size());
+    model.nodes.push_back(std::move(root));
     tinygltf::Buffer buffer;
     buffer.data = std::move(bin);
     model.buffers.push_back(std::move(buffer));

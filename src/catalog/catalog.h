@@ -21,6 +21,7 @@
 #include <stdint.h>
 
 #include "mesh/mesh.h"
+#include "mesh/units.h"
 #include "base/status.h"
 #include "base/symmetry.h"
 #include "run/run.h"
@@ -88,6 +89,8 @@ typedef struct sr_part_info {
     size_t vertex_count, tri_count;
     double volume_mm3, area_mm2;
     double bbox_min[3], bbox_max[3];
+    char source_unit[4];        /* unit the mesh file was drawn in ("mm", "cm", "m", "in";
+                                 * "" without a mesh); the figures are mm whatever it was */
     char created_at[32];        /* UTC, ISO 8601 */
     int64_t instance_count;
     sr_symmetry symmetry;       /* part-level symmetry; kind SR_SYM_NONE if not set */
@@ -101,6 +104,8 @@ typedef struct sr_part_new {
     const char *notes;          /* optional */
     const sr_mesh *mesh;        /* optional intact model (validated before storing) */
     const char *source_file;    /* optional: where the mesh came from */
+    sr_unit source_unit;        /* the unit that file was drawn in (the mesh is mm);
+                                 * SR_UNIT_DEFAULT = mm */
     sr_symmetry symmetry;       /* optional: kind SR_SYM_NONE = not set */
     int allow_open;             /* non-zero: store a mesh that is not a closed solid */
 } sr_part_new;
@@ -152,6 +157,7 @@ typedef struct sr_instance_info {
     size_t vertex_count, tri_count;
     double volume_mm3, area_mm2;
     double bbox_min[3], bbox_max[3];
+    char source_unit[4]; /* unit the scan file was drawn in ("mm", "cm", "m", "in") */
     char created_at[32];
     sr_symmetry symmetry;       /* instance override, else the part's; NONE if neither */
 } sr_instance_info;
@@ -163,6 +169,7 @@ typedef struct sr_instance_new {
     const char *received;       /* optional YYYY-MM-DD; default today (UTC) */
     const char *notes;          /* optional */
     const char *source_file;    /* optional */
+    sr_unit source_unit;        /* the unit that file was drawn in; SR_UNIT_DEFAULT = mm */
     sr_symmetry symmetry;       /* optional override; SR_SYM_NONE = use the part's */
 } sr_instance_new;
 

@@ -10,18 +10,19 @@
 #include <string.h>
 
 /* Columns: 0 id, 1 part_id, 2 part number, 3 serial, 4 received, 5 notes, 6 mesh_id,
- * 7..16 mesh figures, 17 created_at, 18..20 override symmetry, 21..23 part symmetry. */
-#define INSTANCE_SELECT                                                                 \
-    "SELECT i.id, i.part_id, p.number, coalesce(i.serial, ''), coalesce(i.received, ''),"   \
-    " i.notes, i.mesh_id,"                                                                \
-    " me.vertex_count, me.tri_count, me.volume_mm3, me.area_mm2,"                        \
-    " me.bbox_min_x, me.bbox_min_y, me.bbox_min_z, me.bbox_max_x, me.bbox_max_y,"        \
-    " me.bbox_max_z, i.created_at,"                                                       \
-    " si.kind, si.order_n, si.shift_mm, sp.kind, sp.order_n, sp.shift_mm"                 \
-    " FROM instances i"                                                                   \
-    " JOIN parts p ON p.id = i.part_id"                                                   \
-    " JOIN meshes me ON me.id = i.mesh_id"                                                \
-    " LEFT JOIN symmetries si ON si.instance_id = i.id"                                   \
+ * 7..16 mesh figures, 17 created_at, 18..20 override symmetry, 21..23 part symmetry,
+ * 24 the scan's source unit. */
+#define INSTANCE_SELECT                                                                            \
+    "SELECT i.id, i.part_id, p.number, coalesce(i.serial, ''), coalesce(i.received, ''),"          \
+    " i.notes, i.mesh_id,"                                                                         \
+    " me.vertex_count, me.tri_count, me.volume_mm3, me.area_mm2,"                                  \
+    " me.bbox_min_x, me.bbox_min_y, me.bbox_min_z, me.bbox_max_x, me.bbox_max_y,"                  \
+    " me.bbox_max_z, i.created_at,"                                                                \
+    " si.kind, si.order_n, si.shift_mm, sp.kind, sp.order_n, sp.shift_mm, me.source_unit"          \
+    " FROM instances i"                                                                            \
+    " JOIN parts p ON p.id = i.part_id"                                                            \
+    " JOIN meshes me ON me.id = i.mesh_id"                                                         \
+    " LEFT JOIN symmetries si ON si.instance_id = i.id"                                            \
     " LEFT JOIN symmetries sp ON sp.part_id = i.part_id"
 
 static void read_instance(sqlite3_stmt *stmt, sr_instance_info *out)
@@ -46,6 +47,7 @@ static void read_instance(sqlite3_stmt *stmt, sr_instance_info *out)
     sr_cat_column_symmetry(stmt, 18, &out->symmetry);
     if (out->symmetry.kind == SR_SYM_NONE)
         sr_cat_column_symmetry(stmt, 21, &out->symmetry);
+    sr_cat_column_text(stmt, 24, out->source_unit, sizeof out->source_unit);
 }
 
 /* True for a real calendar date written YYYY-MM-DD (years 0001..9999). */
@@ -102,6 +104,7 @@ sr_status sr_catalog_instance_add(sr_catalog *cat, const sr_instance_new *inst,
     st = sr_cat_mesh_row_build(cat, inst->mesh, what, inst->source_file, &mesh_row, err);
     if (st != SR_OK)
         return st;
+    mesh_row.source_unit = inst->source_unit;
 
     st = sr_cat_begin(cat, err);
     if (st != SR_OK) {

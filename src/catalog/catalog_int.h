@@ -111,6 +111,7 @@ typedef struct sr_cat_mesh_row {
     void *blob;             /* sr_mesh_blob_encode output, owned */
     size_t blob_size;
     const char *source_file; /* borrowed; NULL or "" = none */
+    sr_unit source_unit;     /* unit the source file was drawn in; SR_UNIT_DEFAULT = mm */
 } sr_cat_mesh_row;
 
 /* Validates `mesh` (sr_mesh_validate, naming `what`) and fills *out. SR_E_INVALID for a

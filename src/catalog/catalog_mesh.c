@@ -64,12 +64,20 @@ sr_status sr_cat_mesh_row_insert(sr_catalog *cat, const sr_cat_mesh_row *row,
                                  int64_t *out_id, sr_err *err)
 {
     sqlite3_stmt *stmt;
+    /* A mesh in mm (every one symrec builds, and most files) leaves source_unit to the
+     * column's DEFAULT 'mm' (sql/005_mesh_units.sql): the row is the same, and the
+     * statement also runs on the older schemas the migration tests build. */
+    bool mm = row->source_unit == SR_UNIT_DEFAULT || row->source_unit == SR_UNIT_MM;
     sr_status st = sr_cat_prepare(
         cat,
-        "INSERT INTO meshes (vertex_count, tri_count, volume_mm3, area_mm2,"
-        " bbox_min_x, bbox_min_y, bbox_min_z, bbox_max_x, bbox_max_y, bbox_max_z,"
-        " closed, source_file, format_version, data)"
-        " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14)",
+        mm ? "INSERT INTO meshes (vertex_count, tri_count, volume_mm3, area_mm2,"
+             " bbox_min_x, bbox_min_y, bbox_min_z, bbox_max_x, bbox_max_y, bbox_max_z,"
+             " closed, source_file, format_version, data)"
+             " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14)"
+           : "INSERT INTO meshes (vertex_count, tri_count, volume_mm3, area_mm2,"
+             " bbox_min_x, bbox_min_y, bbox_min_z, bbox_max_x, bbox_max_y, bbox_max_z,"
+             " closed, source_file, format_version, data, source_unit)"
+             " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15)",
         &stmt, err);
     if (st != SR_OK)
         return st;
@@ -85,6 +93,8 @@ sr_status sr_cat_mesh_row_insert(sr_catalog *cat, const sr_cat_mesh_row *row,
     sqlite3_bind_int(stmt, 11, row->closed);
     sr_cat_bind_opt_text(stmt, 12, row->source_file);
     sqlite3_bind_int(stmt, 13, SR_MESH_BLOB_VERSION);
+    if (!mm)
+        sqlite3_bind_text(stmt, 15, sr_unit_name(row->source_unit), -1, SQLITE_STATIC);
     /* SQLITE_STATIC: the row outlives the statement, which is finalized below. */
     if (sqlite3_bind_blob64(stmt, 14, row->blob, row->blob_size, SQLITE_STATIC) != SQLITE_OK) {
         st = sr_cat_db_error(cat, err, "store a mesh of %zu bytes", row->blob_size);

@@ -11,17 +11,18 @@
 
 /* One SELECT for a part's listing row, shared by find and list. Columns:
  * 0 id, 1 number, 2 name, 3 material, 4 notes, 5 mesh_id, 6..15 mesh figures,
- * 16 created_at, 17 instance count, 18..20 symmetry kind, order, shift. */
-#define PART_SELECT                                                                     \
-    "SELECT p.id, p.number, p.name, coalesce(m.name, ''), p.notes, coalesce(p.mesh_id, 0),"  \
-    " me.vertex_count, me.tri_count, me.volume_mm3, me.area_mm2,"                        \
-    " me.bbox_min_x, me.bbox_min_y, me.bbox_min_z, me.bbox_max_x, me.bbox_max_y,"        \
-    " me.bbox_max_z, p.created_at,"                                                       \
-    " (SELECT count(*) FROM instances i WHERE i.part_id = p.id),"                         \
-    " s.kind, s.order_n, s.shift_mm"                                                      \
-    " FROM parts p"                                                                       \
-    " LEFT JOIN materials m ON m.id = p.material_id"                                      \
-    " LEFT JOIN meshes me ON me.id = p.mesh_id"                                           \
+ * 16 created_at, 17 instance count, 18..20 symmetry kind, order, shift, 21 the mesh's
+ * source unit (NULL without a mesh). */
+#define PART_SELECT                                                                                \
+    "SELECT p.id, p.number, p.name, coalesce(m.name, ''), p.notes, coalesce(p.mesh_id, 0),"        \
+    " me.vertex_count, me.tri_count, me.volume_mm3, me.area_mm2,"                                  \
+    " me.bbox_min_x, me.bbox_min_y, me.bbox_min_z, me.bbox_max_x, me.bbox_max_y,"                  \
+    " me.bbox_max_z, p.created_at,"                                                                \
+    " (SELECT count(*) FROM instances i WHERE i.part_id = p.id),"                                  \
+    " s.kind, s.order_n, s.shift_mm, me.source_unit"                                               \
+    " FROM parts p"                                                                                \
+    " LEFT JOIN materials m ON m.id = p.material_id"                                               \
+    " LEFT JOIN meshes me ON me.id = p.mesh_id"                                                    \
     " LEFT JOIN symmetries s ON s.part_id = p.id"
 
 static void read_part(sqlite3_stmt *stmt, sr_part_info *out)
@@ -44,6 +45,7 @@ static void read_part(sqlite3_stmt *stmt, sr_part_info *out)
     sr_cat_column_text(stmt, 16, out->created_at, sizeof out->created_at);
     out->instance_count = sqlite3_column_int64(stmt, 17);
     sr_cat_column_symmetry(stmt, 18, &out->symmetry);
+    sr_cat_column_text(stmt, 21, out->source_unit, sizeof out->source_unit);
 }
 
 void sr_cat_column_symmetry(sqlite3_stmt *stmt, int col, sr_symmetry *out)
@@ -217,6 +219,7 @@ sr_status sr_catalog_part_add(sr_catalog *cat, const sr_part_new *part, int64_t 
         st = sr_cat_mesh_row_build(cat, part->mesh, what, part->source_file, &mesh_row, err);
         if (st != SR_OK)
             return st;
+        mesh_row.source_unit = part->source_unit;
     }
 
     st = sr_cat_begin(cat, err);
