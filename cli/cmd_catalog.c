@@ -51,11 +51,15 @@ static const char usage_check[] =
     "           \"problems\": [...]}\n";
 
 static const char usage_init[] =
-    "usage: symrec [--db FILE] catalog init\n"
+    "usage: symrec [--db FILE] catalog init [--json]\n"
     "\n"
     "Creates the catalogue FILE (default $SYMREC_DB, else " CLI_DEFAULT_DB ") if it does\n"
     "not exist (or is an empty file), or migrates an existing one to the current schema.\n"
-    "Prints what it did and the schema version. Running it again changes nothing.\n";
+    "Prints what it did and the schema version. Running it again changes nothing.\n"
+    "\n"
+    "  --json   one JSON object: {\"path\", \"action\" (\"created\", \"initialised\" (an\n"
+    "           empty file), \"migrated\" or \"unchanged\"), \"schema_before\" (null when\n"
+    "           created), \"schema_version\"}\n";
 
 static const char usage_info[] =
     "usage: symrec [--db FILE] catalog info [--json]\n"
@@ -68,7 +72,8 @@ static const char usage_info[] =
 
 static int catalog_init(const cli_ctx *ctx, int argc, char **argv)
 {
-    static const cli_opt opts[] = {{NULL, NULL, NULL}};
+    bool json = false;
+    const cli_opt opts[] = {{"--json", NULL, &json}, {NULL, NULL, NULL}};
     const cli_spec spec = {"catalog init", usage_init, opts, 0, 0, NULL};
     int rc;
     if (!cli_parse(&spec, argc, argv, NULL, NULL, &rc))
@@ -82,17 +87,42 @@ static int catalog_init(const cli_ctx *ctx, int argc, char **argv)
     sr_catalog *cat;
     if (!cli_open(ctx, CLI_CREATE, "create the catalogue", &cat))
         return CLI_FAIL;
-    if (was_empty)
+    int before = sr_catalog_schema_opened(cat), now = sr_catalog_schema_version(cat);
+    const char *action = was_empty      ? "initialised"
+                         : !existed     ? "created"
+                         : before < now ? "migrated"
+                                        : "unchanged";
+    rc = CLI_OK;
+    if (json) {
+        json_out j;
+        json_init(&j, stdout);
+        json_object_begin(&j);
+        json_key(&j, "path");
+        json_string(&j, sr_catalog_path(cat));
+        json_key(&j, "action");
+        json_string(&j, action);
+        json_key(&j, "schema_before");
+        if (existed && !was_empty)
+            json_int(&j, before);
+        else
+            json_null(&j);
+        json_key(&j, "schema_version");
+        json_int(&j, now);
+        json_object_end(&j);
+        rc = json_finish(&j);
+    } else if (was_empty) {
         printf("initialised empty file '%s' as a catalogue (schema version %d)\n",
-               sr_catalog_path(cat), sr_catalog_schema_version(cat));
-    else if (existed)
-        printf("catalogue '%s' already exists (schema version %d)\n", sr_catalog_path(cat),
-               sr_catalog_schema_version(cat));
-    else
-        printf("created catalogue '%s' (schema version %d)\n", sr_catalog_path(cat),
-               sr_catalog_schema_version(cat));
+               sr_catalog_path(cat), now);
+    } else if (before < now && existed) {
+        printf("migrated catalogue '%s' from schema version %d to %d\n", sr_catalog_path(cat),
+               before, now);
+    } else if (existed) {
+        printf("catalogue '%s' already exists (schema version %d)\n", sr_catalog_path(cat), now);
+    } else {
+        printf("created catalogue '%s' (schema version %d)\n", sr_catalog_path(cat), now);
+    }
     sr_catalog_close(cat);
-    return CLI_OK;
+    return rc;
 }
 
 static int count_part(const sr_part_info *p, void *user)

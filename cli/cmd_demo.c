@@ -6,17 +6,21 @@
  * twice adds nothing. Progress goes to stderr, the catalogue's contents to stdout.
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "cli.h"
+#include "json_out.h"
 #include "mesh/shapes.h"
 
 static const char usage[] =
-    "usage: symrec [--db FILE] demo [--out DIR] [--part NUMBER] [--catalog-only]\n"
+    "usage: symrec [--db FILE] demo [--out DIR] [--part NUMBER] [--catalog-only] [--json]\n"
     "\n"
     "Builds the demo catalogue in FILE (created if missing): for each built-in demo\n"
     "part (a shaft, a gear, a bracket, ...) it adds the part with its intact mesh,\n"
@@ -33,7 +37,12 @@ static const char usage[] =
     "\n"
     "  --out DIR        where the run's files go (default ./symrec-demo)\n"
     "  --part NUMBER    the demo part to repair (default SR-SHAFT-01)\n"
-    "  --catalog-only   only build and show the catalogue\n";
+    "  --catalog-only   only build and show the catalogue\n"
+    "  --json           print one JSON object instead of the listings and the job's\n"
+    "                   output: {\"path\", \"schema_version\", \"parts_added\",\n"
+    "                   \"instances_added\", \"parts\": [{\"number\", \"id\",\n"
+    "                   \"instance_ids\"}], \"job\": {\"part\", \"instance_id\", \"run_id\",\n"
+    "                   \"out\", \"plan\", \"report\"} (null with --catalog-only)}\n";
 
 /* The demo parts' materials that sql/002_rules.sql does not seed, with their densities:
  * a part may name only a material in the catalogue, and the deposit mass needs the
@@ -124,20 +133,40 @@ static sr_status add_demo_part(sr_catalog *cat, size_t i, int *parts_added,
     return st;
 }
 
-/* Runs one command of this CLI as if typed: words up to NULL. */
-static int run_words(const cli_ctx *ctx, cli_fn fn, const char *const *words)
+/* Runs one command of this CLI as if typed: words up to NULL. With `silent` (demo
+ * --json) what it prints to stdout goes to /dev/null, so stdout holds only the JSON;
+ * its errors still reach stderr. */
+static int run_words(const cli_ctx *ctx, cli_fn fn, const char *const *words, bool silent)
 {
     char *argv[24];
     int argc = 0;
-    fprintf(stdout, "\n$ symrec --db %s", ctx->db_path);
-    for (; argc < 23 && words[argc]; argc++) {
+    for (; argc < 23 && words[argc]; argc++)
         argv[argc] = (char *)words[argc];
-        fprintf(stdout, " %s", words[argc]);
-    }
     argv[argc] = NULL;
-    fprintf(stdout, "\n");
+    if (!silent) {
+        fprintf(stdout, "\n$ symrec --db %s", ctx->db_path);
+        for (int i = 0; i < argc; i++)
+            fprintf(stdout, " %s", words[i]);
+        fprintf(stdout, "\n");
+        fflush(stdout);
+        return fn(ctx, argc, argv);
+    }
     fflush(stdout);
-    return fn(ctx, argc, argv);
+    int saved = dup(STDOUT_FILENO), null_fd = open("/dev/null", O_WRONLY);
+    if (saved < 0 || null_fd < 0 || dup2(null_fd, STDOUT_FILENO) < 0) {
+        if (saved >= 0)
+            close(saved);
+        if (null_fd >= 0)
+            close(null_fd);
+        return cli_error("cannot silence the output of '%s': %s", words[0], strerror(errno));
+    }
+    close(null_fd);
+    int rc = fn(ctx, argc, argv);
+    fflush(stdout);
+    if (dup2(saved, STDOUT_FILENO) < 0)
+        rc = cli_error("cannot restore stdout: %s", strerror(errno));
+    close(saved);
+    return rc;
 }
 
 static int newest_run(const sr_run_summary *run, void *user)
@@ -146,8 +175,16 @@ static int newest_run(const sr_run_summary *run, void *user)
     return 1;
 }
 
-/* The whole job on the demo part `number`'s damaged instance. */
-static int whole_job(const cli_ctx *ctx, sr_catalog *cat, const char *number, const char *dir)
+/* What the whole job made, for demo --json. */
+typedef struct job_done {
+    int64_t instance_id, run_id;
+    char out[1024], plan[1024], report[1024];
+} job_done;
+
+/* The whole job on the demo part `number`'s damaged instance; silent: its commands'
+ * output is not shown (demo --json), what it made goes into *done. */
+static int whole_job(const cli_ctx *ctx, sr_catalog *cat, const char *number, const char *dir,
+                     bool silent, job_done *done)
 {
     cli_instances list = {0};
     sr_err err;
@@ -168,12 +205,13 @@ static int whole_job(const cli_ctx *ctx, sr_catalog *cat, const char *number, co
     if (mkdir(dir, 0777) != 0 && errno != EEXIST)
         return cli_error("cannot create '%s': %s", dir, strerror(errno));
 
-    printf("\n== The whole job on %s, instance %s ==\n", number, inst);
+    if (!silent)
+        printf("\n== The whole job on %s, instance %s ==\n", number, inst);
     const char *look[] = {"part", "show", number, NULL};
-    int rc = run_words(ctx, cmd_part, look);
+    int rc = silent ? CLI_OK : run_words(ctx, cmd_part, look, false);
     const char *rec[] = {"reconstruct", inst, "--out", out, NULL};
     if (rc == CLI_OK)
-        rc = run_words(ctx, cmd_reconstruct, rec);
+        rc = run_words(ctx, cmd_reconstruct, rec, silent);
     int64_t run_id = 0;
     sr_run_filter f = {0};
     f.part = number;
@@ -186,27 +224,101 @@ static int whole_job(const cli_ctx *ctx, sr_catalog *cat, const char *number, co
     const char *pl[] = {"plan", run, "--out", plan, NULL};
     const char *rep[] = {"report", run, "--out", report, NULL};
     const char *hist[] = {"history", "--part", number, NULL};
+    if (rc == CLI_OK && !silent)
+        rc = run_words(ctx, cmd_run, show, false);
     if (rc == CLI_OK)
-        rc = run_words(ctx, cmd_run, show);
+        rc = run_words(ctx, cmd_plan, pl, silent);
     if (rc == CLI_OK)
-        rc = run_words(ctx, cmd_plan, pl);
-    if (rc == CLI_OK)
-        rc = run_words(ctx, cmd_report, rep);
-    if (rc == CLI_OK)
-        rc = run_words(ctx, cmd_history, hist);
-    if (rc == CLI_OK)
+        rc = run_words(ctx, cmd_report, rep, silent);
+    if (rc == CLI_OK && !silent)
+        rc = run_words(ctx, cmd_history, hist, false);
+    done->instance_id = atoll(inst);
+    done->run_id = run_id;
+    snprintf(done->out, sizeof done->out, "%s", out);
+    snprintf(done->plan, sizeof done->plan, "%s", plan);
+    snprintf(done->report, sizeof done->report, "%s", report);
+    if (rc == CLI_OK && !silent)
         printf("\nfiles: %s/ (restored, patches, result.glb), %s/ (plan.json, layer SVGs, "
                "plan.gcode), %s\n", out, plan, report);
     return rc;
 }
 
+/* demo --json: the catalogue, the demo parts with their instances, and the job (NULL
+ * job_part: none was run). */
+static int print_json(sr_catalog *cat, int parts_added, int instances_added, const char *job_part,
+                      const job_done *done)
+{
+    json_out j;
+    json_init(&j, stdout);
+    json_object_begin(&j);
+    json_key(&j, "path");
+    json_string(&j, sr_catalog_path(cat));
+    json_key(&j, "schema_version");
+    json_int(&j, sr_catalog_schema_version(cat));
+    json_key(&j, "parts_added");
+    json_int(&j, parts_added);
+    json_key(&j, "instances_added");
+    json_int(&j, instances_added);
+    json_key(&j, "parts");
+    json_array_begin(&j);
+    for (size_t i = 0; i < sr_demo_part_count(); i++) {
+        const char *number = sr_demo_part_get(i)->number;
+        sr_err err;
+        sr_err_clear(&err);
+        sr_part_info p;
+        cli_instances list = {0};
+        sr_status st = sr_catalog_part_find(cat, number, &p, &err);
+        if (st == SR_OK)
+            st = cli_instances_load(cat, number, &list, &err);
+        if (st != SR_OK) {
+            json_discard(&j);
+            return cli_fail(st, &err);
+        }
+        json_object_begin(&j);
+        json_key(&j, "number");
+        json_string(&j, number);
+        json_key(&j, "id");
+        json_int(&j, p.id);
+        json_key(&j, "instance_ids");
+        json_array_begin(&j);
+        for (size_t k = 0; k < list.count; k++)
+            json_int(&j, list.v[k].id);
+        json_array_end(&j);
+        json_object_end(&j);
+        cli_instances_release(&list);
+    }
+    json_array_end(&j);
+    json_key(&j, "job");
+    if (!job_part) {
+        json_null(&j);
+    } else {
+        json_object_begin(&j);
+        json_key(&j, "part");
+        json_string(&j, job_part);
+        json_key(&j, "instance_id");
+        json_int(&j, done->instance_id);
+        json_key(&j, "run_id");
+        json_int(&j, done->run_id);
+        json_key(&j, "out");
+        json_string(&j, done->out);
+        json_key(&j, "plan");
+        json_string(&j, done->plan);
+        json_key(&j, "report");
+        json_string(&j, done->report);
+        json_object_end(&j);
+    }
+    json_object_end(&j);
+    return json_finish(&j);
+}
+
 int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
 {
     const char *out = "./symrec-demo", *part = "SR-SHAFT-01";
-    bool catalog_only = false;
+    bool catalog_only = false, json = false;
     const cli_opt opts[] = {{"--out", &out, NULL},
                             {"--part", &part, NULL},
                             {"--catalog-only", NULL, &catalog_only},
+                            {"--json", NULL, &json},
                             {NULL, NULL, NULL}};
     const cli_spec spec = {"demo", usage, opts, 0, 0, NULL};
     int rc;
@@ -238,6 +350,15 @@ int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
     cli_note("demo: added %d parts and %d damaged instances (%zu demo parts in all)",
              parts_added, instances_added, count);
 
+    job_done done;
+    memset(&done, 0, sizeof done);
+    if (json) {
+        rc = catalog_only ? CLI_OK : whole_job(ctx, cat, part, out, true, &done);
+        if (rc == CLI_OK)
+            rc = print_json(cat, parts_added, instances_added, catalog_only ? NULL : part, &done);
+        sr_catalog_close(cat);
+        return rc;
+    }
     printf("Catalogue '%s'\n\n", sr_catalog_path(cat));
     rc = cli_part_list_print(cat, NULL, false);
     for (size_t i = 0; i < count && rc == CLI_OK; i++) {
@@ -246,7 +367,7 @@ int cmd_demo(const cli_ctx *ctx, int argc, char **argv)
     }
     if (rc == CLI_OK && !catalog_only) {
         fflush(stdout);
-        rc = whole_job(ctx, cat, part, out);
+        rc = whole_job(ctx, cat, part, out, false, &done);
     }
     sr_catalog_close(cat);
     return rc;

@@ -587,6 +587,7 @@ sr_status sr_cat_open_with(const char *path, unsigned flags, const sr_sql_file *
     st = set_wal(cat, err);
     if (st != SR_OK)
         goto fail;
+    cat->schema_opened = (int)version;
     for (int n = (int)version + 1; n <= latest; n++) {
         st = migrate_one(cat, migration_file(files, n), n, err);
         if (st != SR_OK)
@@ -652,6 +653,11 @@ void sr_catalog_close(sr_catalog *cat)
     sqlite3_close_v2(cat->db);
     free(cat->path);
     free(cat);
+}
+
+int sr_catalog_schema_opened(sr_catalog *cat)
+{
+    return cat->schema_opened;
 }
 
 int sr_catalog_schema_version(sr_catalog *cat)

@@ -74,6 +74,11 @@ void sr_catalog_close(sr_catalog *cat);
 /* The schema version of the open file (PRAGMA user_version). */
 int sr_catalog_schema_version(sr_catalog *cat);
 
+/* The schema version the file had when this handle opened it, before the migrations
+ * opening applied: 0 for a file opening created (or an empty one it filled), less
+ * than sr_catalog_schema_version when it migrated the file, equal when it did not. */
+int sr_catalog_schema_opened(sr_catalog *cat);
+
 /* The file the catalogue was opened from. */
 const char *sr_catalog_path(const sr_catalog *cat);
 

@@ -37,6 +37,7 @@ struct sr_catalog {
     sqlite3 *db;
     char *path;             /* as given to sr_catalog_open (for messages) */
     int schema_version;     /* user_version after opening */
+    int schema_opened;      /* user_version found, before any migration (0: new file) */
     bool readonly;
 };
 
