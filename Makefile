@@ -236,7 +236,7 @@ reconstruct_params_and_*,reconstruct_prints_run_recorded_*,compare_takes_stored_
 plan_writes_*,report_writes_*,run_list_filters_*,a_symmetry_that_does_not_fit_*,\
 reconstruct_of_an_instance_records_*,a_failed_reconstruct_records_nothing,\
 reconstruct_of_a_mesh_file_*,reconstruct_applies_the_sets_*,reconstruct_shows_progress_*,\
-compare_registers_*,export_run_*,json_names_agree_*
+compare_registers_*,export_run_*,json_names_agree_*,demo_json_runs_the_job_*
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite
 valgrind: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built

@@ -532,6 +532,55 @@ static void migration_leaving_broken_foreign_key_rolls_back(void **state)
     assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM parts"), 0);
 }
 
+/* Schema 4 to 5 (sql/005_mesh_units.sql): every mesh stored before takes 'mm', the rows
+ * stay, and a mesh read in another unit keeps it from then on. */
+static void migration_005_gives_older_meshes_mm(void **state)
+{
+    fixture *fx = *state;
+    sr_sql_file v4[5];
+    for (int i = 0; i < 4; i++)
+        v4[i] = sr_sql_files[i];
+    v4[4] = (sr_sql_file){NULL, NULL};
+    assert_string_equal(v4[3].name, "004_history_summary.sql");
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    if (sr_cat_open_with(fx->db, SR_CATALOG_CREATE, v4, &cat, &err) != SR_OK)
+        fail_msg("open: %s", err.msg);
+    assert_int_equal(sr_catalog_schema_version(cat), 4);
+    sr_mesh m;
+    make_box(&m, 0.0);
+    add_part(cat, "P-1", "plate", NULL, &m);
+    sr_mesh_release(&m);
+    add_instance(cat, "P-1", NULL);
+    sr_catalog_close(cat);
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM pragma_table_info('meshes')"
+                                     " WHERE name = 'source_unit'"),
+                     0);
+
+    assert_int_equal(sr_catalog_open(fx->db, 0, &cat, &err), SR_OK);
+    assert_int_equal(sr_catalog_schema_opened(cat), 4);
+    assert_int_equal(sr_catalog_schema_version(cat), 5);
+    sr_part_info p;
+    assert_int_equal(sr_catalog_part_find(cat, "P-1", &p, &err), SR_OK);
+    assert_string_equal(p.source_unit, "mm");
+    assert_int_equal(p.instance_count, 1);
+    sr_instance_info in;
+    assert_int_equal(sr_catalog_instance_get(cat, 1, &in, &err), SR_OK);
+    assert_string_equal(in.source_unit, "mm");
+    /* a scan read in inches keeps its unit */
+    make_box(&m, 5.0);
+    sr_instance_new inch = {.part = "P-1", .mesh = &m, .source_unit = SR_UNIT_IN};
+    int64_t id;
+    assert_int_equal(sr_catalog_instance_add(cat, &inch, &id, &err), SR_OK);
+    sr_mesh_release(&m);
+    assert_int_equal(sr_catalog_instance_get(cat, id, &in, &err), SR_OK);
+    assert_string_equal(in.source_unit, "in");
+    sr_catalog_close(cat);
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM meshes"), 3);
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM meshes WHERE source_unit = 'mm'"), 2);
+    assert_int_equal(raw_int(fx->db, "PRAGMA user_version"), 5);
+}
+
 static void migration_upgrades_older_catalogue(void **state)
 {
     fixture *fx = *state;
@@ -1782,6 +1831,7 @@ int main(void)
         T(migration_must_set_its_version),
         T(migration_leaving_broken_foreign_key_rolls_back),
         T(migration_upgrades_older_catalogue),
+        T(migration_005_gives_older_meshes_mm),
         T(gap_in_migrations_is_refused),
         T(schema_refuses_inconsistent_rows),
         T(part_with_mesh_round_trips_bit_identical),
