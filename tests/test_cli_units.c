@@ -261,6 +261,36 @@ static void convert_writes_a_glb_in_metres_that_reads_back_in_mm(void **state)
     free(out);
 }
 
+static void convert_writes_another_unit_when_asked(void **state)
+{
+    const fixture *f = *state;
+    char out_in[TMPDIR_PATH_MAX], glb[TMPDIR_PATH_MAX];
+    tmpdir_join(&f->dir, "box_in.stl", out_in);
+    char *out = OUT_OF("convert", f->mm, out_in, "--out-units", "in", "--json");
+    expect_text(out, "$.out_units", "in");
+    free(out);
+    /* its numbers are inches: 40 mm is 1.5748 in; read back in inches it is 24000 mm³ */
+    out = OUT_OF("check", out_in, "--units", "in", "--json");
+    expect_num(out, "$.bbox_max[0]", 40, 1e-5);
+    expect_num(out, "$.volume", 24000, 1e-2);
+    free(out);
+    cli_result r;
+    CLI_RUN(&r, "--quiet", "check", out_in, "--json");
+    cli_expect_ok(&r);
+    expect_num(r.out, "$.bbox_max[0]", 40 / 25.4, 1e-6);
+    cli_result_free(&r);
+    /* a glTF is in metres: another --out-units is refused, nothing written */
+    CLI_RUN(&r, "convert", f->mm, tmpdir_join(&f->dir, "x.glb", glb), "--out-units", "cm");
+    assert_int_equal(r.code, 2);
+    cli_expect_contains(r.err, "--out-units applies to .stl .obj .ply .off");
+    assert_false(cli_path_exists(glb));
+    cli_result_free(&r);
+    CLI_RUN(&r, "convert", f->mm, out_in, "--out-units", "yard");
+    assert_int_equal(r.code, 2);
+    assert_string_equal(r.err, "symrec: usage: bad --out-units 'yard': expected mm, cm, m or in\n");
+    cli_result_free(&r);
+}
+
 /* ---- --json on catalog init and demo ---- */
 
 static void catalog_init_json_says_created_unchanged_and_migrated(void **state)
@@ -352,6 +382,7 @@ int main(void)
         T(a_bad_unit_is_a_usage_error_naming_the_flag),
         T(part_and_instance_keep_the_unit_read_in),
         T(convert_writes_a_glb_in_metres_that_reads_back_in_mm),
+        T(convert_writes_another_unit_when_asked),
         T(catalog_init_json_says_created_unchanged_and_migrated),
         T(demo_json_catalog_only_lists_the_parts_and_no_job),
         T(demo_json_runs_the_job_and_prints_only_json),
