@@ -35,16 +35,16 @@ static const char usage_identify[] =
     "computed on the first run, and stored when the catalogue can be written.\n"
     "\n"
     "  SCAN       a mesh file (.stl .obj .ply .off .gltf .glb, in mm)\n"
-    "  --top K    how many candidates to show, 1..20 (default 3; at least 3 are\n"
-    "             registered, and every part about as close by descriptor)\n"
+    "  --top K    how many candidates to show, 1..20 (default 3; at least 4 are\n"
+    "             registered, and up to 10 about as close by descriptor)\n"
     "  --tol MM   the tolerance for coverage and lacking, mm (default 0.5 % of the\n"
     "             scan's bounding-box diagonal)\n"
-    "  --json     one JSON object: {\"scan\", \"tol_mm\", \"parts\", \"descriptors_computed\",\n"
-    "             \"descriptors_stored\", \"verdict\" (\"match\", \"too_close\", \"no_match\"),\n"
-    "             \"match\" (the part number, or null), \"candidates\": [{\"rank\", \"part\",\n"
-    "             \"name\", \"score\", \"coverage\", \"rms_mm\", \"lacking\",\n"
-    "             \"descriptor_distance\", \"rotation_deg\", \"translation_mm\", \"matrix\"\n"
-    "             (3 x 4 rows, scan -> part)}]}\n"
+    "  --json     one JSON object: {\"scan\", \"tol_mm\", \"parts\", \"registered\",\n"
+    "             \"descriptors_computed\", \"descriptors_stored\", \"verdict\" (\"match\",\n"
+    "             \"too_close\", \"no_match\"), \"match\" (the part number, or null),\n"
+    "             \"candidates\": [{\"rank\", \"part\", \"name\", \"score\", \"coverage\",\n"
+    "             \"rms_mm\", \"lacking\", \"descriptor_distance\", \"rotation_deg\",\n"
+    "             \"translation_mm\", \"matrix\" (3 x 4 rows, scan -> part)}]}\n"
     "\n"
     "Exit 0 with an answer, `no match` included; 1 when the scan cannot be read or the\n"
     "catalogue holds no part with a mesh; 2 for a usage error.\n";
@@ -76,6 +76,8 @@ static int print_json(const sr_identify_result *res, const char *scan)
     json_number(&j, res->tol_mm);
     json_key(&j, "parts");
     json_int(&j, (int64_t)res->parts);
+    json_key(&j, "registered");
+    json_int(&j, (int64_t)res->registered);
     json_key(&j, "descriptors_computed");
     json_int(&j, (int64_t)res->described);
     json_key(&j, "descriptors_stored");
@@ -146,8 +148,8 @@ int cli_identify_print(const sr_identify_result *res, const char *scan, bool jso
         cli_table_cell(&t, "%.1f", rotation_deg(c->fit.mat));
         cli_table_cell(&t, "%.2f", translation_mm(c->fit.mat));
     }
-    printf("scan %s against %zu parts (tolerance %.3f mm):\n", cli_tx(scan), res->parts,
-           res->tol_mm);
+    printf("scan %s against %zu parts, %zu registered (tolerance %.3f mm):\n", cli_tx(scan),
+           res->parts, res->registered, res->tol_mm);
     bool ok = cli_table_print(&t, stdout, 2);
     cli_table_release(&t);
     const sr_identify_candidate *a = &res->cand[0];

@@ -106,7 +106,7 @@ static void identify_prints_the_ranking_and_the_match(void **state)
     cli_result r;
     CLI_RUN(&r, "--db", f->db, "identify", SCAN("lever_posed"));
     cli_expect_ok(&r);
-    cli_expect_contains(r.out, "against 4 parts (tolerance ");
+    cli_expect_contains(r.out, "against 4 parts, 4 registered (tolerance ");
     cli_expect_contains(r.out, "rank  part ");
     cli_expect_contains(r.out, "     1  lever_posed ");
     cli_expect_contains(r.out, "\nmatch: part 'lever_posed' (lever_posed), score 0.9");

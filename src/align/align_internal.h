@@ -145,13 +145,19 @@ void al_samples_release(al_samples *smp);
 /* ---- register.c ---- */
 
 /* How hard al_register_fit works: the start turns about each principal axis (12 =
- * 30 degree steps), ICP steps for every start on the coarse samples, how many of the
- * best go on to the medium ones, steps there and on the fine ones. */
+ * 30 degree steps), the first Tukey cut-off of the coarse ICP (share of the fixed
+ * surface's diagonal: the farther, the costlier each closest-point query), ICP steps
+ * for every start on the coarse samples, how many of the best go on to the medium
+ * ones, steps there and on the fine ones; give_up > 0: when fewer than this share of
+ * the coarse samples lie within 4 tol at the best coarse pose, that pose is the result
+ * (no medium or fine stage: the surfaces do not match). */
 typedef struct al_register_effort {
     int turns;
+    double coarse_cutoff;
     int coarse_iters;
     size_t keep;
     int medium_iters, fine_iters;
+    double give_up;
 } al_register_effort;
 
 /* The registration of register.h on prepared surfaces and samples of the moving one

@@ -311,7 +311,8 @@ void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *c
     size_t count = starts(fix, mov, effort->turns, cand, MAX_STARTS);
     /* every start, briefly, on a few hundred samples */
     for (size_t i = 0; i < count; i++) {
-        icp(fix, coarse, &cand[i], effort->coarse_iters, 0.25 * size, floor, size, scratch);
+        icp(fix, coarse, &cand[i], effort->coarse_iters, effort->coarse_cutoff * size, floor, size,
+            scratch);
         sc[i] = score_of(fix, coarse, &cand[i], 4 * tol, scratch);
     }
     /* the best few again on a thousand */
@@ -328,15 +329,19 @@ void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *c
         sc[k] = sc[best];
         sc[best] = ts;
     }
+    /* hopeless (a wrong part, for identify): the best coarse pose as it is */
+    if (count && (double)sc[0].inliers < effort->give_up * (double)coarse->count)
+        keep = 1;
     size_t winner = 0;
-    for (size_t k = 0; k < keep; k++) {
+    for (size_t k = 0; k < keep && keep > 1; k++) {
         icp(fix, medium, &cand[k], effort->medium_iters, 0.05 * size, floor, size, scratch);
         sc[k] = score_of(fix, medium, &cand[k], tol, scratch);
         if (k && score_better(&sc[k], &sc[winner]))
             winner = k;
     }
     pose p = cand[winner];
-    icp(fix, fine, &p, effort->fine_iters, 0.02 * size, floor, size, scratch);
+    if (keep > 1 || effort->give_up == 0)
+        icp(fix, fine, &p, effort->fine_iters, 0.02 * size, floor, size, scratch);
     for (int i = 0; i < 3; i++) {
         for (int j = 0; j < 3; j++)
             mat[4 * i + j] = p.r[3 * i + j];
@@ -352,7 +357,7 @@ sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_regi
     sr_status st = ctx_make(&c, moving, fixed, n, err);
     if (st != SR_OK)
         return st;
-    static const al_register_effort effort = {12, 12, KEEP, 20, 40};
+    static const al_register_effort effort = {12, 0.25, 12, KEEP, 20, 40, 0};
     double tol = tol_of(opts, &c.fix), mat[12];
     al_register_fit(&c.fix, &c.mov, &c.coarse, &c.medium, &c.fine, tol, &effort, mat, c.scratch);
     pose p;

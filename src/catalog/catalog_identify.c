@@ -266,7 +266,7 @@ void sr_identify_result_release(sr_identify_result *res)
 sr_status sr_catalog_identify(sr_catalog *cat, const sr_mesh *scan, const sr_identify_opts *opts,
                               sr_identify_result *out, sr_err *err)
 {
-    size_t top = opts && opts->top ? opts->top : SR_IDENTIFY_SHORTLIST;
+    size_t top = opts && opts->top ? opts->top : SR_IDENTIFY_TOP_DEFAULT;
     double tol = opts ? opts->tol_mm : 0;
     if (top > SR_IDENTIFY_TOP_MAX)
         return sr_err_set(err, SR_E_RANGE, "top: %zu candidates, at most %d", top,
@@ -296,7 +296,7 @@ sr_status sr_catalog_identify(sr_catalog *cat, const sr_mesh *scan, const sr_ide
         qsort(ev.v, ev.count, sizeof *ev.v, by_dist);
         /* the shortlist: at least SHORTLIST (or top), and every part about as close */
         size_t n = top > SR_IDENTIFY_SHORTLIST ? top : SR_IDENTIFY_SHORTLIST;
-        while (n < SR_IDENTIFY_TOP_MAX && n < ev.count &&
+        while (n < SR_IDENTIFY_NEAR_MAX && n < ev.count &&
                ev.v[n].dist <= ev.v[0].dist + SR_IDENTIFY_NEAR_OCTAVES)
             n++;
         if (n > ev.count)
@@ -306,6 +306,7 @@ sr_status sr_catalog_identify(sr_catalog *cat, const sr_mesh *scan, const sr_ide
     if (st == SR_OK) {
         qsort(res.cand, res.count, sizeof *res.cand, by_score);
         res.parts = ev.count;
+        res.registered = res.count;
         res.tol_mm = sr_identify_scan_tol(sc);
         if (!sr_identify_fit_matches(&res.cand[0].fit))
             res.verdict = SR_IDENTIFY_NO_MATCH;

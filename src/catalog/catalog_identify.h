@@ -21,17 +21,22 @@
 #include "align/identify.h"
 #include "catalog/catalog.h"
 
-/* Parts always registered (the descriptor ranks the right part first or second on
- * damaged scans; three keep a margin), and the most registered at all. */
-#define SR_IDENTIFY_SHORTLIST 3
-#define SR_IDENTIFY_TOP_MAX 20
+/* Parts always registered: the descriptor ranks the right part among the first few
+ * on damaged scans (a quarter of the volume missing shifts the D2 distribution), and
+ * the rest of the shortlist keeps the margin to the second honest. */
+#define SR_IDENTIFY_SHORTLIST 4
 /* Parts whose descriptor lies within this many octaves of the closest one are
- * registered too (up to SR_IDENTIFY_TOP_MAX). */
-#define SR_IDENTIFY_NEAR_OCTAVES 0.02
+ * registered too, up to SR_IDENTIFY_NEAR_MAX in all (or --top): damage moves a
+ * scan's descriptor by up to a few hundredths of an octave (0.03 measured on the
+ * shared parts' broken bracket). */
+#define SR_IDENTIFY_NEAR_OCTAVES 0.05
+#define SR_IDENTIFY_NEAR_MAX 10
+#define SR_IDENTIFY_TOP_MAX 20
+#define SR_IDENTIFY_TOP_DEFAULT 3
 
 typedef struct sr_identify_opts {
     double tol_mm; /* 0: 0.5 % of the scan's bounding-box diagonal */
-    size_t top;    /* candidates wanted (1..SR_IDENTIFY_TOP_MAX); 0 = SR_IDENTIFY_SHORTLIST */
+    size_t top;    /* candidates wanted (1..SR_IDENTIFY_TOP_MAX); 0 = SR_IDENTIFY_TOP_DEFAULT */
 } sr_identify_opts;
 
 typedef enum sr_identify_verdict {
@@ -54,7 +59,8 @@ typedef struct sr_identify_result {
     size_t parts;     /* parts with an intact mesh compared */
     size_t described; /* their descriptors computed by this call */
     size_t stored;    /* of those, stored in the catalogue (0 when read-only) */
-    size_t count;     /* candidates registered, best score first */
+    size_t registered; /* parts registered to the scan (the shortlist) */
+    size_t count;      /* candidates given, best score first (<= registered) */
     sr_identify_candidate *cand;
 } sr_identify_result;
 
