@@ -16,12 +16,13 @@
 #define SCAN_FINE 1000
 #define PART_SAMPLES 1000
 
-/* Less than sr_register: 90 degree start turns (the coarse ICP pulls in 45 degrees
- * either way, and the sign choices of the principal frame cover the rest), fewer
- * samples and steps; a candidate with under 40 % of the scan near it after the coarse
- * stage is no match (a match needs 80 % within tol), so it is not refined. Coverage
- * at 0.5 % of the size needs no more. */
-static const al_register_effort EFFORT = {4, 0.05, 4, 2, 10, 15, 0.4};
+/* Less than sr_register: 45 degree start turns (the coarse ICP pulls in about 20
+ * degrees either way; 90 degree turns missed a square nut's pose by a quarter turn
+ * mod its symmetry), a coarse cut-off of 5 % of the size, fewer samples and steps;
+ * a candidate with under 40 % of the scan within 4 tol after the coarse stage is no
+ * match (a match needs 80 % within tol), so it is not refined. Coverage at 0.5 % of
+ * the size needs no more. */
+static const al_register_effort EFFORT = {8, 0.05, 3, 2, 10, 15, 0.4};
 
 struct sr_identify_scan {
     al_surface surf;
