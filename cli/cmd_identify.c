@@ -154,8 +154,8 @@ int cli_identify_print(const sr_identify_result *res, const char *scan, bool jso
     cli_table_release(&t);
     const sr_identify_candidate *a = &res->cand[0];
     if (res->verdict == SR_IDENTIFY_MATCH)
-        printf("match: part '%s' (%s), score %.3f\n", cli_tx(a->number), cli_tx(a->name),
-               a->fit.score);
+        printf("match: part '%s' (%s), score %.3f, next %.3f\n", cli_tx(a->number), cli_tx(a->name),
+               a->fit.score, res->registered > 1 ? res->cand[1].fit.score : 0.0);
     else if (res->verdict == SR_IDENTIFY_TOO_CLOSE)
         printf("too close to call: parts '%s' and '%s' score %.3f and %.3f\n", cli_tx(a->number),
                cli_tx(res->cand[1].number), a->fit.score, res->cand[1].fit.score);
