@@ -191,9 +191,10 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_SUPPORT_OBJ) $(LIB)
 	@$(if $(Q),echo "  LINK  $@")
 	$(Q)$(CC) $(LDFLAGS) $< $(TEST_SUPPORT_OBJ) $(LIB) $(LDLIBS) -lcmocka -o $@
 
+# (-lcmocka: tests/support holds the CLI tests' kit, which reports through cmocka)
 $(BENCH): $(BENCH_SRC:%.c=$(BUILD)/%.o) $(TEST_SUPPORT_OBJ) $(LIB)
 	@mkdir -p $(dir $@)
-	$(Q)$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+	$(Q)$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
 
 # The project's own fixtures: small meshes with known volumes, made by its own code.
 fixtures: $(BIN)
@@ -236,7 +237,7 @@ reconstruct_params_and_*,reconstruct_prints_run_recorded_*,compare_takes_stored_
 plan_writes_*,report_writes_*,run_list_filters_*,a_symmetry_that_does_not_fit_*,\
 reconstruct_of_an_instance_records_*,a_failed_reconstruct_records_nothing,\
 reconstruct_of_a_mesh_file_*,reconstruct_applies_the_sets_*,reconstruct_shows_progress_*,\
-compare_registers_*,export_run_*,json_names_agree_*,demo_json_runs_the_job_*
+compare_registers_*,export_run_*,json_names_agree_*,demo_json_runs_the_job_*,identify_*,instance_add_part_auto_*
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite
 valgrind: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
@@ -286,9 +287,11 @@ install:
 	  install -D -m 0644 "$$h" "$(DESTDIR)$(PREFIX)/include/symrec/$$h"; done
 	$(Q)echo "  installed symrec into $(DESTDIR)$(PREFIX)"
 
+# IDENTIFY_GEN_DIRS: colon-separated ../shared/partgen output folders whose intact parts
+# are section 6's distractors (unset: 100 parts made once into build/bench-identify/gen).
 bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
-	$(Q)build/release/bench/symrec_bench
+	$(Q)SYMREC_IDENTIFY_GEN="$(IDENTIFY_GEN_DIRS)" build/release/bench/symrec_bench
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 
 bench-built: $(BENCH)

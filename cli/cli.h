@@ -59,6 +59,7 @@ int cmd_convert(const cli_ctx *ctx, int argc, char **argv);
 int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv);
 int cmd_run(const cli_ctx *ctx, int argc, char **argv);
 int cmd_compare(const cli_ctx *ctx, int argc, char **argv);
+int cmd_identify(const cli_ctx *ctx, int argc, char **argv);
 int cmd_history(const cli_ctx *ctx, int argc, char **argv);
 int cmd_report(const cli_ctx *ctx, int argc, char **argv);
 int cmd_rules(const cli_ctx *ctx, int argc, char **argv);
@@ -166,9 +167,12 @@ sr_status cli_mesh_read(const char *path, sr_unit unit, sr_mesh *out, sr_unit *u
 
 /* What a command does with the catalogue. */
 typedef enum cli_access {
-    CLI_READ,   /* only reads: opened read-only (an older schema is migrated first) */
-    CLI_WRITE,  /* writes: refused in one line when the catalogue is read-only */
-    CLI_CREATE, /* writes, and creates the file when missing */
+    CLI_READ,       /* only reads: opened read-only (an older schema is migrated first) */
+    CLI_WRITE,      /* writes: refused in one line when the catalogue is read-only */
+    CLI_CREATE,     /* writes, and creates the file when missing */
+    CLI_READ_CACHE, /* reads, and stores what it computed (descriptors) when it can:
+                     * read-write when the catalogue can be written and --read-only is
+                     * not given, otherwise as CLI_READ */
 } cli_access;
 
 /* Opens ctx's catalogue for `access`. Except with CLI_CREATE a missing file is an
@@ -277,5 +281,13 @@ void cli_run_advice_print(const sr_run *r);
 
 /* "label value" on one line, the value written with cli_tx (user text). */
 void cli_print_field(FILE *f, const char *label, const char *value);
+
+/* ---- identification (cli/cmd_identify.c) ---- */
+
+/* Prints an identification as `symrec identify` does (table and verdict, or JSON);
+ * `scan` names the file. Returns the exit code of the printing (0, or 1 when the JSON
+ * could not be written). */
+struct sr_identify_result;
+int cli_identify_print(const struct sr_identify_result *res, const char *scan, bool json);
 
 #endif

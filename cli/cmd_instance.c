@@ -11,11 +11,12 @@
 #include <string.h>
 
 #include "bridge/mesh_io.h"
+#include "catalog/catalog_identify.h"
 #include "cli.h"
 #include "json_out.h"
 
 static const char usage_instance[] =
-    "usage: symrec [--db FILE] instance add --part P --mesh FILE [--serial S]\n"
+    "usage: symrec [--db FILE] instance add --part P|auto --mesh FILE [--serial S]\n"
     "                               [--received YYYY-MM-DD] [--notes T]\n"
     "                               [--symmetry K [--order N] [--shift MM]] [--json]\n"
     "       symrec [--db FILE] instance list [--part P] [--json]\n"
@@ -54,13 +55,16 @@ static const char usage_remove[] =
     "                \"meshes\"}\n";
 
 static const char usage_add[] =
-    "usage: symrec [--db FILE] instance add --part P --mesh FILE [--units U]\n"
+    "usage: symrec [--db FILE] instance add --part P|auto --mesh FILE [--units U]\n"
     "                               [--serial S] [--received YYYY-MM-DD] [--notes T]\n"
     "                               [--symmetry K [--order N] [--shift MM]] [--json]\n"
     "\n"
     "Adds a damaged instance of a part with its scanned mesh and prints the new id.\n"
     "\n"
-    "  --part P       the part: its number or id\n"
+    "  --part P       the part: its number or id, or `auto`: the part `symrec identify`\n"
+    "                 finds for the scan; refused (exit 1, the candidates listed) when\n"
+    "                 no part explains it or the first two are too close to call (a part\n"
+    "                 numbered \"auto\" is then given by its id)\n"
     "  --mesh FILE    the damaged mesh: .stl .obj .ply .off .gltf .glb, read in --units\n"
     "                 and stored in mm with the unit noted; at most 2 GiB,\n"
     "                 |coordinate| <= 1e6 mm, largest extent >= 1e-3 mm once in mm\n"
@@ -109,8 +113,9 @@ static bool intact_volume(sr_catalog *cat, const sr_instance_info *in, sr_part_i
 
 bool cli_instance_table(sr_catalog *cat, const cli_instances *list, bool with_part, int indent)
 {
-    static const char *const headers[] = {"id", "part", "serial", "received", "triangles",
-                                          "volume mm³", "missing mm³", "missing", "symmetry"};
+    static const char *const headers[] = {"id",          "part",      "serial",
+                                          "received",    "triangles", "volume mm³",
+                                          "missing mm³", "missing",   "symmetry"};
     static const bool right[] = {true, false, false, false, true, true, true, true, false};
     /* Without the part column, every column shifts left by one. */
     size_t skip = with_part ? 0 : 1;
@@ -149,6 +154,39 @@ bool cli_instance_table(sr_catalog *cat, const cli_instances *list, bool with_pa
     bool ok = cli_table_print(&t, stdout, indent);
     cli_table_release(&t);
     return ok;
+}
+
+/* --part auto: the part the scan is identified as. CLI_OK with *out when one part
+ * clearly explains it; otherwise the candidates printed (as `identify` does) and the
+ * refusal on stderr, CLI_FAIL; a failed identification sets *st and err (CLI_OK). */
+static int pick_part(sr_catalog *cat, const sr_mesh *mesh, const char *path, bool json,
+                     sr_part_info *out, sr_err *err, sr_status *st)
+{
+    sr_identify_result res;
+    *st = sr_catalog_identify(cat, mesh, NULL, &res, err);
+    if (*st != SR_OK)
+        return CLI_OK;
+    if (res.verdict == SR_IDENTIFY_MATCH) {
+        *st = sr_catalog_part_find(cat, res.cand[0].number, out, err);
+        if (*st == SR_OK)
+            cli_note("'%s' identified as part '%s' (score %.3f, next %.3f)", cli_tx(path),
+                     cli_tx(res.cand[0].number), res.cand[0].fit.score,
+                     res.count > 1 ? res.cand[1].fit.score : 0.0);
+        sr_identify_result_release(&res);
+        return CLI_OK;
+    }
+    cli_identify_print(&res, path, json);
+    if (res.verdict == SR_IDENTIFY_TOO_CLOSE)
+        cli_error("cannot pick the part of '%s': '%s' and '%s' are too close to call "
+                  "(scores %.3f and %.3f); give --part",
+                  cli_tx(path), cli_tx(res.cand[0].number), cli_tx(res.cand[1].number),
+                  res.cand[0].fit.score, res.cand[1].fit.score);
+    else
+        cli_error("cannot pick the part of '%s': no part in the catalogue explains it; add "
+                  "the part first, or give --part",
+                  cli_tx(path));
+    sr_identify_result_release(&res);
+    return CLI_FAIL;
 }
 
 static int instance_add(const cli_ctx *ctx, int argc, char **argv)
@@ -197,9 +235,20 @@ static int instance_add(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh_init(&mesh);
     int64_t id = 0;
     /* The part first: a wrong part number is reported before a large scan is read. */
-    sr_status st = sr_catalog_part_find(cat, part, &p, &err);
-    if (st == SR_OK)
+    bool aut = strcmp(part, "auto") == 0;
+    sr_status st = aut ? cli_mesh_read(mesh_path, unit, &mesh, &unit, &err)
+                       : sr_catalog_part_find(cat, part, &p, &err);
+    if (st == SR_OK && aut) {
+        rc = pick_part(cat, &mesh, mesh_path, json, &p, &err, &st);
+        if (rc != CLI_OK) {
+            sr_mesh_release(&mesh);
+            sr_catalog_close(cat);
+            return rc;
+        }
+        part = p.number;
+    } else if (st == SR_OK) {
         st = cli_mesh_read(mesh_path, unit, &mesh, &unit, &err);
+    }
     if (st == SR_OK) {
         sr_instance_new inst = {
             .part = part,

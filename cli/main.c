@@ -52,6 +52,7 @@ static const cli_command commands[] = {
     {"history", cmd_history, "repair history of a part, instance, material or date range"},
     {"report", cmd_report, "write a run's self-contained HTML report"},
     {"compare", cmd_compare, "volume difference and surface deviation of two meshes"},
+    {"identify", cmd_identify, "which catalogue part a scan is of, ranked, or no match"},
     {"plan", cmd_plan, "plan the layer-by-layer rebuild of a run's missing section"},
     {"params", cmd_params, "list, show and set named parameter sets"},
     {"rules", cmd_rules, "list, show and edit the repair rules advice is drawn from"},

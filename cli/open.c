@@ -50,6 +50,17 @@ bool cli_open(const cli_ctx *ctx, cli_access access, const char *why, sr_catalog
         }
         return false;
     }
+    if (access == CLI_READ_CACHE) {
+        sr_catalog *cat = NULL;
+        bool readonly = true;
+        if (!ctx->read_only && sr_catalog_open(ctx->db_path, 0, &cat, NULL) == SR_OK &&
+            sr_catalog_check_writable(cat, &readonly, NULL) == SR_OK && !readonly) {
+            *out = cat;
+            return true;
+        }
+        sr_catalog_close(cat);
+        access = CLI_READ; /* whatever failed, reading says why */
+    }
     if (access != CLI_READ && ctx->read_only)
         return refuse_readonly(ctx, why);
     unsigned flags = access == CLI_CREATE ? SR_CATALOG_CREATE : 0;

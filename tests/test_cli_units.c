@@ -23,6 +23,8 @@
 #include <string.h>
 
 #include "bridge/mesh_io.h"
+#include "catalog/catalog_int.h"
+#include "catalog/sql_embedded.h"
 #include "mesh/shapes.h"
 #include "support/cli_case.h"
 #include "support/json_query.h"
@@ -300,29 +302,40 @@ static void catalog_init_json_says_created_unchanged_and_migrated(void **state)
     expect_text(out, "$.action", "created");
     expect_text(out, "$.path", f->db);
     assert_null(jq_text(out, "$.schema_before"));
-    expect_num(out, "$.schema_version", 5, 0);
+    expect_num(out, "$.schema_version", sr_catalog_schema_latest(), 0);
     free(out);
     out = OUT_OF("--db", f->db, "catalog", "init", "--json");
     expect_text(out, "$.action", "unchanged");
-    expect_num(out, "$.schema_before", 5, 0);
+    expect_num(out, "$.schema_before", sr_catalog_schema_latest(), 0);
     free(out);
 
-    /* back to schema 4 as that symrec left it (no source_unit), with a part */
-    free(OUT_OF("--db", f->db, "-q", "part", "add", "--number", "B", "--name", "box", "--material",
-                "C45", "--mesh", f->mm));
-    sqlite3 *h = NULL;
-    assert_int_equal(sqlite3_open(f->db, &h), SQLITE_OK);
-    char *msg = NULL;
-    if (sqlite3_exec(h, "ALTER TABLE meshes DROP COLUMN source_unit; PRAGMA user_version = 4;",
-                     NULL, NULL, &msg) != SQLITE_OK)
-        fail_msg("downgrade: %s", msg ? msg : "?");
-    sqlite3_close(h);
-    out = OUT_OF("--db", f->db, "catalog", "init", "--json");
+    /* a catalogue at schema 4 as that symrec left it (no source_unit), with a part:
+     * made by the library with only the first four migrations */
+    char v4db[TMPDIR_PATH_MAX];
+    tmpdir_join(&f->dir, "v4.db", v4db);
+    sr_sql_file v4[5];
+    for (int i = 0; i < 4; i++)
+        v4[i] = sr_sql_files[i];
+    v4[4] = (sr_sql_file){NULL, NULL};
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    if (sr_cat_open_with(v4db, SR_CATALOG_CREATE, v4, &cat, &err) != SR_OK)
+        fail_msg("open at schema 4: %s", err.msg);
+    sr_mesh box = {0};
+    const double lo[3] = {0, 0, 0}, hi[3] = {40, 30, 20};
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    sr_part_new p = {.number = "B", .name = "box", .material = "C45", .mesh = &box};
+    int64_t id = 0;
+    if (sr_catalog_part_add(cat, &p, &id, &err) != SR_OK)
+        fail_msg("part add at schema 4: %s", err.msg);
+    sr_mesh_release(&box);
+    sr_catalog_close(cat);
+    out = OUT_OF("--db", v4db, "catalog", "init", "--json");
     expect_text(out, "$.action", "migrated");
     expect_num(out, "$.schema_before", 4, 0);
-    expect_num(out, "$.schema_version", 5, 0);
+    expect_num(out, "$.schema_version", sr_catalog_schema_latest(), 0);
     free(out);
-    out = OUT_OF("--db", f->db, "part", "show", "B", "--json");
+    out = OUT_OF("--db", v4db, "part", "show", "B", "--json");
     expect_text(out, "$.source_unit", "mm");
     free(out);
 }
@@ -335,7 +348,7 @@ static void demo_json_catalog_only_lists_the_parts_and_no_job(void **state)
     cli_expect_ok(&r);
     assert_true(jq_valid(r.out));
     expect_text(r.out, "$.path", f->db);
-    expect_num(r.out, "$.schema_version", 5, 0);
+    expect_num(r.out, "$.schema_version", sr_catalog_schema_latest(), 0);
     expect_num(r.out, "$.parts_added", 4, 0);
     expect_num(r.out, "$.instances_added", 4, 0);
     assert_int_equal(jq_len(r.out, "$.parts"), 4);

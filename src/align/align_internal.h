@@ -142,6 +142,40 @@ sr_status al_samples_make(const al_surface *s, size_t count, uint64_t seed,
                           al_samples *out);
 void al_samples_release(al_samples *smp);
 
+/* ---- register.c ---- */
+
+/* How hard al_register_fit works: the start turns about each principal axis (12 =
+ * 30 degree steps), the first Tukey cut-off of the coarse ICP (share of the fixed
+ * surface's diagonal: the farther, the costlier each closest-point query), ICP steps
+ * for every start on the coarse samples, how many of the best go on to the medium
+ * ones, steps there and on the fine ones; give_up > 0: when fewer than this share of
+ * the coarse samples lie within 4 tol at the best coarse pose, that pose is the result
+ * (no medium or fine stage: the surfaces do not match). */
+typedef struct al_register_effort {
+    int turns;
+    double coarse_cutoff;
+    int coarse_iters;
+    size_t keep;
+    int medium_iters, fine_iters;
+    double give_up;
+} al_register_effort;
+
+/* The registration of register.h on prepared surfaces and samples of the moving one
+ * (coarse: a few hundred, medium: about a thousand, fine: the final fit): mat (3 x 4
+ * row-major) takes the moving surface onto the fixed one. scratch holds as many
+ * doubles as the largest sample set. Writes fix's query stamps, so one thread per
+ * fixed surface. */
+void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *coarse,
+                     const al_samples *medium, const al_samples *fine, double tol,
+                     const al_register_effort *effort, double mat[12], double *scratch);
+
+/* ---- shape_descriptor.c ---- */
+
+/* sr_shape_descriptor_compute on a built surface (for a caller that has one).
+ * SR_E_NOMEM; *out only on SR_OK. */
+struct sr_shape_descriptor;
+sr_status al_shape_describe(const al_surface *s, struct sr_shape_descriptor *out);
+
 /* ---- align_icp.c ---- */
 
 enum { AL_AXIAL = 1, AL_MIRROR, AL_GLIDE };

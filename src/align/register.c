@@ -181,8 +181,8 @@ static double det3(const double m[9])
 }
 
 /* The start poses: the identity, then E_F S E_M^T for the proper sign choices S, each
- * turned about the fixed principal axes in 30 degree steps. Returns the count. */
-static size_t starts(const al_surface *fix, const al_surface *mov, pose *out, size_t cap)
+ * turned about the fixed principal axes in `turns` steps a turn. Returns the count. */
+static size_t starts(const al_surface *fix, const al_surface *mov, int turns, pose *out, size_t cap)
 {
     double ef[9], em[9], wf[3], wm[3];
     principal(fix, ef, wf);
@@ -205,9 +205,9 @@ static size_t starts(const al_surface *fix, const al_surface *mov, pose *out, si
                 r0[3 * i + j] = v;
             }
         for (int axis = 0; axis < 3; axis++)
-            for (int step = axis ? 1 : 0; step < 12 && n < cap; step++) {
+            for (int step = axis ? 1 : 0; step < turns && n < cap; step++) {
                 double k[3] = {ef[axis], ef[3 + axis], ef[6 + axis]}, rr[9];
-                al_rot_axis(k, step * (M_PI / 6), rr);
+                al_rot_axis(k, step * (2 * M_PI / turns), rr);
                 pose p = {{0}, {0}};
                 mat3_mul(rr, r0, p.r);
                 double c[3];
@@ -300,32 +300,23 @@ sr_status sr_register_check(const sr_mesh *moving, const sr_mesh *fixed,
 #define MAX_STARTS 160
 #define KEEP 4
 
-sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_register_opts *opts,
-                      sr_register_result *out, sr_err *err)
+void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *coarse,
+                     const al_samples *medium, const al_samples *fine, double tol,
+                     const al_register_effort *effort, double mat[12], double *scratch)
 {
-    reg_ctx c;
-    size_t n = opts && opts->samples ? opts->samples : 4000;
-    sr_status st = ctx_make(&c, moving, fixed, n, err);
-    if (st != SR_OK)
-        return st;
-    double size = c.fix.diag, tol = tol_of(opts, &c.fix);
+    double size = fix->diag;
     double floor = fmax(tol / 4, 1e-6 * size);
-    pose *cand = malloc(MAX_STARTS * sizeof *cand);
-    score *sc = malloc(MAX_STARTS * sizeof *sc);
-    if (!cand || !sc) {
-        free(cand);
-        free(sc);
-        ctx_release(&c);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory registering meshes");
-    }
-    size_t count = starts(&c.fix, &c.mov, cand, MAX_STARTS);
+    pose cand[MAX_STARTS];
+    score sc[MAX_STARTS];
+    size_t count = starts(fix, mov, effort->turns, cand, MAX_STARTS);
     /* every start, briefly, on a few hundred samples */
     for (size_t i = 0; i < count; i++) {
-        icp(&c.fix, &c.coarse, &cand[i], 12, 0.25 * size, floor, size, c.scratch);
-        sc[i] = score_of(&c.fix, &c.coarse, &cand[i], 4 * tol, c.scratch);
+        icp(fix, coarse, &cand[i], effort->coarse_iters, effort->coarse_cutoff * size, floor, size,
+            scratch);
+        sc[i] = score_of(fix, coarse, &cand[i], 4 * tol, scratch);
     }
     /* the best few again on a thousand */
-    size_t keep = count < KEEP ? count : KEEP;
+    size_t keep = count < effort->keep ? count : effort->keep;
     for (size_t k = 0; k < keep; k++) {
         size_t best = k;
         for (size_t i = k + 1; i < count; i++)
@@ -338,18 +329,44 @@ sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_regi
         sc[k] = sc[best];
         sc[best] = ts;
     }
+    /* hopeless (a wrong part, for identify): the best coarse pose as it is */
+    if (count && (double)sc[0].inliers < effort->give_up * (double)coarse->count)
+        keep = 1;
     size_t winner = 0;
-    for (size_t k = 0; k < keep; k++) {
-        icp(&c.fix, &c.medium, &cand[k], 20, 0.05 * size, floor, size, c.scratch);
-        sc[k] = score_of(&c.fix, &c.medium, &cand[k], tol, c.scratch);
+    for (size_t k = 0; k < keep && keep > 1; k++) {
+        icp(fix, medium, &cand[k], effort->medium_iters, 0.05 * size, floor, size, scratch);
+        sc[k] = score_of(fix, medium, &cand[k], tol, scratch);
         if (k && score_better(&sc[k], &sc[winner]))
             winner = k;
     }
     pose p = cand[winner];
-    icp(&c.fix, &c.fine, &p, 40, 0.02 * size, floor, size, c.scratch);
+    if (keep > 1 || effort->give_up == 0)
+        icp(fix, fine, &p, effort->fine_iters, 0.02 * size, floor, size, scratch);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            mat[4 * i + j] = p.r[3 * i + j];
+        mat[4 * i + 3] = p.t[i];
+    }
+}
+
+sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_register_opts *opts,
+                      sr_register_result *out, sr_err *err)
+{
+    reg_ctx c;
+    size_t n = opts && opts->samples ? opts->samples : 4000;
+    sr_status st = ctx_make(&c, moving, fixed, n, err);
+    if (st != SR_OK)
+        return st;
+    static const al_register_effort effort = {12, 0.25, 12, KEEP, 20, 40, 0};
+    double tol = tol_of(opts, &c.fix), mat[12];
+    al_register_fit(&c.fix, &c.mov, &c.coarse, &c.medium, &c.fine, tol, &effort, mat, c.scratch);
+    pose p;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            p.r[3 * i + j] = mat[4 * i + j];
+        p.t[i] = mat[4 * i + 3];
+    }
     fill_result(&c, &p, tol, out);
-    free(cand);
-    free(sc);
     ctx_release(&c);
     return SR_OK;
 }

@@ -174,4 +174,25 @@ sr_status sr_cat_history_summary_way(sr_catalog *cat, const struct sr_history_fi
                                      sr_cat_summary_way way, struct sr_history_summary *out,
                                      bool *used_cells, sr_err *err);
 
+/* ---- shape descriptors (catalog_identify.c) ---- */
+
+struct sr_shape_descriptor;
+
+/* The stored form of a descriptor (mesh_descriptors.data): SR_CAT_DESCRIPTOR_BYTES,
+ * 8-byte little-endian doubles: the version (SR_SHAPE_DESCRIPTOR_VERSION), the area,
+ * the 3 spreads, the SR_SHAPE_D2_BINS D2 shares. */
+#define SR_CAT_DESCRIPTOR_BYTES (8 * (5 + SR_SHAPE_D2_BINS))
+/* The schema version that made table mesh_descriptors (sql/006_part_descriptor.sql). */
+#define SR_CAT_DESCRIPTOR_SCHEMA 6
+void sr_cat_descriptor_pack(const struct sr_shape_descriptor *d, unsigned char *out);
+/* SR_E_FORMAT when size is not SR_CAT_DESCRIPTOR_BYTES, the version differs, or a
+ * figure is negative or not finite. *out only on SR_OK. */
+sr_status sr_cat_descriptor_unpack(const void *data, size_t size, struct sr_shape_descriptor *out,
+                                   sr_err *err);
+
+/* Stores (replaces) the shape descriptor of mesh `mesh_id`, inside the caller's
+ * transaction. */
+sr_status sr_cat_descriptor_put(sr_catalog *cat, int64_t mesh_id,
+                                const struct sr_shape_descriptor *d, sr_err *err);
+
 #endif

@@ -25,6 +25,8 @@
  *  4. The catalogue figures, if tests/bench/bench_catalog.c provides bench_catalog().
  *  5. History queries on a 100,000-run catalogue, if tests/bench/bench_history.c
  *     provides bench_history().
+ *  6. `symrec identify` on a catalogue of the shared, demo and generated parts, if
+ *     tests/bench/bench_identify.c provides bench_identify().
  *
  * Runs from the repository root (the Makefile does). About 3-6 minutes on 2 cores.
  */
@@ -60,6 +62,8 @@ extern char **environ;
 void bench_catalog(void) __attribute__((weak));
 /* HOOK: history query figures, tests/bench/bench_history.c, the same way. */
 void bench_history(void) __attribute__((weak));
+/* HOOK: identification figures, tests/bench/bench_identify.c, the same way. */
+void bench_identify(void) __attribute__((weak));
 
 static double now_s(void)
 {
@@ -661,11 +665,11 @@ int main(int argc, char **argv)
 {
     if (argc == 2 && strcmp(argv[1], "--big-instance") == 0)
         return big_child();
-    int only = 0; /* 0 = all; or 1..5 for one section (developer aid) */
+    int only = 0; /* 0 = all; or 1..6 for one section (developer aid) */
     if (argc == 3 && strcmp(argv[1], "--only") == 0)
         only = atoi(argv[2]);
     else if (argc != 1) {
-        fprintf(stderr, "usage: symrec_bench [--only 1|2|3|4|5]\n");
+        fprintf(stderr, "usage: symrec_bench [--only 1|2|3|4|5|6]\n");
         return 2;
     }
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -715,6 +719,11 @@ int main(int argc, char **argv)
             printf("== 5. History queries: no bench_history() linked "
                    "(tests/bench/bench_history.c absent) ==\n\n");
         }
+    }
+    if ((!only || only == 6) && bench_identify) {
+        printf("== 6. Identify ==\n");
+        bench_identify();
+        printf("\n");
     }
     printf("bench finished in %.1f s\n", now_s() - t0);
     return 0;
