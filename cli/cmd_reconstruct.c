@@ -15,6 +15,7 @@
  * finished, each complete).
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -30,7 +31,7 @@
 
 static const char usage[] =
     "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE)\n"
-    "              --symmetry axial|mirror|glide [--order N|auto] [--shift MM]\n"
+    "              --symmetry axial|mirror|glide|auto [--order N|auto] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
     "              [--gamma-axis G] [--gamma-plane G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
@@ -53,7 +54,11 @@ static const char usage[] =
     "                  default for --symmetry)\n"
     "  --mesh FILE     reconstruct a mesh file instead (STL, OBJ, PLY, OFF, glTF, GLB;\n"
     "                  at most 2 GiB, |coordinate| <= 1e6 mm, extent >= 1e-3 mm)\n"
-    "  --symmetry K    axial, mirror or glide\n"
+    "  --symmetry K    axial, mirror or glide; 'auto' fits every kind first and uses\n"
+    "                  the one proposed, as 'symrec symmetry' prints it (the order\n"
+    "                  of an axial part, the shift of a glide found; \"ambiguous\"\n"
+    "                  uses the first of the two); the run records the proposal\n"
+    "                  (JSON: \"symmetry_fit\"). A kind given is used as given\n"
     "  --order N       axial: n-fold order (2..360); default continuous. 'auto'\n"
     "                  finds it from the aligned layers (a gear's tooth count; 0 for\n"
     "                  a round part) and records the order found\n"
@@ -132,6 +137,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
            a->axis_point[0], a->axis_point[1], a->axis_point[2], a->axis_dir[0],
            a->axis_dir[1], a->axis_dir[2]);
     printf("             fit rms %.4f mm, score %.3f\n", a->fit_rms_mm, a->fit_score);
+    cli_symfit_print_line("  symmetry:   proposed by auto: ", run->symmetry_fit_json);
     if (a->fit_score < POOR_FIT_SCORE)
         printf("  poor fit: score %.3f < %.1f: only %.0f%% of the surface fits this symmetry; "
                "the part may not have it\n",
@@ -222,6 +228,8 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
     if (used.kind == SR_SYM_AXIAL)
         used.order = r->order;
     json_symmetry(&j, &used);
+    json_key(&j, "symmetry_fit"); /* --symmetry auto: the proposal; else null */
+    cli_symfit_json(&j, run->symmetry_fit_json);
     json_key(&j, "order_detection");
     if (r->order_auto) {
         json_object_begin(&j);
@@ -476,14 +484,17 @@ static sr_status advice_catalog(const cli_ctx *ctx, sr_catalog **cat, sr_err *er
  * recorded in one transaction when `record`. *run and *run_id only on success. */
 static sr_status describe_run(const cli_ctx *ctx, sr_catalog **cat, const sr_recon_result *r,
                               int64_t instance_id, const sr_symmetry *sym, const sr_params *p,
-                              const char *started, bool record, sr_run *run, int64_t *run_id,
-                              sr_err *err)
+                              const char *started, char *fit_json, bool record, sr_run *run,
+                              int64_t *run_id, sr_err *err)
 {
     sr_run made;
     sr_status st = sr_run_from_result(r, instance_id, sym, p, sr_recon_method_name(r->method),
                                       &made, err);
-    if (st != SR_OK)
+    if (st != SR_OK) {
+        free(fit_json);
         return st;
+    }
+    made.symmetry_fit_json = fit_json; /* the run's now */
     if (strcmp(started, made.finished_at) <= 0)
         snprintf(made.started_at, sizeof made.started_at, "%s", started);
     int64_t id = 0;
@@ -505,7 +516,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     const char *mesh_file = NULL, *kind = NULL, *order = NULL, *shift = NULL, *layers = NULL,
                *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
                *params_name = NULL, *method = NULL, *gamma_axis = NULL, *gamma_plane = NULL;
-    bool json = false, no_union = false, no_record = false;
+    bool json = false, no_union = false, no_record = false, sym_auto = false;
     const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},
                             {"--symmetry", &kind, NULL},
                             {"--order", &order, NULL},
@@ -564,12 +575,16 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         if (sr_recon_method_parse(method, "--method", &ro.method, &merr) != SR_OK)
             return cli_usage_error("%s", merr.msg);
     }
-    if (kind && !cli_parse_symmetry(kind, order, shift, 1, &ro.symmetry))
+    if (kind && strcmp(kind, "auto") == 0) {
+        if (order || shift)
+            return cli_usage_error("--order and --shift need --symmetry axial|glide, not auto");
+        sym_auto = true;
+    } else if (kind && !cli_parse_symmetry(kind, order, shift, 1, &ro.symmetry))
         return CLI_USAGE;
     if (!kind && (order || shift))
         return cli_usage_error("--order and --shift need --symmetry");
     if (mesh_file && !kind)
-        return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide");
+        return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide|auto");
     int64_t id = 0;
     if (!mesh_file && !cli_parse_id("INSTANCE", pos[0], &id))
         return CLI_USAGE;
@@ -599,7 +614,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         st = sr_catalog_instance_get(cat, id, &inst, &err);
         if (st == SR_OK)
             st = sr_catalog_instance_mesh(cat, id, &scan, &err);
-        if (st == SR_OK && !kind) {
+        if (st == SR_OK && !kind && !sym_auto) {
             if (inst.symmetry.kind == SR_SYM_NONE) {
                 sr_catalog_close(cat);
                 sr_mesh_release(&scan);
@@ -644,6 +659,13 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         return CLI_FAIL;
     }
+    char *fit_json = NULL;
+    if (sym_auto && !cli_symfit_auto(&scan, source, &ro.symmetry, &fit_json)) {
+        cli_outset_abort(&set);
+        sr_catalog_close(cat);
+        sr_mesh_release(&scan);
+        return CLI_FAIL;
+    }
     cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
     char started[32];
     sr_run_utc_time(0, started);
@@ -653,6 +675,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     st = sr_reconstruct(&scan, &ro, &r, &err);
     cli_progress_end(prog);
     if (st != SR_OK) {
+        free(fit_json);
         cli_outset_abort(&set);
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -671,7 +694,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     memset(&run, 0, sizeof run);
     if (rc == CLI_OK) {
         st = describe_run(ctx, &cat, &r, mesh_file ? 0 : id, &ro.symmetry, &params, started,
-                          !mesh_file && !no_record, &run, &run_id, &err);
+                          fit_json, !mesh_file && !no_record, &run, &run_id, &err);
+        fit_json = NULL; /* the run's, or freed with it */
         if (st != SR_OK)
             rc = cli_fail(st, &err);
     }
@@ -681,6 +705,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         else
             print_human(&r, &run, source, &params, run_id);
     }
+    free(fit_json);
     sr_run_release(&run);
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);
