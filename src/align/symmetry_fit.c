@@ -298,7 +298,7 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
     al_samples smp = {0};
     const size_t N = FIT_SAMPLES;
     unsigned char *hit = malloc(4 * N);
-    float *score = malloc(SR_SYMFIT_COUNT * N * sizeof *score);
+    float *score = malloc((SR_SYMFIT_COUNT + 1) * N * sizeof *score);
     uint8_t *cell = malloc(N);
     if (!hit || !score || !cell || al_samples_make(&surf, N, 0x5eed0107u, &smp) != SR_OK) {
         st = sr_err_set(err, SR_E_NOMEM, "cannot fit the symmetry: out of memory");
@@ -368,13 +368,25 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
     ops[1] = (canon_op){1, 0, -r.glide_shift_mm};
     candidate_scores(&surf, &smp, al[SR_SYMFIT_GLIDE].xform, ops, r.glide_shift_mm > 0 ? 2 : 1,
                      r.tol_mm, zlo + r.tol_mm, zhi - r.tol_mm, 0, hit, score + SR_SYMFIT_GLIDE * N);
+    /* a glide holds away from the part's ends: a sample within the shift of an end (an
+     * end face maps into the part) says nothing about it, and the mirror it is weighed
+     * against is scored on the same samples (a mirror across the middle of the length
+     * maps one end face onto the other) */
+    float *sm = score + SR_SYMFIT_COUNT * N, *sg = score + SR_SYMFIT_GLIDE * N;
+    memcpy(sm, score + SR_SYMFIT_MIRROR * N, N * sizeof *sm);
+    double margin = r.glide_shift_mm + r.tol_mm;
+    for (size_t i = 0; i < N && r.glide_shift_mm > 0; i++) {
+        double z = canon_z(al[SR_SYMFIT_GLIDE].xform, smp.p + 3 * i);
+        if (z < zlo + margin || z > zhi - margin)
+            sm[i] = sg[i] = -1;
+    }
     for (int c = 0; c < SR_SYMFIT_COUNT; c++)
         if (r.fig[c].fitted)
             r.fig[c].consistency = trimmed_mean(score + (size_t)c * N, cell, N);
+    double cm_glide = trimmed_mean(sm, cell, N);
 
     /* planar: glide against mirror; the noise of their difference from the samples on
      * which they disagree */
-    const float *sm = score + SR_SYMFIT_MIRROR * N, *sg = score + SR_SYMFIT_GLIDE * N;
     size_t disc = 0, used = 0;
     for (size_t i = 0; i < N; i++)
         if (sm[i] >= 0 && sg[i] >= 0) {
@@ -385,8 +397,8 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
     double cm = r.fig[SR_SYMFIT_MIRROR].consistency;
     double cg = r.fig[SR_SYMFIT_GLIDE].consistency;
     int has_glide = r.glide_shift_mm > 0 && used >= N / 2;
-    int glide = has_glide && cg - cm > amb;
-    int planar_amb = has_glide && fabs(cg - cm) <= amb;
+    int glide = has_glide && cg - cm_glide > amb;
+    int planar_amb = has_glide && fabs(cg - cm_glide) <= amb;
     sr_symfit_cand planar = glide ? SR_SYMFIT_GLIDE : SR_SYMFIT_MIRROR;
     double cp = glide ? cg : cm;
     sr_symfit_cand axial = r.order >= 3 ? SR_SYMFIT_NFOLD : SR_SYMFIT_ROUND;
@@ -404,7 +416,7 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
             r.ambiguous = 1;
             r.alternative = (sr_symmetry){SR_SYM_GLIDE, 0, r.glide_shift_mm};
         } else if (has_glide) {
-            other = fmax(other, glide ? cm : cg);
+            other = fmax(other, glide ? cm_glide : cg);
         }
     }
     double cpick = r.fig[pick].consistency;
