@@ -27,7 +27,8 @@ typedef struct sr_symfit_figure {
     int fitted;         /* 0: the kind could not be fitted (n-fold: no order found) */
     double consistency; /* 0..1: share of the scan's surface samples whose image under
                             * the symmetry lies on the scan (within tol_mm, normals
-                            * within 30 deg), averaged over the candidate's transforms */
+                            * within 30 deg); axial: matched by most of its turns;
+                            * the worst grid cells (damage) left out, see the .c */
     double rms_mm;      /* the aligner's residual of this kind's fit, mm */
 } sr_symfit_figure;
 
@@ -39,8 +40,8 @@ typedef struct sr_symmetry_fit {
     double confidence;       /* 0..1 */
     sr_alignment alignment;  /* the proposal's alignment (scan -> canonical) */
     sr_symfit_figure fig[SR_SYMFIT_COUNT];
-    int order;             /* the order found on the axial fit (0: none / round) */
-    int round;             /* 1: the axial fit's layers are round (order_detect.h) */
+    int order;             /* the order found on the axial fit (0: none: round, or no
+                            * rotational symmetry) */
     double glide_shift_mm; /* the shift the glide fit found */
     double noise_mm;       /* the scan's noise as measured (best fit's residual / sqrt 2) */
     double tol_mm;         /* the tolerance of the consistency, mm */

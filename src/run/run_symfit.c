@@ -83,8 +83,6 @@ sr_status sr_symfit_json(const sr_symmetry_fit *f, char **out, sr_err *err)
     sr_jsonbuf_object_end(&jb);
     sr_jsonbuf_key(&jb, "order_found");
     sr_jsonbuf_int(&jb, f->order);
-    sr_jsonbuf_key(&jb, "round");
-    sr_jsonbuf_bool(&jb, f->round != 0);
     sr_jsonbuf_key(&jb, "glide_shift_found_mm");
     sr_jsonbuf_number(&jb, f->glide_shift_mm);
     sr_jsonbuf_key(&jb, "noise_mm");

@@ -9,7 +9,7 @@
  *    "ambiguous": false, "alternative": null | {...}, "confidence": 0.97,
  *    "consistency": {"axial": 0.42, "axial_nfold": 0.99 | null, "mirror": 1.0,
  *                    "glide": 0.35},
- *    "order_found": 20, "round": false, "glide_shift_found_mm": 7.67,
+ *    "order_found": 20, "glide_shift_found_mm": 7.67,
  *    "noise_mm": 0.005, "tolerance_mm": 0.21, "samples": 3000, "seconds": 1.7,
  *    "summary": "axial 20-fold, confidence 0.97 (consistency ...)"}
  */
