@@ -21,11 +21,13 @@
  *    the right kind; trimmed, damage costs every kind alike, while a wrong symmetry
  *    misses everywhere.
  * 3. The order: on the continuous fit's axis, for n = 2..60, the share of every third
- *    sample matching when turned by 360/n; the largest n within 0.02 of the best whose
- *    turn by half the period, 180/n, matches clearly worse (by more than the paired
- *    noise 2 sqrt(discordant) / samples): any profile matches itself turned a little
- *    and a round part by any turn, while a real period's half puts a tooth onto a gap
- *    or a bolt hole onto the web. Divisors of the order match too; the largest wins.
+ *    sample matching when turned by 360/n; candidates are the n within 0.02 of the best
+ *    whose turn by half the period, 180/n, matches clearly worse (by more than the
+ *    paired noise 2 sqrt(discordant) / samples): any profile matches itself turned a
+ *    little and a round part by any turn, while a real period's half puts a tooth onto
+ *    a gap or a bolt hole onto the web. Of these the one matching best turned by
+ *    k 360/n, k = 1, 2, n/2, n-1 (a neighbour of the order drifts off as k grows: 40
+ *    for a 39-tooth gear), the largest within 0.01 (divisors match as well).
  *    With an order >= 3 the axis is refined by the n-fold fit.
  * 4. The proposal. A symmetry group that contains another fits at least as well: a
  *    round part matches every turn and has mirror planes through its axis, a gear has
@@ -243,11 +245,28 @@ static double paired_noise(const unsigned char *a, const unsigned char *b, size_
     return fmax(0.01, 2.0 * sqrt((double)disc) / (double)(used ? used : 1));
 }
 
+/* The ops of an n-fold candidate: turns by k 360/n for k = 1, 2, n/2, n-1 (distinct);
+ * returns how many. */
+static int nfold_ops(int n, canon_op *ops)
+{
+    int ks[4] = {1, 2, n / 2, n - 1}, count = 0;
+    for (int k = 0; k < 4; k++) {
+        int dup = 0;
+        for (int j = 0; j < k; j++)
+            dup |= ks[j] == ks[k];
+        if (!dup && ks[k] >= 1 && ks[k] < n)
+            ops[count++] = (canon_op){0, 2 * M_PI * ks[k] / n, 0};
+    }
+    return count;
+}
+
 /* The order of the continuous fit's axis: for n = 2..60 the share of every third sample
- * that matches turned by 360/n; the largest n within the noise of the best whose turn
- * by half the period, 180/n, matches clearly worse (any profile matches itself turned
- * a little; a real period's half does not: a tooth onto a gap, a bolt hole onto the
- * web). 0 when no n qualifies (round, or no rotational symmetry). */
+ * that matches turned by 360/n. The orders within 0.02 of the best whose turn by half
+ * the period, 180/n, matches clearly worse (any profile matches itself turned a little
+ * and a round part by any turn; a real period's half puts a tooth onto a gap) are
+ * candidates; of these the one whose turns by k 360/n (k = 1, 2, n/2, n-1) match most
+ * samples (a neighbour of the order drifts off as k grows: 40 teeth for 39), the
+ * largest within 0.01 of it (divisors of the order match as well). 0 when none. */
 static int find_order(al_surface *s, const al_samples *smp, const double xf[12], double tol,
                       unsigned char *h1, unsigned char *h2)
 {
@@ -257,15 +276,27 @@ static int find_order(al_surface *s, const al_samples *smp, const double xf[12],
         c[n] = classify(s, smp, xf, &op, tol, 0, 0, 3, h1);
         best = fmax(best, c[n]);
     }
+    double full[61] = {0}, top = -1;
     for (int n = 60; n >= 2; n--) {
+        full[n] = -1;
         canon_op op = {0, 2 * M_PI / n, 0}, half = {0, M_PI / n, 0};
-        double cn = classify(s, smp, xf, &op, tol, 0, 0, 3, h1);
-        if (cn < best - 0.02)
+        if (c[n] < best - 0.02)
             continue;
+        classify(s, smp, xf, &op, tol, 0, 0, 3, h1);
         double ch = classify(s, smp, xf, &half, tol, 0, 0, 3, h2);
-        if (cn - ch > paired_noise(h1, h2, smp->count))
-            return n;
+        if (c[n] - ch <= paired_noise(h1, h2, smp->count))
+            continue;
+        canon_op ops[4];
+        int count = nfold_ops(n, ops);
+        double sum = 0;
+        for (int k = 0; k < count; k++)
+            sum += classify(s, smp, xf, ops + k, tol, 0, 0, 3, h1);
+        full[n] = sum / count;
+        top = fmax(top, full[n]);
     }
+    for (int n = 60; n >= 2 && top >= 0; n--)
+        if (full[n] >= 0 && full[n] >= top - 0.01)
+            return n;
     return 0;
 }
 
@@ -343,15 +374,7 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
     candidate_scores(&surf, &smp, al[SR_SYMFIT_ROUND].xform, ops, n, r.tol_mm, 0, 0, 1, hit,
                      score + SR_SYMFIT_ROUND * N);
     if (r.order >= 2) {
-        int ks[4] = {1, 2, r.order / 2, r.order - 1};
-        n = 0;
-        for (int k = 0; k < 4; k++) {
-            int dup = 0;
-            for (int j = 0; j < k; j++)
-                dup |= ks[j] == ks[k];
-            if (!dup && ks[k] >= 1 && ks[k] < r.order)
-                ops[n++] = (canon_op){0, 2 * M_PI * ks[k] / r.order, 0};
-        }
+        n = nfold_ops(r.order, ops);
         candidate_scores(&surf, &smp, al[SR_SYMFIT_NFOLD].xform, ops, n, r.tol_mm, 0, 0, 1, hit,
                          score + SR_SYMFIT_NFOLD * N);
     }
