@@ -231,13 +231,17 @@ layers:
 # under Valgrind the intact scan's reconstruction (vote, no section) and the refused
 # ones remain, with the CGAL bridge's unit tests whole. The registration's own cases
 # (compare_registers_*: 120 s under Memcheck) run under ASan, as do those that only
-# need a reconstruction to read from (export_run_*, json_names_agree_*).
+# need a reconstruction to read from (export_run_*, json_names_agree_*), and the
+# symmetry fits of test_symmetry_fit and test_cli_symmetry (three or four alignments each).
 VALGRIND_SKIP := demo_runs_the_whole_job,demo_builds_the_catalogue_*,reconstruct_order_auto_*,\
 reconstruct_params_and_*,reconstruct_prints_run_recorded_*,compare_takes_stored_meshes,\
 plan_writes_*,report_writes_*,run_list_filters_*,a_symmetry_that_does_not_fit_*,\
 reconstruct_of_an_instance_records_*,a_failed_reconstruct_records_nothing,\
 reconstruct_of_a_mesh_file_*,reconstruct_applies_the_sets_*,reconstruct_shows_progress_*,\
-compare_registers_*,export_run_*,json_names_agree_*,demo_json_runs_the_job_*,identify_*,instance_add_part_auto_*
+compare_registers_*,export_run_*,json_names_agree_*,demo_json_runs_the_job_*,identify_*,instance_add_part_auto_*,\
+grooved_cylinder_is_*,\
+toothed_wheel_is_*,angle_bracket_is_mirror,bumped_bar_is_a_glide_*,the_fit_is_deterministic,\
+symfit_part_*,symmetry_of_a_mesh_file_is_proposed,reconstruct_symmetry_auto_*
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite
 valgrind: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
@@ -293,6 +297,7 @@ bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
 	$(Q)SYMREC_IDENTIFY_GEN="$(IDENTIFY_GEN_DIRS)" build/release/bench/symrec_bench
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
+	$(Q)sh tests/bench/symmetry_bench.sh build/release/symrec
 
 bench-built: $(BENCH)
 

@@ -65,6 +65,7 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv);
 int cmd_rules(const cli_ctx *ctx, int argc, char **argv);
 int cmd_materials(const cli_ctx *ctx, int argc, char **argv);
 int cmd_plan(const cli_ctx *ctx, int argc, char **argv);
+int cmd_symmetry(const cli_ctx *ctx, int argc, char **argv);
 
 /* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
 
@@ -278,6 +279,21 @@ void cli_print_bbox(FILE *f, const char *label, const double min[3], const doubl
  * "    features of N: {...}" line per described section, then "  advice:" with one
  * line per advice ("  advice:      none" without). */
 void cli_run_advice_print(const sr_run *r);
+
+/* ---- symmetry proposals (cli/cmd_symmetry.c) ---- */
+
+/* Fits the symmetry of `scan` (align/symmetry_fit.h) and its JSON object
+ * (run/run_symfit.h, *fit_json malloc'd). */
+struct sr_symmetry_fit;
+sr_status cli_symfit_run(const sr_mesh *scan, struct sr_symmetry_fit *fit, char **fit_json,
+                         sr_err *err);
+
+/* reconstruct --symmetry auto: fits `scan`, notes the proposal on stderr and sets *sym
+ * to it and *fit_json (malloc'd). False after an error line. */
+bool cli_symfit_auto(const sr_mesh *scan, const char *source, sr_symmetry *sym, char **fit_json);
+
+/* "<label><summary>" on stdout from a fit's JSON object; nothing for NULL. */
+void cli_symfit_print_line(const char *label, const char *fit_json);
 
 /* "label value" on one line, the value written with cli_tx (user text). */
 void cli_print_field(FILE *f, const char *label, const char *value);

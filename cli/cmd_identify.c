@@ -14,7 +14,7 @@
 #include "json_out.h"
 
 static const char usage_identify[] =
-    "usage: symrec [--db FILE] identify SCAN [--top K] [--tol MM] [--json]\n"
+    "usage: symrec [--db FILE] identify SCAN [--top K] [--tol MM] [--units U] [--json]\n"
     "\n"
     "Finds which catalogue part a scan (a damaged or intact piece, in any pose) is of:\n"
     "the parts with an intact mesh ranked by how well they explain the scan. The parts\n"
@@ -30,11 +30,13 @@ static const char usage_identify[] =
     "Then the verdict: `match` (the first explains the scan: coverage >= 80 %, lacking\n"
     "<= 30 %, RMS <= a quarter of the tolerance, and the second scores at least 0.05\n"
     "less), `too close to call` (the first two within 0.05), or `no match` (no part\n"
-    "explains the scan: it is of a part not in the catalogue). Parts added before descriptors were "
-    "kept get theirs\n"
-    "computed on the first run, and stored when the catalogue can be written.\n"
+    "explains the scan: it is of a part not in the catalogue). Parts added before\n"
+    "descriptors were kept get theirs computed on the first run, and stored when the\n"
+    "catalogue can be written.\n"
     "\n"
-    "  SCAN       a mesh file (.stl .obj .ply .off .gltf .glb, in mm)\n"
+    "  SCAN       a mesh file (.stl .obj .ply .off .gltf .glb)\n"
+    "  --units U  the unit SCAN is drawn in: mm, cm, m or in (default: mm for .stl\n"
+    "             .obj .ply .off, m for .gltf .glb)\n"
     "  --top K    how many candidates to show, 1..20 (default 3; at least 4 are\n"
     "             registered, and up to 10 about as close by descriptor)\n"
     "  --tol MM   the tolerance for coverage and lacking, mm (default 0.5 % of the\n"
@@ -168,13 +170,11 @@ int cli_identify_print(const sr_identify_result *res, const char *scan, bool jso
 
 int cmd_identify(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *top_text = NULL, *tol_text = NULL, *scan_path = NULL;
+    const char *top_text = NULL, *tol_text = NULL, *scan_path = NULL, *units = NULL;
     bool json = false;
     const cli_opt opts[] = {
-        {"--top", &top_text, NULL},
-        {"--tol", &tol_text, NULL},
-        {"--json", NULL, &json},
-        {NULL, NULL, NULL},
+        {"--top", &top_text, NULL}, {"--tol", &tol_text, NULL}, {"--units", &units, NULL},
+        {"--json", NULL, &json},    {NULL, NULL, NULL},
     };
     const cli_spec spec = {"identify", usage_identify, opts, 1, 1, "SCAN"};
     int rc;
@@ -190,6 +190,9 @@ int cmd_identify(const cli_ctx *ctx, int argc, char **argv)
     if (tol_text &&
         !cli_parse_double("--tol", tol_text, 1e-6, 1e6, "a distance in mm > 0", &o.tol_mm))
         return CLI_USAGE;
+    sr_unit unit;
+    if (!cli_parse_units("--units", units, &unit))
+        return CLI_USAGE;
     sr_catalog *cat;
     if (!cli_open(ctx, CLI_READ_CACHE, NULL, &cat))
         return CLI_FAIL;
@@ -199,7 +202,7 @@ int cmd_identify(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh_init(&scan);
     sr_identify_result res;
     memset(&res, 0, sizeof res);
-    sr_status st = sr_mesh_read(scan_path, &scan, &err);
+    sr_status st = cli_mesh_read(scan_path, unit, &scan, NULL, &err);
     if (st == SR_OK)
         st = sr_catalog_identify(cat, &scan, &o, &res, &err);
     sr_mesh_release(&scan);

@@ -15,6 +15,7 @@
  * finished, each complete).
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -30,7 +31,7 @@
 
 static const char usage[] =
     "usage: symrec [--db FILE] reconstruct (INSTANCE | --mesh FILE [--units U])\n"
-    "              --symmetry axial|mirror|glide [--order N|auto] [--shift MM]\n"
+    "              --symmetry axial|mirror|glide|auto [--order N|auto] [--shift MM]\n"
     "              [--params NAME] [--layers N] [--sectors N] [--gamma G]\n"
     "              [--gamma-axis G] [--gamma-plane G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
@@ -56,7 +57,11 @@ static const char usage[] =
     "  --units U       --mesh only: the unit FILE is drawn in: mm, cm, m or in\n"
     "                  (default: mm for .stl .obj .ply .off, m for .gltf .glb); the\n"
     "                  run and its outputs are in mm\n"
-    "  --symmetry K    axial, mirror or glide\n"
+    "  --symmetry K    axial, mirror or glide; 'auto' fits every kind first and uses\n"
+    "                  the one proposed, as 'symrec symmetry' prints it (the order\n"
+    "                  of an axial part, the shift of a glide found; \"ambiguous\"\n"
+    "                  uses the first of the two); the run records the proposal\n"
+    "                  (JSON: \"symmetry_fit\"). A kind given is used as given\n"
     "  --order N       axial: n-fold order (2..360); default continuous. 'auto'\n"
     "                  finds it from the aligned layers (a gear's tooth count; 0 for\n"
     "                  a round part) and records the order found\n"
@@ -120,8 +125,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                r->noise_mm, 2 * r->open_mm);
     if (r->method == SR_METHOD_IMAGE)
         printf(" (voxel pitch %.3f mm, %.1f M voxels; vote %.3f s, patches %.3f s)",
-               r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s,
-               r->image.patch_s);
+               r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s, r->image.patch_s);
     printf("\n");
     if (r->unfold_pairs)
         printf("  scan folds: %zu crossing triangle pairs, %zu sliver triangles collapsed, %zu"
@@ -133,9 +137,10 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
     printf("  parameters: set '%s', %d layers x %d sectors, gamma %g/%g, min depth %g mm\n",
            p->name, p->layers, p->sectors, p->gamma_axis, p->gamma_plane, p->min_depth_mm);
     printf("  alignment: axis point (%.3f, %.3f, %.3f) mm, direction (%.5f, %.5f, %.5f)\n",
-           a->axis_point[0], a->axis_point[1], a->axis_point[2], a->axis_dir[0],
-           a->axis_dir[1], a->axis_dir[2]);
+           a->axis_point[0], a->axis_point[1], a->axis_point[2], a->axis_dir[0], a->axis_dir[1],
+           a->axis_dir[2]);
     printf("             fit rms %.4f mm, score %.3f\n", a->fit_rms_mm, a->fit_score);
+    cli_symfit_print_line("  symmetry:   proposed by auto: ", run->symmetry_fit_json);
     if (a->fit_score < POOR_FIT_SCORE)
         printf("  poor fit: score %.3f < %.1f: only %.0f%% of the surface fits this symmetry; "
                "the part may not have it\n",
@@ -147,8 +152,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
     else if (r->order_auto)
         printf("  order:      continuous, found (%s: mismatch %.3f mm at turns no order "
                "repeats)\n",
-               r->order_found.round ? "round" : "no order 2..360 matches",
-               r->order_found.base_mm);
+               r->order_found.round ? "round" : "no order 2..360 matches", r->order_found.base_mm);
     printf("  grid: %zu layers x %zu sectors, dz %.4f mm\n", r->grid.layers, r->grid.sectors,
            r->grid.dz);
     if (r->method == SR_METHOD_IMAGE && r->image.poor_fit) {
@@ -163,9 +167,8 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                    : "");
         if (r->image.misfit_located)
             printf("              mostly %s %.1f..%.1f mm, z %.1f..%.1f mm (aligned frame)\n",
-                   misfit_axial(r) ? "at radius" : "from the plane",
-                   r->image.misfit_where[0], r->image.misfit_where[1],
-                   r->image.misfit_where[2], r->image.misfit_where[3]);
+                   misfit_axial(r) ? "at radius" : "from the plane", r->image.misfit_where[0],
+                   r->image.misfit_where[1], r->image.misfit_where[2], r->image.misfit_where[3]);
     }
     if (r->method == SR_METHOD_IMAGE && r->image.continued)
         printf("  continued:  %zu section(s) broken through the plane, carried on along z "
@@ -226,6 +229,8 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
     if (used.kind == SR_SYM_AXIAL)
         used.order = r->order;
     json_symmetry(&j, &used);
+    json_key(&j, "symmetry_fit"); /* --symmetry auto: the proposal; else null */
+    cli_symfit_json(&j, run->symmetry_fit_json);
     json_key(&j, "order_detection");
     if (r->order_auto) {
         json_object_begin(&j);
@@ -469,8 +474,7 @@ static sr_status advice_catalog(const cli_ctx *ctx, sr_catalog **cat, sr_err *er
         sr_status st = sr_catalog_open(ctx->db_path, SR_CATALOG_READONLY, cat, err);
         if (st == SR_OK)
             return SR_OK;
-        cli_note("advice from the built-in rules: %s", err->msg[0] ? err->msg
-                                                                   : sr_status_str(st));
+        cli_note("advice from the built-in rules: %s", err->msg[0] ? err->msg : sr_status_str(st));
         sr_err_clear(err);
     }
     return sr_catalog_open_memory(cat, err);
@@ -481,14 +485,17 @@ static sr_status advice_catalog(const cli_ctx *ctx, sr_catalog **cat, sr_err *er
  * recorded in one transaction when `record`. *run and *run_id only on success. */
 static sr_status describe_run(const cli_ctx *ctx, sr_catalog **cat, const sr_recon_result *r,
                               int64_t instance_id, const sr_symmetry *sym, const sr_params *p,
-                              const char *started, bool record, sr_run *run, int64_t *run_id,
-                              sr_err *err)
+                              const char *started, char *fit_json, bool record, sr_run *run,
+                              int64_t *run_id, sr_err *err)
 {
     sr_run made;
-    sr_status st = sr_run_from_result(r, instance_id, sym, p, sr_recon_method_name(r->method),
-                                      &made, err);
-    if (st != SR_OK)
+    sr_status st =
+        sr_run_from_result(r, instance_id, sym, p, sr_recon_method_name(r->method), &made, err);
+    if (st != SR_OK) {
+        free(fit_json);
         return st;
+    }
+    made.symmetry_fit_json = fit_json; /* the run's now */
     if (strcmp(started, made.finished_at) <= 0)
         snprintf(made.started_at, sizeof made.started_at, "%s", started);
     int64_t id = 0;
@@ -511,7 +518,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
                *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
                *params_name = NULL, *method = NULL, *gamma_axis = NULL, *gamma_plane = NULL,
                *units = NULL;
-    bool json = false, no_union = false, no_record = false;
+    bool json = false, no_union = false, no_record = false, sym_auto = false;
     const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},
                             {"--units", &units, NULL},
                             {"--symmetry", &kind, NULL},
@@ -561,8 +568,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if (gamma_plane && !cli_parse_double("--gamma-plane", gamma_plane, 1e-6, 1,
                                          "a number in (0, 1]", &gamma_plane_v))
         return CLI_USAGE;
-    if (min_depth && !cli_parse_double("--min-depth", min_depth, 0, 1000, "a depth 0..1000 mm",
-                                       &min_depth_v))
+    if (min_depth &&
+        !cli_parse_double("--min-depth", min_depth, 0, 1000, "a depth 0..1000 mm", &min_depth_v))
         return CLI_USAGE;
     if (params_name && !*params_name)
         return cli_usage_error("bad --params '': expected the name of a parameter set");
@@ -577,12 +584,16 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         if (sr_recon_method_parse(method, "--method", &ro.method, &merr) != SR_OK)
             return cli_usage_error("%s", merr.msg);
     }
-    if (kind && !cli_parse_symmetry(kind, order, shift, 1, &ro.symmetry))
+    if (kind && strcmp(kind, "auto") == 0) {
+        if (order || shift)
+            return cli_usage_error("--order and --shift need --symmetry axial|glide, not auto");
+        sym_auto = true;
+    } else if (kind && !cli_parse_symmetry(kind, order, shift, 1, &ro.symmetry))
         return CLI_USAGE;
     if (!kind && (order || shift))
         return cli_usage_error("--order and --shift need --symmetry");
     if (mesh_file && !kind)
-        return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide");
+        return cli_usage_error("'reconstruct --mesh' needs --symmetry axial|mirror|glide|auto");
     int64_t id = 0;
     if (!mesh_file && !cli_parse_id("INSTANCE", pos[0], &id))
         return CLI_USAGE;
@@ -612,12 +623,13 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         st = sr_catalog_instance_get(cat, id, &inst, &err);
         if (st == SR_OK)
             st = sr_catalog_instance_mesh(cat, id, &scan, &err);
-        if (st == SR_OK && !kind) {
+        if (st == SR_OK && !kind && !sym_auto) {
             if (inst.symmetry.kind == SR_SYM_NONE) {
                 sr_catalog_close(cat);
                 sr_mesh_release(&scan);
                 return cli_usage_error("instance %lld has no symmetry in the catalogue: give "
-                                       "--symmetry axial|mirror|glide", (long long)id);
+                                       "--symmetry axial|mirror|glide",
+                                       (long long)id);
             }
             ro.symmetry = inst.symmetry;
         }
@@ -657,6 +669,13 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         return CLI_FAIL;
     }
+    char *fit_json = NULL;
+    if (sym_auto && !cli_symfit_auto(&scan, source, &ro.symmetry, &fit_json)) {
+        cli_outset_abort(&set);
+        sr_catalog_close(cat);
+        sr_mesh_release(&scan);
+        return CLI_FAIL;
+    }
     cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
     char started[32];
     sr_run_utc_time(0, started);
@@ -666,6 +685,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     st = sr_reconstruct(&scan, &ro, &r, &err);
     cli_progress_end(prog);
     if (st != SR_OK) {
+        free(fit_json);
         cli_outset_abort(&set);
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -684,7 +704,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     memset(&run, 0, sizeof run);
     if (rc == CLI_OK) {
         st = describe_run(ctx, &cat, &r, mesh_file ? 0 : id, &ro.symmetry, &params, started,
-                          !mesh_file && !no_record, &run, &run_id, &err);
+                          fit_json, !mesh_file && !no_record, &run, &run_id, &err);
+        fit_json = NULL; /* the run's, or freed with it */
         if (st != SR_OK)
             rc = cli_fail(st, &err);
     }
@@ -694,6 +715,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         else
             print_human(&r, &run, source, &params, run_id);
     }
+    free(fit_json);
     sr_run_release(&run);
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);

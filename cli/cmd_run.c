@@ -46,7 +46,8 @@ static const char usage_show[] =
     "usage: symrec [--db FILE] run show N [--layers] [--json]\n"
     "\n"
     "Shows run N in full: instance and part, status, software version and times, the\n"
-    "symmetry and every parameter as used, the alignment (the 3x4 scan-to-aligned\n"
+    "symmetry and every parameter as used (with the proposal of --symmetry auto:\n"
+    "kind, confidence, consistency per kind), the alignment (the 3x4 scan-to-aligned\n"
     "transform) and its fit quality, the timings per phase (s), the restored mesh, the\n"
     "missing sections (layers, z range in mm, angular range in degrees for axial parts\n"
     "or the side of the plane for planar ones, depth max/mean in mm, volume mm³, area\n"
@@ -401,6 +402,8 @@ static int print_json(const sr_run *r, bool layers)
     json_string(j, r->method);
     json_key(j, "symmetry");
     json_symmetry(j, &r->symmetry);
+    json_key(j, "symmetry_fit"); /* reconstruct --symmetry auto: the proposal; else null */
+    cli_symfit_json(j, r->symmetry_fit_json);
     json_key(j, "params");
     json_params(j, &r->params);
     json_key(j, "alignment");
@@ -539,6 +542,7 @@ static bool print_text(const sr_run *r, bool layers)
            r->finished_at[0] ? r->finished_at : "-");
     printf("  software:    symrec %s, method %s\n", cli_tx(r->software_version), cli_tx(r->method));
     printf("  symmetry:    %s\n", cli_sym_str(&r->symmetry, sym, sizeof sym));
+    cli_symfit_print_line("  proposed:    by --symmetry auto: ", r->symmetry_fit_json);
     printf("  parameters:  set '%s': %d layers, %d sectors, gamma_axis %g, gamma_plane %g,\n"
            "               delta_d %g, min depth %g mm, min volume %g mm³\n",
            cli_tx(p->name), p->layers, p->sectors, p->gamma_axis, p->gamma_plane, p->delta_d,

@@ -73,5 +73,7 @@ void json_instance_members(json_out *j, const sr_instance_info *in);
  * members of its features_json), and the "advice" array. */
 void json_run_features(json_out *j, const sr_run_section *s);
 void json_run_advice(json_out *j, const sr_run *r);
+/* A symmetry fit's JSON object as it is (run/run_symfit.h), null for NULL. */
+void cli_symfit_json(json_out *j, const char *fit_json);
 
 #endif

@@ -48,6 +48,7 @@ static const cli_command commands[] = {
     {"check", cmd_check, "what a mesh file holds: size, volume, closed, pieces, unit"},
     {"convert", cmd_convert, "rewrite a mesh file in another format"},
     {"reconstruct", cmd_reconstruct, "restore a damaged instance or mesh by its symmetry"},
+    {"symmetry", cmd_symmetry, "fit every kind of symmetry to a scan and propose one"},
     {"run", cmd_run, "list and show recorded reconstruction runs"},
     {"history", cmd_history, "repair history of a part, instance, material or date range"},
     {"report", cmd_report, "write a run's self-contained HTML report"},

@@ -266,8 +266,8 @@ static void identify_usage_errors_exit_2(void **state)
     cli_result_free(&r);
     CLI_RUN(&r, "identify", "--help");
     cli_expect_ok(&r);
-    cli_expect_contains(r.out,
-                        "usage: symrec [--db FILE] identify SCAN [--top K] [--tol MM] [--json]");
+    cli_expect_contains(
+        r.out, "usage: symrec [--db FILE] identify SCAN [--top K] [--tol MM] [--units U] [--json]");
     cli_expect_contains(r.out, "Exit 0 with an answer");
     cli_result_free(&r);
     CLI_RUN(&r, "instance", "add", "--help");

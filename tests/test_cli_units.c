@@ -168,6 +168,8 @@ static void a_bad_unit_is_a_usage_error_naming_the_flag(void **state)
         {"--db", f->db, "reconstruct", "--mesh", f->mm, "--symmetry", "mirror", "--units",
          "furlong", NULL},
         {"--db", f->db, "compare", f->mm, f->inch, "--units", "furlong", NULL},
+        {"--db", f->db, "identify", f->mm, "--units", "furlong", NULL},
+        {"--db", f->db, "symmetry", "--mesh", f->mm, "--units", "furlong", NULL},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *words[16];

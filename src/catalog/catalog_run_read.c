@@ -36,7 +36,8 @@ static char *column_dup(sqlite3_stmt *stmt, int col, bool *fail)
 /* Columns of the run row: 0 instance_id, 1 part number, 2..4 symmetry, 5..12 params,
  * 13 method, 14 alignment, 15 alignment_given, 16 fit_quality, 17 status, 18 error,
  * 19 software_version, 20 started_at, 21 finished_at, 22 restored_mesh_id,
- * 23 timings_json, 24..27 restored mesh vertex_count, tri_count, format, data. */
+ * 23 timings_json, 24..27 restored mesh vertex_count, tri_count, format, data,
+ * 28 the symmetry proposal's fit_json (sql/007_symmetry_proposal.sql; NULL = none). */
 static sr_status read_run_row(sr_catalog *cat, int64_t id, unsigned what, sr_run *r,
                               sr_err *err)
 {
@@ -49,7 +50,8 @@ static sr_status read_run_row(sr_catalog *cat, int64_t id, unsigned what, sr_run
         " r.alignment_given, r.fit_quality, r.status, r.error, r.software_version,"
         " r.started_at, r.finished_at, r.restored_mesh_id, r.timings_json,"
         " me.vertex_count, me.tri_count, me.format_version,"
-        " CASE WHEN ?2 THEN me.data END"
+        " CASE WHEN ?2 THEN me.data END,"
+        " (SELECT f.fit_json FROM run_symmetry_fit f WHERE f.run_id = r.id)"
         " FROM runs r JOIN instances i ON i.id = r.instance_id"
         " JOIN parts p ON p.id = i.part_id"
         " LEFT JOIN meshes me ON me.id = r.restored_mesh_id"
@@ -99,6 +101,7 @@ static sr_status read_run_row(sr_catalog *cat, int64_t id, unsigned what, sr_run
     sr_cat_column_text(stmt, 21, r->finished_at, sizeof r->finished_at);
     bool fail = false;
     r->timings_json = column_dup(stmt, 23, &fail);
+    r->symmetry_fit_json = column_dup(stmt, 28, &fail);
     if (fail)
         st = sr_err_set(err, SR_E_NOMEM, "out of memory reading run %lld", (long long)id);
     if (st == SR_OK && (what & SR_RUN_WITH_MESHES) &&

@@ -165,6 +165,8 @@ static sr_status check_run(sr_catalog *cat, const sr_run *run, sr_err *err)
         return sr_err_set(err, SR_E_RANGE, "bad finished_at '%s': before started_at '%s'",
                           run->finished_at, run->started_at);
     st = json_ok(cat, run->timings_json, "timings_json", err);
+    if (st == SR_OK)
+        st = json_ok(cat, run->symmetry_fit_json, "symmetry_fit_json", err);
     if (st != SR_OK)
         return st;
 
@@ -465,6 +467,28 @@ static sr_status insert_advice(sr_catalog *cat, const sr_run_advice *a, int64_t 
     return sr_cat_exec(cat, stmt, err, "record a run's advice");
 }
 
+/* The proposal of `--symmetry auto` (sql/007_symmetry_proposal.sql): the columns are
+ * read out of the fit's JSON object by SQLite, so they cannot disagree with it. */
+static sr_status insert_symmetry_fit(sr_catalog *cat, const char *fit_json, int64_t run_id,
+                                     sr_err *err)
+{
+    sqlite3_stmt *stmt;
+    sr_status st = sr_cat_prepare(
+        cat,
+        "INSERT INTO run_symmetry_fit (run_id, kind, order_n, shift_mm, confidence,"
+        " ambiguous, alternative, fit_json) VALUES (?1, json_extract(?2, '$.proposal.kind'),"
+        " coalesce(json_extract(?2, '$.proposal.order'), 0),"
+        " coalesce(json_extract(?2, '$.proposal.shift_mm'), 0),"
+        " json_extract(?2, '$.confidence'), json_extract(?2, '$.ambiguous'),"
+        " json_extract(?2, '$.alternative.kind'), ?2)",
+        &stmt, err);
+    if (st != SR_OK)
+        return st;
+    sqlite3_bind_int64(stmt, 1, run_id);
+    sqlite3_bind_text(stmt, 2, fit_json, -1, SQLITE_STATIC);
+    return sr_cat_exec(cat, stmt, err, "record a run's symmetry proposal");
+}
+
 sr_status sr_catalog_run_add(sr_catalog *cat, const sr_run *run, int64_t *out_id, sr_err *err)
 {
     sr_status st = check_run(cat, run, err);
@@ -499,6 +523,8 @@ sr_status sr_catalog_run_add(sr_catalog *cat, const sr_run *run, int64_t *out_id
         st = insert_run_row(cat, run, restored_id, &run_id, err);
     if (st == SR_OK)
         st = insert_layers(cat, run, run_id, err);
+    if (st == SR_OK && run->symmetry_fit_json)
+        st = insert_symmetry_fit(cat, run->symmetry_fit_json, run_id, err);
     for (size_t i = 0; st == SR_OK && i < run->section_count; i++) {
         int64_t patch_id = 0;
         if (meshes.patch[i].blob)

@@ -62,6 +62,7 @@ void sr_run_release(sr_run *run)
     if (!run)
         return;
     free(run->timings_json);
+    free(run->symmetry_fit_json);
     free(run->layer_z);
     free(run->damaged_xy);
     free(run->restored_xy);

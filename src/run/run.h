@@ -82,6 +82,9 @@ typedef struct sr_run {
     char software_version[32];  /* SR_VERSION */
     char started_at[32], finished_at[32]; /* UTC ISO 8601; finished "" = did not finish */
     char *timings_json;         /* {"align":0.1,...} seconds; NULL = none */
+    char *symmetry_fit_json;    /* the symmetry `--symmetry auto` proposed, the whole fit as
+                                 * one JSON object (run/run_symfit.h); NULL = the symmetry
+                                 * was the user's */
 
     size_t layer_count, sectors;
     double *layer_z;            /* layer_count heights, aligned frame */
