@@ -720,7 +720,7 @@ static void migration_004_backfills_the_cells(void **state)
     sr_catalog_close(fx.cat);
 
     assert_int_equal(sr_catalog_open(db, 0, &fx.cat, &err), SR_OK);
-    assert_int_equal(raw_count(fx.cat, "PRAGMA user_version"), 4);
+    assert_true(raw_count(fx.cat, "PRAGMA user_version") >= 4); /* and any later migration */
     assert_int_equal(raw_count(fx.cat, "SELECT sum(runs) FROM history_cells"), 8);
     assert_int_equal(raw_count(fx.cat, "SELECT sum(sections) FROM history_class_cells"), 10);
     sr_history_summary after;
