@@ -289,6 +289,7 @@ install:
 bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
 	$(Q)build/release/bench/symrec_bench
+	$(Q)sh tests/bench/nominal_bench.sh build/release/symrec
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 
 bench-built: $(BENCH)

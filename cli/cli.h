@@ -253,6 +253,25 @@ void cli_print_bbox(FILE *f, const char *label, const double min[3], const doubl
  * line per advice ("  advice:      none" without). */
 void cli_run_advice_print(const sr_run *r);
 
+/* The nominal's second opinion (cli/nominal_out.c), human-readable: the registration,
+ * the totals, a table "symmetry vs nominal" per section, the pieces only the nominal
+ * sees and the sections only the symmetry sees, the flag. n NULL: one line "nominal:
+ * no nominal (why)". */
+void cli_nominal_print(const sr_run_nominal *n, const char *why_none);
+
+/* reconstruct's second opinion: the intact mesh of part part_id (0 = a --mesh run:
+ * none) compared with the reconstruction r of scan (nominal.h). *out = the record, or
+ * NULL with why[] saying why there is none (no intact mesh, --no-nominal, the
+ * comparison failed). With reference_nominal the nominal is the restoration:
+ * r->restored becomes the registered intact mesh and *patches the nominal's missing
+ * pieces; a nominal that is missing, fails or does not fit the scan is then an error
+ * (one line, CLI_FAIL). Returns CLI_OK or CLI_FAIL. */
+struct sr_recon_result;
+int cli_nominal_step(sr_catalog *cat, int64_t part_id, const sr_mesh *scan,
+                     struct sr_recon_result *r, double min_volume_mm3, bool skip,
+                     bool reference_nominal, sr_run_nominal **out, sr_mesh *patches, char *why,
+                     size_t why_size);
+
 /* "label value" on one line, the value written with cli_tx (user text). */
 void cli_print_field(FILE *f, const char *label, const char *value);
 

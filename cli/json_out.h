@@ -73,5 +73,7 @@ void json_instance_members(json_out *j, const sr_instance_info *in);
  * members of its features_json), and the "advice" array. */
 void json_run_features(json_out *j, const sr_run_section *s);
 void json_run_advice(json_out *j, const sr_run *r);
+/* The nominal record as one object (null when n is NULL): cli/nominal_out.c. */
+void json_run_nominal(json_out *j, const sr_run_nominal *n);
 
 #endif
