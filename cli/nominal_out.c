@@ -109,12 +109,11 @@ void cli_nominal_print(const sr_run_nominal *n, const char *why_none)
     }
     for (size_t i = 0; i < n->piece_count; i++) {
         const sr_run_nominal_piece *p = &n->pieces[i];
-        if (p->section >= 0)
+        if (p->outside_mm3 < n->min_volume_mm3)
             continue;
-        printf("  only the nominal sees: %.1f mm³ (%.3f mm thick) at x %.1f..%.1f, y %.1f..%.1f, "
-               "z %.1f..%.1f mm\n",
-               p->volume_mm3, p->thickness_mm, p->bbox[0], p->bbox[3], p->bbox[1], p->bbox[4],
-               p->bbox[2], p->bbox[5]);
+        printf("  only the nominal sees: %.1f mm³ around (%.1f, %.1f, %.1f) mm (scan frame), "
+               "near no section's patch\n",
+               p->outside_mm3, p->centroid[0], p->centroid[1], p->centroid[2]);
     }
 }
 
@@ -152,6 +151,8 @@ void json_run_nominal(json_out *j, const sr_run_nominal *n)
     json_int(j, (int64_t)n->slivers);
     json_key(j, "sliver_mm3");
     json_number(j, n->sliver_mm3);
+    json_key(j, "min_volume_mm3");
+    json_number(j, n->min_volume_mm3);
     json_key(j, "scan_outside_mm3");
     json_number(j, n->extra_mm3);
     json_key(j, "scan_outside_limit_mm3");
@@ -206,10 +207,12 @@ void json_run_nominal(json_out *j, const sr_run_nominal *n)
             json_int(j, (int64_t)p->section + 1);
         else
             json_null(j);
-        json_key(j, "bbox_mm");
+        json_key(j, "only_nominal_mm3");
+        json_number(j, p->outside_mm3);
+        json_key(j, "centroid_mm");
         json_array_begin(j);
-        for (int k = 0; k < 6; k++)
-            json_number(j, p->bbox[k]);
+        for (int k = 0; k < 3; k++)
+            json_number(j, p->centroid[k]);
         json_array_end(j);
         json_object_end(j);
     }

@@ -204,42 +204,124 @@ static sr_status split_pieces(const sr_mesh *raw, double min_vol, sr_nominal_res
     return st;
 }
 
-/* Volume of the overlap of two boxes, each grown by g. */
-static double box_overlap(const double alo[3], const double ahi[3], const double blo[3],
-                          const double bhi[3], double g)
+/* Box of the vertices the triangles use (a boolean's result keeps unused ones). */
+static void used_box(const sr_mesh *m, double lo[3], double hi[3])
 {
-    double v = 1;
     for (int k = 0; k < 3; k++) {
-        double lo = fmax(alo[k], blo[k]) - g, hi = fmin(ahi[k], bhi[k]) + g;
-        if (hi <= lo)
-            return 0;
-        v *= hi - lo;
+        lo[k] = INFINITY;
+        hi[k] = -INFINITY;
     }
-    return v;
+    for (size_t i = 0; i < 3 * m->tri_count; i++)
+        for (int k = 0; k < 3; k++) {
+            double x = m->xyz[3 * (size_t)m->tri[i] + k];
+            lo[k] = fmin(lo[k], x);
+            hi[k] = fmax(hi[k], x);
+        }
 }
 
-/* Gives each piece to the section whose patch's box it overlaps most, and fills the
- * sections' figures. */
-static sr_status assign_sections(const sr_section *secs, size_t count, sr_nominal_result *r,
-                                 sr_err *err)
+/* Distance from p to the box [b[0..3), b[3..6)] (0 inside). */
+static double box_distance(const double p[3], const double *b)
 {
-    for (size_t i = 0; i < r->piece_count; i++) {
-        sr_nominal_piece *p = &r->pieces[i];
-        double plo[3], phi[3], best = 0;
-        sr_mesh_bbox(&p->mesh, plo, phi);
+    double d = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = fmax(fmax(b[k] - p[k], p[k] - b[3 + k]), 0);
+        d += e * e;
+    }
+    return sqrt(d);
+}
+
+/* Splits piece p's volume among the sections (boxes: count x {lo, hi, reach}): each
+ * triangle's tetrahedron to the piece's centre goes to the section whose patch box is
+ * nearest its centroid, within the box's own diagonal, else to no section. By the
+ * divergence theorem the shares add up to the piece's volume, and a share is the
+ * volume of the piece's part near that section up to the thin skin where the parts
+ * meet (a skin's two faces cancel). share: count + 1 (the last: no section). The
+ * centroid is the no-section share's when that is at least min_vol, else the piece's. */
+static void share_piece(sr_nominal_piece *p, const double *boxes, size_t count, double min_vol,
+                        double *share)
+{
+    const sr_mesh *m = &p->mesh;
+    double lo[3], hi[3], o[3], acc[3] = {0, 0, 0}, all[3] = {0, 0, 0}, vall = 0;
+    sr_mesh_bbox(m, lo, hi);
+    for (int k = 0; k < 3; k++)
+        o[k] = 0.5 * (lo[k] + hi[k]);
+    memset(share, 0, (count + 1) * sizeof *share);
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const double *pa = m->xyz + 3 * (size_t)m->tri[3 * t],
+                     *pb = m->xyz + 3 * (size_t)m->tri[3 * t + 1],
+                     *pc = m->xyz + 3 * (size_t)m->tri[3 * t + 2];
+        double a[3], b[3], c[3], cen[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = pa[k] - o[k];
+            b[k] = pb[k] - o[k];
+            c[k] = pc[k] - o[k];
+            cen[k] = (pa[k] + pb[k] + pc[k]) / 3;
+        }
+        double v = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                    a[2] * (b[0] * c[1] - b[1] * c[0])) /
+                   6.0;
+        size_t best = count;
+        double bd = INFINITY;
         for (size_t s = 0; s < count; s++) {
-            if (secs[s].patch.tri_count == 0)
-                continue;
-            double slo[3], shi[3];
-            sr_mesh_bbox(&secs[s].patch, slo, shi);
-            double o = box_overlap(plo, phi, slo, shi, r->sliver_mm);
-            if (o > best) {
-                best = o;
-                p->section = (long)s;
+            double d = box_distance(cen, boxes + 7 * s);
+            if (d <= boxes[7 * s + 6] && d < bd) {
+                bd = d;
+                best = s;
             }
         }
-        if (p->section < 0)
+        share[best] += v;
+        for (int k = 0; k < 3; k++) { /* the tetrahedron's centroid, weighted */
+            double g = o[k] + (a[k] + b[k] + c[k]) / 4;
+            all[k] += v * g;
+            if (best == count)
+                acc[k] += v * g;
+        }
+        vall += v;
+    }
+    p->outside_mm3 = share[count];
+    p->section = -1;
+    double most = share[count];
+    for (size_t s = 0; s < count; s++)
+        if (share[s] > most) {
+            most = share[s];
+            p->section = (long)s;
+        }
+    for (int k = 0; k < 3; k++)
+        p->centroid[k] = p->outside_mm3 >= min_vol ? acc[k] / p->outside_mm3
+                         : vall > 0                ? all[k] / vall
+                                                   : o[k];
+}
+
+/* Splits every piece among the sections, and fills the sections' figures. */
+static sr_status assign_sections(const sr_section *secs, size_t count, double min_vol,
+                                 sr_nominal_result *r, sr_err *err)
+{
+    double *boxes = malloc((7 * count + 1) * sizeof *boxes);
+    double *share = malloc((count + 1) * r->piece_count * sizeof *share + sizeof *share);
+    if (!boxes || !share) {
+        free(boxes);
+        free(share);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory comparing with the nominal");
+    }
+    for (size_t s = 0; s < count; s++) {
+        double *b = boxes + 7 * s;
+        if (secs[s].patch.tri_count == 0) {
+            b[0] = b[1] = b[2] = INFINITY; /* no patch: nothing is near it */
+            b[3] = b[4] = b[5] = -INFINITY;
+            b[6] = -1;
+            continue;
+        }
+        used_box(&secs[s].patch, b, b + 3);
+        b[6] = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) +
+                    (b[5] - b[2]) * (b[5] - b[2]));
+    }
+    for (size_t i = 0; i < r->piece_count; i++) {
+        double *sh = share + (count + 1) * i;
+        share_piece(&r->pieces[i], boxes, count, min_vol, sh);
+        if (r->pieces[i].outside_mm3 >= min_vol) {
             r->only_nominal++;
+            r->only_nominal_mm3 += r->pieces[i].outside_mm3;
+        }
     }
     for (size_t s = 0; s < count; s++) {
         sr_nominal_section *ns = &r->sections[s];
@@ -248,12 +330,14 @@ static sr_status assign_sections(const sr_section *secs, size_t count, sr_nomina
         sr_mesh mine;
         sr_mesh_init(&mine);
         sr_status st = SR_OK;
-        for (size_t i = 0; i < r->piece_count && st == SR_OK; i++)
-            if (r->pieces[i].section == (long)s) {
-                ns->nominal_mm3 += r->pieces[i].volume_mm3;
+        for (size_t i = 0; i < r->piece_count && st == SR_OK; i++) {
+            double v = share[(count + 1) * i + s];
+            ns->nominal_mm3 += v;
+            if (v >= min_vol) {
                 ns->pieces++;
                 st = sr_mesh_append(&mine, &r->pieces[i].mesh);
             }
+        }
         ns->diff_mm3 = ns->nominal_mm3 - ns->symmetry_mm3;
         double base = ns->nominal_mm3 > 0 ? ns->nominal_mm3 : ns->symmetry_mm3;
         ns->diff_pct = base > 0 ? 100.0 * ns->diff_mm3 / base : 0;
@@ -273,11 +357,16 @@ static sr_status assign_sections(const sr_section *secs, size_t count, sr_nomina
         }
         sr_mesh_release(&mine);
         sr_mesh_release(&patch);
-        if (st != SR_OK)
+        if (st != SR_OK) {
+            free(boxes);
+            free(share);
             return st == SR_E_NOMEM
                        ? sr_err_set(err, st, "out of memory comparing section %zu", s + 1)
                        : st;
+        }
     }
+    free(boxes);
+    free(share);
     return SR_OK;
 }
 
@@ -330,6 +419,7 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
         sr_mesh_bbox(scan, lo, hi);
         double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        r.min_volume_mm3 = min_vol;
         r.sliver_mm = fmax(3.0 * r.reg.rms_mm, 5e-4 * diag);
         r.extra_mm3 = fmax(0, sr_mesh_volume(scan) - sr_mesh_volume(intact) + sr_mesh_volume(&raw));
         r.extra_limit_mm3 = sr_mesh_area(scan) * r.reg.tol_mm;
@@ -340,7 +430,7 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
         st = sr_mesh_append(&r.missing, &r.pieces[i].mesh);
     }
     if (st == SR_OK)
-        st = assign_sections(secs, count, &r, err);
+        st = assign_sections(secs, count, min_vol, &r, err);
     sr_mesh_release(&raw);
     if (st != SR_OK) {
         sr_nominal_result_release(&r);

@@ -46,13 +46,20 @@ typedef struct sr_nominal_piece {
     sr_mesh mesh; /* closed, scan frame */
     double volume_mm3, area_mm2;
     double thickness_mm; /* 2 V / A: a slab's thickness, a sliver's mean gap */
-    long section;        /* symmetry section it overlaps most (0-based); -1 = none */
+    long section;        /* the section with the largest share of it (0-based); -1 =
+                          * most of it is near no section */
+    double outside_mm3;  /* its share near no section's patch (only the nominal sees) */
+    double centroid[3];  /* volume centroid of that share (of the whole piece when
+                          * that share is under the smallest volume) */
 } sr_nominal_piece;
 
 /* One symmetry section beside the nominal pieces given to it. */
 typedef struct sr_nominal_section {
     double symmetry_mm3; /* the section's volume as the symmetry found it */
-    double nominal_mm3;  /* the summed volume of its nominal pieces (0 = none) */
+    double nominal_mm3;  /* the nominal's volume near its patch (0 = none): each piece
+                          * is split among the sections by where its surface lies (a
+                          * thin skin over the part can join two damage sites into
+                          * one piece) */
     double diff_mm3;     /* nominal − symmetry */
     double diff_pct;     /* diff as % of the nominal (of the symmetry when nominal is 0) */
     double dev_mean_mm;  /* mean distance from the patch's surface to the pieces' */
@@ -60,7 +67,7 @@ typedef struct sr_nominal_section {
                             * when the section has no piece. One way only: a piece carries
                             * the thin skin two tessellations of one surface leave over the
                             * whole part where it touches it, which is not a deviation */
-    size_t pieces;
+    size_t pieces;       /* pieces with a share of at least the smallest volume */
 } sr_nominal_section;
 
 typedef struct sr_nominal_result {
@@ -75,12 +82,15 @@ typedef struct sr_nominal_result {
                                  * than the smallest volume */
     double sliver_mm3;         /* their summed volume */
     double sliver_mm;          /* the thickness below which a piece is a sliver */
+    double min_volume_mm3;     /* the smallest piece or share counted, as used */
     double nominal_mm3;        /* kept pieces' volume: the nominal's missing volume */
     double symmetry_mm3;       /* the sections' volume */
     double diff_mm3, diff_pct; /* nominal − symmetry, % as per section */
     double extra_mm3;          /* scan material outside the registered nominal */
     double extra_limit_mm3;    /* the scan's area x the registration tolerance */
-    size_t only_nominal;       /* pieces with no section */
+    size_t only_nominal;       /* pieces with a share near no section of at least the
+                                * smallest volume ... */
+    double only_nominal_mm3;   /* ... and those shares' volume */
     size_t only_symmetry;      /* sections with no piece */
     int poor;                  /* 1: the nominal does not fit this scan (note says why) */
     char note[240];

@@ -76,8 +76,11 @@ typedef struct sr_run_nominal_section {
 
 typedef struct sr_run_nominal_piece {
     double volume_mm3, thickness_mm;
-    long section;   /* the section it was given to; -1 = only the nominal sees it */
-    double bbox[6]; /* min xyz, max xyz, scan frame, mm */
+    long section;       /* the section with the largest share; -1 = none */
+    double outside_mm3; /* its share near no section: only the nominal sees it */
+    double centroid[3]; /* volume centroid of that share (of the piece when under
+                           * min_volume_mm3), scan
+                           * frame, mm */
 } sr_run_nominal_piece;
 
 typedef struct sr_run_nominal {
@@ -86,6 +89,7 @@ typedef struct sr_run_nominal {
     double coverage, rms_mm, tol_mm; /* the registration's */
     double nominal_mm3, symmetry_mm3, diff_mm3, diff_pct;
     double sliver_mm, sliver_mm3;
+    double min_volume_mm3; /* smallest piece or share counted */
     size_t slivers;
     double extra_mm3, extra_limit_mm3;
     int poor; /* 1: the nominal does not fit the scan (note) */

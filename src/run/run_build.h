@@ -41,7 +41,7 @@ sr_status sr_run_from_result(const sr_recon_result *result, int64_t instance_id,
                              const char *method, sr_run *out, sr_err *err);
 
 /* The nominal's second opinion (nominal.h) as the run records it (run/run_nominal.c):
- * the figures copied, each kept piece's volume, thickness, section and box.
+ * the figures copied, each kept piece's volume, thickness, section, share near no section and centroid.
  * reference is "symmetry" or "nominal" (SR_E_RANGE otherwise). *out (heap, free with
  * sr_run_nominal_free, or with the run once set as run->nominal) only on success. */
 sr_status sr_run_nominal_from(const sr_nominal_result *nr, const char *reference,

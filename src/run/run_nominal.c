@@ -2,7 +2,7 @@
  * run_nominal.c: the nominal's second opinion (nominal.h's sr_nominal_result) turned
  * into the part of the run record the catalogue stores (run.h's sr_run_nominal):
  * plain figures, no meshes (the pieces are kept by their volume, thickness, section
- * and box; the registered nominal can be made again from the part and the transform).
+ * and the share near no section with its centroid; the registered nominal can be made again from the part and the transform).
  */
 #include "run/run_build.h"
 
@@ -38,6 +38,7 @@ sr_status sr_run_nominal_from(const sr_nominal_result *nr, const char *reference
     n->diff_pct = nr->diff_pct;
     n->sliver_mm = nr->sliver_mm;
     n->sliver_mm3 = nr->sliver_mm3;
+    n->min_volume_mm3 = nr->min_volume_mm3;
     n->slivers = nr->slivers;
     n->extra_mm3 = nr->extra_mm3;
     n->extra_limit_mm3 = nr->extra_limit_mm3;
@@ -58,7 +59,8 @@ sr_status sr_run_nominal_from(const sr_nominal_result *nr, const char *reference
         q->volume_mm3 = p->volume_mm3;
         q->thickness_mm = p->thickness_mm;
         q->section = p->section;
-        sr_mesh_bbox(&p->mesh, q->bbox, q->bbox + 3);
+        q->outside_mm3 = p->outside_mm3;
+        memcpy(q->centroid, p->centroid, sizeof q->centroid);
     }
     *out = n;
     return SR_OK;
