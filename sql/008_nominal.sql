@@ -41,7 +41,7 @@ CREATE TABLE run_nominal_sections (
     deviation_mean_mm REAL,                                       -- mean distance of the patch's surface from the nominal's, mm; NULL = no nominal piece
     deviation_max_mm  REAL,                                       -- the largest, mm; NULL = no nominal piece
     pieces          INTEGER NOT NULL CHECK (pieces >= 0),         -- nominal pieces with a share here (0 = only the symmetry sees it)
-    PRIMARY KEY (run_id, section_index)
+    PRIMARY KEY (run_id, section_index)                          -- one row per section of a run
 ) STRICT, WITHOUT ROWID;
 
 -- run_nominal_pieces: the nominal's kept pieces of missing material.
@@ -53,7 +53,7 @@ CREATE TABLE run_nominal_pieces (
     section_index   INTEGER,                                      -- the section with the largest share; NULL = none
     outside_mm3     REAL NOT NULL,                                -- its share near no section (only the nominal sees it), mm^3
     centroid        BLOB NOT NULL CHECK (length(centroid) = 24),  -- volume centroid of that share (of the piece when small), 3 little-endian doubles, scan frame, mm
-    PRIMARY KEY (run_id, piece_index)
+    PRIMARY KEY (run_id, piece_index)                            -- one row per piece of a run
 ) STRICT, WITHOUT ROWID;
 
 PRAGMA user_version = 8;
