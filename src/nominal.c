@@ -407,19 +407,6 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
         sr_mesh_transform(&r.registered, r.reg.mat);
         st = sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, &r.registered, "the registered nominal",
                                 scan, "the scan", &raw, err);
-        if (st == SR_E_INVALID) {
-            /* a noisy scan folds over itself: the mending union's split gives the same
-             * difference with the scan's crossings mended first (boolean.h) */
-            sr_mesh united;
-            sr_mesh_init(&united);
-            sr_err_clear(err);
-            st =
-                sr_boolean_union_local_split(scan, "the scan", NULL, &r.registered,
-                                             "the registered nominal", 0, &united, &raw, NULL, err);
-            sr_mesh_release(&united);
-            if (st == SR_OK)
-                r.mended = 1;
-        }
     }
     if (st == SR_OK && count > 0) {
         r.sections = calloc(count, sizeof *r.sections);

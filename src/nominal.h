@@ -92,8 +92,6 @@ typedef struct sr_nominal_result {
                                 * smallest volume ... */
     double only_nominal_mm3;   /* ... and those shares' volume */
     size_t only_symmetry;      /* sections with no piece */
-    int mended;                /* 1: the scan crossed itself and was mended for the
-                                * difference (sr_boolean_union_local_split) */
     int poor;                  /* 1: the nominal does not fit this scan (note says why) */
     char note[240];
     double seconds; /* time taken, s */
