@@ -296,6 +296,7 @@ install:
 bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
 	$(Q)SYMREC_IDENTIFY_GEN="$(IDENTIFY_GEN_DIRS)" build/release/bench/symrec_bench
+	$(Q)sh tests/bench/nominal_bench.sh build/release/symrec
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 	$(Q)sh tests/bench/symmetry_bench.sh build/release/symrec
 

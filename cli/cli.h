@@ -31,9 +31,9 @@ enum {
 
 /* Global options, parsed by main.c before the command. */
 typedef struct cli_ctx {
-    const char *db_path;        /* --db, else $SYMREC_DB, else CLI_DEFAULT_DB */
-    bool read_only;             /* --read-only: open the catalogue read-only, refuse writes */
-    bool quiet;                 /* --quiet: no progress, no notes */
+    const char *db_path; /* --db, else $SYMREC_DB, else CLI_DEFAULT_DB */
+    bool read_only;      /* --read-only: open the catalogue read-only, refuse writes */
+    bool quiet;          /* --quiet: no progress, no notes */
 } cli_ctx;
 
 #define CLI_DEFAULT_DB "./symrec.db"
@@ -44,7 +44,7 @@ typedef int (*cli_fn)(const cli_ctx *ctx, int argc, char **argv);
 typedef struct cli_command {
     const char *name;
     cli_fn fn;
-    const char *summary;        /* one line for `symrec --help` */
+    const char *summary; /* one line for `symrec --help` */
 } cli_command;
 
 int cmd_catalog(const cli_ctx *ctx, int argc, char **argv);
@@ -90,17 +90,17 @@ void cli_set_quiet(bool quiet);
 /* One option of a command: a value option stores its argument in *value (the last
  * one given wins); a flag (value == NULL) sets *flag to true. */
 typedef struct cli_opt {
-    const char *name;           /* with the dashes: "--layers" */
+    const char *name; /* with the dashes: "--layers" */
     const char **value;
     bool *flag;
 } cli_opt;
 
 typedef struct cli_spec {
-    const char *cmd;            /* "part add", for messages */
-    const char *usage;          /* printed to stdout for --help */
-    const cli_opt *opts;        /* terminated by { NULL } */
-    int min_pos, max_pos;       /* allowed number of positional arguments */
-    const char *pos_name;       /* what a positional is, for messages ("ID") */
+    const char *cmd;      /* "part add", for messages */
+    const char *usage;    /* printed to stdout for --help */
+    const cli_opt *opts;  /* terminated by { NULL } */
+    int min_pos, max_pos; /* allowed number of positional arguments */
+    const char *pos_name; /* what a positional is, for messages ("ID") */
 } cli_spec;
 
 /* Parses argv[0..argc) (the words after the command and subcommand names): options
@@ -117,8 +117,8 @@ bool cli_parse(const cli_spec *spec, int argc, char **argv, const char **pos, in
 bool cli_parse_int(const char *opt, const char *text, long min, long max, const char *what,
                    int *out);
 bool cli_parse_id(const char *opt, const char *text, int64_t *out);
-bool cli_parse_double(const char *opt, const char *text, double min, double max,
-                      const char *what, double *out);
+bool cli_parse_double(const char *opt, const char *text, double min, double max, const char *what,
+                      double *out);
 
 /* A real calendar date written YYYY-MM-DD. */
 bool cli_date_valid(const char *text);
@@ -127,8 +127,8 @@ bool cli_date_valid(const char *text);
  * --symmetry, *out is kind NONE and --order/--shift are usage errors. allow_auto: 1
  * takes "--order auto" (SR_ORDER_AUTO: found by reconstruct; a catalogue keeps only
  * orders). Prints the usage error and returns false on failure. */
-bool cli_parse_symmetry(const char *kind, const char *order, const char *shift,
-                        int allow_auto, sr_symmetry *out);
+bool cli_parse_symmetry(const char *kind, const char *order, const char *shift, int allow_auto,
+                        sr_symmetry *out);
 
 /* One subcommand of a command group: its name and what runs it, given the words after
  * it. */
@@ -202,8 +202,7 @@ typedef struct cli_instances {
 sr_status cli_parts_load(sr_catalog *cat, const sr_part_filter *filter, cli_parts *out,
                          sr_err *err);
 void cli_parts_release(cli_parts *parts);
-sr_status cli_instances_load(sr_catalog *cat, const char *part, cli_instances *out,
-                             sr_err *err);
+sr_status cli_instances_load(sr_catalog *cat, const char *part, cli_instances *out, sr_err *err);
 void cli_instances_release(cli_instances *instances);
 
 /* ---- printers shared by several commands ---- */
@@ -259,9 +258,9 @@ typedef struct cli_table {
     size_t cols;
     const char *const *headers;
     const bool *right;
-    char **cells;               /* rows * cols strings, owned */
+    char **cells; /* rows * cols strings, owned */
     size_t cell_count, cell_cap;
-    bool failed;                /* out of memory while adding */
+    bool failed; /* out of memory while adding */
 } cli_table;
 
 void cli_table_init(cli_table *t, size_t cols, const char *const *headers, const bool *right);
@@ -294,6 +293,25 @@ bool cli_symfit_auto(const sr_mesh *scan, const char *source, sr_symmetry *sym, 
 
 /* "<label><summary>" on stdout from a fit's JSON object; nothing for NULL. */
 void cli_symfit_print_line(const char *label, const char *fit_json);
+
+/* The nominal's second opinion (cli/nominal_out.c), human-readable: the registration,
+ * the totals, a table "symmetry vs nominal" per section, the pieces only the nominal
+ * sees and the sections only the symmetry sees, the flag. n NULL: one line "nominal:
+ * no nominal (why)". */
+void cli_nominal_print(const sr_run_nominal *n, const char *why_none);
+
+/* reconstruct's second opinion: the intact mesh of part part_id (0 = a --mesh run:
+ * none) compared with the reconstruction r of scan (nominal.h). *out = the record, or
+ * NULL with why[] saying why there is none (no intact mesh, --no-nominal, the
+ * comparison failed). With reference_nominal the nominal is the restoration:
+ * r->restored becomes the registered intact mesh and *patches the nominal's missing
+ * pieces; a nominal that is missing, fails or does not fit the scan is then an error
+ * (one line, CLI_FAIL). Returns CLI_OK or CLI_FAIL. */
+struct sr_recon_result;
+int cli_nominal_step(sr_catalog *cat, int64_t part_id, const sr_mesh *scan,
+                     struct sr_recon_result *r, double min_volume_mm3, bool skip,
+                     bool reference_nominal, sr_run_nominal **out, sr_mesh *patches, char *why,
+                     size_t why_size);
 
 /* "label value" on one line, the value written with cli_tx (user text). */
 void cli_print_field(FILE *f, const char *label, const char *value);

@@ -36,6 +36,7 @@ static const char usage[] =
     "              [--gamma-axis G] [--gamma-plane G]\n"
     "              [--min-depth MM] [--out DIR] [--format stl|obj|ply|off]\n"
     "              [--method image|robust|paper] [--no-union] [--no-record] [--json]\n"
+    "              [--reference symmetry|nominal] [--no-nominal]\n"
     "\n"
     "Aligns the damaged scan with its symmetry axis or plane, slices it into layers,\n"
     "finds what is missing layer by layer, builds a closed patch mesh for every missing\n"
@@ -85,7 +86,25 @@ static const char usage[] =
     "  --method M      image (default), robust or paper\n"
     "  --no-union      restored = scan + patches as separate shells (no boolean)\n"
     "  --no-record     do not record the run in the catalogue\n"
-    "  --json          print one JSON object: alignment, sections, timings, run_id\n"
+    "  --json          print one JSON object: alignment, sections, timings, run_id,\n"
+    "                  nominal\n"
+    "  --reference R   symmetry (default): the restoration is the symmetry's, the\n"
+    "                  part's intact mesh a second opinion; nominal: the intact mesh\n"
+    "                  registered to the scan is the restoration (patches = registered\n"
+    "                  intact - scan), the symmetry's sections still reported as the\n"
+    "                  check; refused when the intact mesh does not fit the scan\n"
+    "  --no-nominal    skip the second opinion\n"
+    "\n"
+    "The second opinion: when the instance's part has an intact mesh, it is registered\n"
+    "to the scan (robust, trimmed: the damage does not pull it) and registered intact -\n"
+    "scan (one exact boolean; slivers thinner than 3 x the registration's RMS dropped)\n"
+    "is the nominal's missing material, given section by section beside the\n"
+    "symmetry's: both volumes (mm³), their disagreement (mm³, %) and the surface\n"
+    "deviation of the patch from the nominal's piece (mean and max, mm).\n"
+    "Pieces only the nominal sees and sections only the symmetry sees are listed. A\n"
+    "nominal that covers under 75 % of the scan, or leaves more scan material outside\n"
+    "it than the scan's area x the registration tolerance, is flagged: \"the nominal\n"
+    "model does not fit this scan\". A --mesh run has no part: \"no nominal\".\n"
     "\n"
     "A reconstruction of an INSTANCE is recorded in the catalogue as a run (one\n"
     "transaction: the symmetry and every parameter as used, the alignment, the layer\n"
@@ -115,7 +134,7 @@ static int misfit_axial(const sr_recon_result *r)
 #define POOR_FIT_SCORE 0.5
 
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
-                        const sr_params *p, int64_t run_id)
+                        const sr_params *p, int64_t run_id, const char *why_no_nominal)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", cli_tx(source));
@@ -203,6 +222,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
         if (sec[i] >= 0.0005 || i < 2) /* align and slice always; the rest where they ran */
             printf("%s%s %.3f", shown++ ? ", " : "", phase[i], sec[i]);
     printf(")\n");
+    cli_nominal_print(run->nominal, why_no_nominal);
     cli_run_advice_print(run);
     if (run_id > 0)
         printf("run %lld recorded\n", (long long)run_id);
@@ -370,6 +390,8 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
     json_array_end(&j);
     json_key(&j, "advice");
     json_run_advice(&j, run);
+    json_key(&j, "nominal");
+    json_run_nominal(&j, run->nominal);
     json_key(&j, "scan_volume_mm3");
     json_number(&j, r->scan_volume_mm3);
     json_key(&j, "restored_volume_mm3");
@@ -423,7 +445,7 @@ static const char *const out_names[] = {"restored.*", "patches.*", "result.glb",
 /* Writes restored, patches (when there are sections) and result.glb into dir (the
  * staging folder of the --out set). */
 static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
-                         const sr_recon_result *r)
+                         const sr_recon_result *r, const sr_mesh *nominal_patches)
 {
     char path[4096];
     sr_err err;
@@ -434,10 +456,12 @@ static int write_outputs(const char *dir, const char *fmt, const sr_mesh *scan,
         return cli_fail(st, &err);
     sr_mesh all;
     sr_mesh_init(&all);
-    for (size_t i = 0; i < r->section_count && st == SR_OK; i++)
+    for (size_t i = 0; i < r->section_count && st == SR_OK && !nominal_patches->tri_count; i++)
         st = sr_mesh_append(&all, &r->sections[i].patch);
+    if (st == SR_OK && nominal_patches->tri_count)
+        st = sr_mesh_append(&all, nominal_patches);
     snprintf(path, sizeof path, "%s/patches.%s", dir, fmt);
-    if (st == SR_OK && r->section_count > 0)
+    if (st == SR_OK && all.tri_count > 0)
         st = sr_mesh_write(path, &all, NULL, &err);
     sr_mesh_release(&all);
     if (st != SR_OK)
@@ -485,17 +509,19 @@ static sr_status advice_catalog(const cli_ctx *ctx, sr_catalog **cat, sr_err *er
  * recorded in one transaction when `record`. *run and *run_id only on success. */
 static sr_status describe_run(const cli_ctx *ctx, sr_catalog **cat, const sr_recon_result *r,
                               int64_t instance_id, const sr_symmetry *sym, const sr_params *p,
-                              const char *started, char *fit_json, bool record, sr_run *run,
-                              int64_t *run_id, sr_err *err)
+                              const char *started, char *fit_json, bool record,
+                              sr_run_nominal *nominal, sr_run *run, int64_t *run_id, sr_err *err)
 {
     sr_run made;
     sr_status st =
         sr_run_from_result(r, instance_id, sym, p, sr_recon_method_name(r->method), &made, err);
     if (st != SR_OK) {
         free(fit_json);
+        sr_run_nominal_free(nominal);
         return st;
     }
     made.symmetry_fit_json = fit_json; /* the run's now */
+    made.nominal = nominal;
     if (strcmp(started, made.finished_at) <= 0)
         snprintf(made.started_at, sizeof made.started_at, "%s", started);
     int64_t id = 0;
@@ -518,7 +544,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
                *sectors = NULL, *gamma = NULL, *min_depth = NULL, *out = NULL, *fmt = "stl",
                *params_name = NULL, *method = NULL, *gamma_axis = NULL, *gamma_plane = NULL,
                *units = NULL;
-    bool json = false, no_union = false, no_record = false, sym_auto = false;
+    const char *reference = "symmetry";
+    bool json = false, no_union = false, no_record = false, sym_auto = false, no_nominal = false;
     const cli_opt opts[] = {{"--mesh", &mesh_file, NULL},
                             {"--units", &units, NULL},
                             {"--symmetry", &kind, NULL},
@@ -536,6 +563,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
                             {"--method", &method, NULL},
                             {"--no-union", NULL, &no_union},
                             {"--no-record", NULL, &no_record},
+                            {"--no-nominal", NULL, &no_nominal},
+                            {"--reference", &reference, NULL},
                             {"--json", NULL, &json},
                             {NULL, NULL, NULL}};
     const cli_spec spec = {"reconstruct", usage, opts, 0, 1, "INSTANCE"};
@@ -575,6 +604,12 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("bad --params '': expected the name of a parameter set");
     if (strcmp(fmt, "stl") && strcmp(fmt, "obj") && strcmp(fmt, "ply") && strcmp(fmt, "off"))
         return cli_usage_error("bad --format '%s': expected stl, obj, ply or off", fmt);
+    if (strcmp(reference, "symmetry") && strcmp(reference, "nominal"))
+        return cli_usage_error("bad --reference '%s': expected symmetry or nominal", reference);
+    bool ref_nominal = strcmp(reference, "nominal") == 0;
+    if (ref_nominal && (no_nominal || mesh_file))
+        return cli_usage_error("--reference nominal needs an INSTANCE whose part has an intact "
+                               "mesh, and no --no-nominal");
     sr_recon_opts ro;
     memset(&ro, 0, sizeof ro);
     ro.skip_union = no_union;
@@ -691,9 +726,17 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         return cli_fail(st, &err);
     }
-    rc = CLI_OK;
-    if (out) {
-        rc = write_outputs(set.stage, fmt, &scan, &r);
+    sr_run_nominal *nominal = NULL;
+    sr_mesh nominal_patches;
+    sr_mesh_init(&nominal_patches);
+    char why_no_nominal[600];
+    rc = cli_nominal_step(cat, mesh_file ? 0 : inst.part_id, &scan, &r, params.min_volume_mm3,
+                          no_nominal, ref_nominal, &nominal, &nominal_patches, why_no_nominal,
+                          sizeof why_no_nominal);
+    if (rc != CLI_OK)
+        cli_outset_abort(&set);
+    if (rc == CLI_OK && out) {
+        rc = write_outputs(set.stage, fmt, &scan, &r, &nominal_patches);
         if (rc != CLI_OK)
             cli_outset_abort(&set);
         else if (!cli_outset_commit(&set))
@@ -704,8 +747,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     memset(&run, 0, sizeof run);
     if (rc == CLI_OK) {
         st = describe_run(ctx, &cat, &r, mesh_file ? 0 : id, &ro.symmetry, &params, started,
-                          fit_json, !mesh_file && !no_record, &run, &run_id, &err);
+                          fit_json, !mesh_file && !no_record, nominal, &run, &run_id, &err);
         fit_json = NULL; /* the run's, or freed with it */
+        nominal = NULL;
         if (st != SR_OK)
             rc = cli_fail(st, &err);
     }
@@ -713,9 +757,11 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         if (json)
             rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id);
         else
-            print_human(&r, &run, source, &params, run_id);
+            print_human(&r, &run, source, &params, run_id, why_no_nominal);
     }
     free(fit_json);
+    sr_run_nominal_free(nominal);
+    sr_mesh_release(&nominal_patches);
     sr_run_release(&run);
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);

@@ -59,7 +59,9 @@ static const char usage_show[] =
     "             the aligned frame (mm; '-' / null where a sector has no point)\n"
     "  --json     one JSON object; sections[] each with a \"features\" object,\n"
     "             advice[] with \"section\" (its number, null = whole part),\n"
-    "             \"process\", \"rules\" (names), \"reason\" and \"details\"\n";
+    "             \"process\", \"rules\" (names), \"reason\" and \"details\", and\n"
+    "             \"nominal\": the part's intact mesh as a second opinion (see\n"
+    "             'symrec reconstruct --help'; null when the run had none)\n";
 
 /* ---- JSON text stored by other modules (timings, features, details) ----
  * Read with base/json_scan.h: bounded by the terminating NUL, so a damaged text gives
@@ -454,6 +456,8 @@ static int print_json(const sr_run *r, bool layers)
     json_array_end(j);
     json_key(j, "advice");
     json_run_advice(j, r);
+    json_key(j, "nominal");
+    json_run_nominal(j, r->nominal);
     if (layers) {
         json_key(j, "sectors");
         json_int(j, (int64_t)r->sectors);
@@ -607,6 +611,7 @@ static bool print_text(const sr_run *r, bool layers)
         if (!ok)
             return false;
     }
+    cli_nominal_print(r->nominal, "none recorded");
     cli_run_advice_print(r);
     if (layers) {
         printf("  layers:      %zu x %zu sectors (aligned frame, x,y in mm; - = no point)\n",

@@ -20,8 +20,8 @@
 #include "catalog/catalog.h"
 
 typedef struct json_out {
-    FILE *f;                    /* where json_finish writes the document */
-    sr_jsonbuf jb;              /* the document so far */
+    FILE *f;       /* where json_finish writes the document */
+    sr_jsonbuf jb; /* the document so far */
 } json_out;
 
 /* Starts a document for f; json_finish or json_discard ends it. */
@@ -35,8 +35,8 @@ void json_array_end(json_out *j);
 /* The key of the next member of the current object. */
 void json_key(json_out *j, const char *key);
 
-void json_string(json_out *j, const char *s);       /* NULL writes null */
-void json_number(json_out *j, double v);            /* non-finite writes null */
+void json_string(json_out *j, const char *s); /* NULL writes null */
+void json_number(json_out *j, double v);      /* non-finite writes null */
 void json_int(json_out *j, int64_t v);
 void json_bool(json_out *j, bool v);
 void json_null(json_out *j);
@@ -75,5 +75,7 @@ void json_run_features(json_out *j, const sr_run_section *s);
 void json_run_advice(json_out *j, const sr_run *r);
 /* A symmetry fit's JSON object as it is (run/run_symfit.h), null for NULL. */
 void cli_symfit_json(json_out *j, const char *fit_json);
+/* The nominal record as one object (null when n is NULL): cli/nominal_out.c. */
+void json_run_nominal(json_out *j, const sr_run_nominal *n);
 
 #endif

@@ -226,6 +226,52 @@ static void report_shows_the_section_figures_in_the_feature_table(void **state)
     sr_run_release(&r);
 }
 
+/* A nominal record set on the stored run (as reconstruct makes one): the table, the
+ * flag escaped, what only the nominal sees; none without it. */
+static void report_shows_symmetry_vs_nominal(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    char *html = build(&r, 0, NULL);
+    assert_null(strstr(html, "id=\"nominal\""));
+    free(html);
+    sr_run_nominal *n = calloc(1, sizeof *n);
+    sr_run_nominal_section *secs = calloc(2, sizeof *secs);
+    sr_run_nominal_piece *pieces = calloc(1, sizeof *pieces);
+    assert_true(n && secs && pieces);
+    strcpy(n->reference, "symmetry");
+    n->coverage = 0.5;
+    n->nominal_mm3 = 400;
+    n->symmetry_mm3 = 357.85;
+    n->diff_mm3 = 42.15;
+    n->diff_pct = 10.5375;
+    n->min_volume_mm3 = 1;
+    n->poor = 1;
+    strcpy(n->note, "the nominal model does not fit <this> scan");
+    secs[0] = (sr_run_nominal_section){0, 345.6, 380, 34.4, 9.05, 0.125, 0.75, 1};
+    secs[1] = (sr_run_nominal_section){1, 12.25, 0, -12.25, -100, -1, -1, 0};
+    pieces[0] = (sr_run_nominal_piece){400, 2, 0, 20, {1, 2, 3}};
+    n->sections = secs;
+    n->section_count = 2;
+    n->pieces = pieces;
+    n->piece_count = 1;
+    r.nominal = n;
+    html = build(&r, 0, NULL);
+    const char *t = strstr(html, "<section id=\"nominal\">");
+    assert_non_null(t);
+    assert_non_null(strstr(t, "Missing by the nominal 400.0 mm³, by the symmetry 357.9 mm³: "
+                              "disagreement +42.1 mm³ (+10.5 %)"));
+    assert_non_null(strstr(t, "the nominal model does not fit &lt;this&gt; scan"));
+    assert_non_null(strstr(t, "<td class=\"n\">345.6</td><td class=\"n\">380.0</td>"
+                              "<td class=\"n\">+34.4</td><td class=\"n\">+9.1</td>"
+                              "<td>0.125 / 0.750</td>"));
+    assert_non_null(strstr(t, "only the symmetry sees it"));
+    assert_non_null(strstr(t, "Only the nominal sees 20.0 mm³ around (1.0, 2.0, 3.0) mm"));
+    free(html);
+    sr_run_release(&r);
+}
+
 static void report_escapes_advice_and_names(void **state)
 {
     fixture *fx = *state;
@@ -1048,6 +1094,7 @@ int main(void)
         T(report_decimates_meshes_over_the_budget_and_says_so),
         cmocka_unit_test(decimate_keeps_a_small_mesh_and_reduces_a_large_one),
         T(report_of_a_failed_run_without_meshes),
+        T(report_shows_symmetry_vs_nominal),
         T(report_carries_the_tool_paths_of_every_planned_layer),
         T(report_of_a_replace_run_says_there_is_no_build_plan),
         T(a_section_without_a_plan_says_why),

@@ -152,6 +152,13 @@ sr_status sr_cat_symmetry_write(sr_catalog *cat, int64_t part_id, int64_t instan
 /* Writes v to p[0..7] as a little-endian IEEE double, byte by byte, so the alignment and
  * layer outline blobs read the same on any host (their layout: catalog_runs.c). */
 void sr_cat_put_f64(unsigned char *p, double v);
+
+/* catalog_nominal.c: a run's nominal record (sr_run_nominal; n NULL writes nothing)
+ * inserted for run_id inside the caller's transaction, and read back into r->nominal
+ * (left NULL when the run has none). */
+sr_status sr_cat_nominal_insert(sr_catalog *cat, const sr_run_nominal *n, int64_t run_id,
+                                sr_err *err);
+sr_status sr_cat_nominal_read(sr_catalog *cat, sr_run *r, sr_err *err);
 /* Reads the double sr_cat_put_f64 wrote at p[0..7]. */
 double sr_cat_get_f64(const unsigned char *p);
 

@@ -408,6 +408,7 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
 
     rp_plan_table(&b, run, plans);
     section_table(&b, run);
+    rp_nominal_section(&b, run);
     advice_table(&b, run);
     params_tables(&b, run);
 

@@ -6,6 +6,7 @@
  *   report_text.c   the growing text the page is written into, HTML- and JSON-escaped
  *   report_plans.c  the build plan of each section, its table and its data
  *   report_cells.c  the feature and advice cells, readable, from the stored JSON
+ *   report_nominal.c the "symmetry vs nominal" section (rp_nominal_section)
  *   report_data.c   the data block's meshes and layer outlines, compactly encoded
  *   decimate.c      meshes reduced to the display budget (sr_report_decimate)
  *   report.css, report.js, report_view.js  the stylesheet and the scripts (report.js:
@@ -42,6 +43,12 @@ void sb_html(sb *b, const char *s);
 void sb_jstr(sb *b, const char *s);
 /* A number for the data block by printf format fmt (null when not finite). */
 void sb_jnum(sb *b, double v, const char *fmt);
+
+/* ---- symmetry vs nominal (report_nominal.c) ---- */
+
+/* The section comparing the run's symmetry sections with the nominal's second
+ * opinion; nothing when r->nominal is NULL. */
+void rp_nominal_section(sb *b, const sr_run *r);
 
 /* ---- build plans (report_plans.c) ---- */
 

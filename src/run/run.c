@@ -57,6 +57,15 @@ sr_status sr_params_check(const sr_params *p, sr_err *err)
     return SR_OK;
 }
 
+void sr_run_nominal_free(sr_run_nominal *n)
+{
+    if (!n)
+        return;
+    free(n->sections);
+    free(n->pieces);
+    free(n);
+}
+
 void sr_run_release(sr_run *run)
 {
     if (!run)
@@ -75,5 +84,6 @@ void sr_run_release(sr_run *run)
         free(run->advice[i].details_json);
     free(run->advice);
     sr_mesh_release(&run->restored);
+    sr_run_nominal_free(run->nominal);
     memset(run, 0, sizeof *run);
 }

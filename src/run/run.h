@@ -66,6 +66,44 @@ typedef struct sr_run_advice {
     char *details_json;         /* the plan and the rules fired, one JSON object; NULL = {} */
 } sr_run_advice;
 
+/* The nominal model's second opinion on a run (nominal.h), as recorded. */
+typedef struct sr_run_nominal_section {
+    size_t index; /* the run's section index (0 first) */
+    double symmetry_mm3, nominal_mm3, diff_mm3, diff_pct;
+    double dev_mean_mm, dev_max_mm; /* patch vs nominal surface; < 0 = no nominal piece */
+    size_t pieces;
+} sr_run_nominal_section;
+
+typedef struct sr_run_nominal_piece {
+    double volume_mm3, thickness_mm;
+    long section;       /* the section with the largest share; -1 = none */
+    double outside_mm3; /* its share near no section: only the nominal sees it */
+    double centroid[3]; /* volume centroid of that share (of the piece when under
+                           * min_volume_mm3), scan
+                           * frame, mm */
+} sr_run_nominal_piece;
+
+typedef struct sr_run_nominal {
+    char reference[16];              /* what the restoration is: 'symmetry' or 'nominal' */
+    double transform[12];            /* intact -> scan, 3x4 row-major */
+    double coverage, rms_mm, tol_mm; /* the registration's */
+    double nominal_mm3, symmetry_mm3, diff_mm3, diff_pct;
+    double sliver_mm, sliver_mm3;
+    double min_volume_mm3; /* smallest piece or share counted */
+    size_t slivers;
+    double extra_mm3, extra_limit_mm3;
+    int poor; /* 1: the nominal does not fit the scan (note) */
+    char note[240];
+    double seconds;
+    sr_run_nominal_section *sections;
+    size_t section_count;
+    sr_run_nominal_piece *pieces;
+    size_t piece_count;
+} sr_run_nominal;
+
+/* Frees a nominal record (and its arrays); accepts NULL. */
+void sr_run_nominal_free(sr_run_nominal *n);
+
 typedef struct sr_run {
     int64_t id;                 /* read back; ignored by add */
     int64_t instance_id;        /* required */
@@ -96,6 +134,7 @@ typedef struct sr_run {
     sr_run_advice *advice;
     size_t advice_count;
     sr_mesh restored;           /* scan frame; empty = none */
+    sr_run_nominal *nominal;    /* the nominal's second opinion; NULL = none */
 } sr_run;
 
 /* Frees the heap fields of a run (built by sr_run_from_result or read by

@@ -16,6 +16,7 @@
 #include <stdint.h>
 
 #include "run/run.h"
+#include "nominal.h"
 #include "reconstruct.h"
 
 /* Builds *out (heap-owned, free with sr_run_release) from `result`, which is only
@@ -38,6 +39,13 @@
 sr_status sr_run_from_result(const sr_recon_result *result, int64_t instance_id,
                              const sr_symmetry *sym, const sr_params *params,
                              const char *method, sr_run *out, sr_err *err);
+
+/* The nominal's second opinion (nominal.h) as the run records it (run/run_nominal.c):
+ * the figures copied, each kept piece's volume, thickness, section, share near no section and centroid.
+ * reference is "symmetry" or "nominal" (SR_E_RANGE otherwise). *out (heap, free with
+ * sr_run_nominal_free, or with the run once set as run->nominal) only on success. */
+sr_status sr_run_nominal_from(const sr_nominal_result *nr, const char *reference,
+                              sr_run_nominal **out, sr_err *err);
 
 /* The current time as UTC ISO 8601 'YYYY-MM-DDTHH:MM:SSZ' (the catalogue's format),
  * offset by `offset_s` seconds (negative = earlier). */
