@@ -2457,14 +2457,14 @@ static void reconstruct_prints_run_recorded_and_no_record_records_none(void **st
     const env *e = *state;
     make_demo(e);
     result r;
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--params", "coarse", "--no-union");
     expect_ok(&r);
     expect_contains(r.out, "\nrun 1 recorded\n");
     result_free(&r);
     char before[256], after[256];
     run_rows(e, before, sizeof before);
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union", "--no-record",
-        "--json");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--params", "coarse", "--no-union",
+        "--no-record", "--json");
     expect_ok(&r);
     jv v = parse_json(r.out);
     assert_int_equal(jget(&v, "run_id")->type, J_NULL);
@@ -2574,8 +2574,8 @@ static void reconstruct_order_auto_finds_and_records_the_order(void **state)
     expect_contains(r.out, "  order:      6-fold, found (mismatch turned by 60.00 deg: ");
     result_free(&r);
 
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--symmetry", "axial", "--order", "auto",
-        "--params", "coarse", "--no-union", "--json");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--symmetry", "axial", "--order",
+        "auto", "--params", "coarse", "--no-union", "--json");
     expect_ok(&r);
     v = parse_json(r.out);
     assert_int_equal((int)jnum(jget(&v, "symmetry"), "order"), 0);
@@ -2600,8 +2600,8 @@ static void reconstruct_params_and_overrides_are_recorded(void **state)
     const env *e = *state;
     make_demo(e);
     result r;
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--layers", "50",
-        "--gamma", "0.9", "--min-depth", "0.25", "--no-union", "--json");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--params", "coarse", "--layers",
+        "50", "--gamma", "0.9", "--min-depth", "0.25", "--no-union", "--json");
     expect_ok(&r);
     jv v = parse_json(r.out);
     char ids[32];
@@ -2627,8 +2627,8 @@ static void reconstruct_params_and_overrides_are_recorded(void **state)
 static size_t sections_with(const env *e, const char *params)
 {
     result r;
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", params, "--no-union", "--no-record",
-        "--json");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--params", params, "--no-union",
+        "--no-record", "--json");
     expect_ok(&r);
     jv v = parse_json(r.out);
     size_t n = jget(&v, "sections")->count;
@@ -2932,8 +2932,8 @@ static void a_symmetry_that_does_not_fit_finishes_and_reports_the_fit(void **sta
     /* mirror on the axial shaft: it finishes (a shaft is mirror-symmetric too) and the
      * fit is reported */
     result r;
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--symmetry", "mirror", "--params", "coarse",
-        "--no-union", "--json");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--symmetry", "mirror", "--params",
+        "coarse", "--no-union", "--json");
     expect_ok(&r);
     jv v = parse_json(r.out);
     const jv *a = jget(&v, "alignment");
@@ -2944,8 +2944,8 @@ static void a_symmetry_that_does_not_fit_finishes_and_reports_the_fit(void **sta
     jv_release(&v);
     result_free(&r);
     /* axial on the flat bracket: a poor fit, said so, and still a recorded run */
-    RUN(&r, "--db", e->db, "reconstruct", "3", "--symmetry", "axial", "--params", "coarse",
-        "--no-union", "--json");
+    RUN(&r, "--db", e->db, "reconstruct", "3", "--no-nominal", "--symmetry", "axial", "--params",
+        "coarse", "--no-union", "--json");
     expect_ok(&r);
     v = parse_json(r.out);
     a = jget(&v, "alignment");
@@ -2954,8 +2954,8 @@ static void a_symmetry_that_does_not_fit_finishes_and_reports_the_fit(void **sta
     assert_int_equal(jget(&v, "run_id")->type, J_NUM);
     jv_release(&v);
     result_free(&r);
-    RUN(&r, "--db", e->db, "reconstruct", "3", "--symmetry", "axial", "--params", "coarse",
-        "--no-union", "--no-record");
+    RUN(&r, "--db", e->db, "reconstruct", "3", "--no-nominal", "--symmetry", "axial", "--params",
+        "coarse", "--no-union", "--no-record");
     expect_ok(&r);
     expect_contains(r.out, "poor fit: score ");
     result_free(&r);
@@ -2999,10 +2999,10 @@ static void run_list_filters_by_instance_and_part(void **state)
     const env *e = *state;
     make_demo(e);
     result r;
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--params", "coarse", "--no-union");
     expect_ok(&r);
     result_free(&r);
-    RUN(&r, "--db", e->db, "reconstruct", "2", "--params", "coarse", "--no-union");
+    RUN(&r, "--db", e->db, "reconstruct", "2", "--no-nominal", "--params", "coarse", "--no-union");
     expect_ok(&r);
     result_free(&r);
     RUN(&r, "--db", e->db, "run", "list", "--json");
@@ -3156,7 +3156,7 @@ static void compare_takes_stored_meshes(void **state)
     const env *e = *state;
     make_demo(e);
     result r;
-    RUN(&r, "--db", e->db, "reconstruct", "1", "--params", "coarse", "--no-union");
+    RUN(&r, "--db", e->db, "reconstruct", "1", "--no-nominal", "--params", "coarse", "--no-union");
     expect_ok(&r);
     result_free(&r);
     RUN(&r, "--db", e->db, "compare", "part:SR-SHAFT-01", "instance:1", "--json");
