@@ -40,6 +40,7 @@
 #include "mesh/mesh.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
+#include "support/random_pose.h"
 #include "support/truth.h"
 
 #define PARTS_DIR "../shared/parts"
@@ -56,46 +57,6 @@ static double line_angle_deg(const double a[3], const double b[3])
 {
     double c = fabs(dot3(a, b)) / sqrt(dot3(a, a) * dot3(b, b));
     return acos(c > 1 ? 1 : c) * 180 / M_PI;
-}
-
-/* A random rigid pose p' = R p + t from a seed: the z axis tilted by 10..40 deg, spun
- * at random, moved up to 60 mm per coordinate. */
-static void random_pose(unsigned seed, double m[12])
-{
-    uint64_t s = seed * 0x9E3779B97F4A7C15ull + 1;
-    double u[6];
-    for (int i = 0; i < 6; i++) {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        u[i] = (double)(s >> 11) / 9007199254740992.0;
-    }
-    double tilt = (10 + 30 * u[0]) * M_PI / 180, az = 2 * M_PI * u[1], spin = 2 * M_PI * u[2];
-    /* R = Rz(az) Ry(tilt) Rz(spin) */
-    double ca = cos(az), sa = sin(az), ct = cos(tilt), st = sin(tilt), cs = cos(spin),
-           ss = sin(spin);
-    double rz1[9] = {ca, -sa, 0, sa, ca, 0, 0, 0, 1};
-    double ry[9] = {ct, 0, st, 0, 1, 0, -st, 0, ct};
-    double rz2[9] = {cs, -ss, 0, ss, cs, 0, 0, 0, 1};
-    double a[9], r[9];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            a[3 * i + j] = 0;
-            for (int k = 0; k < 3; k++)
-                a[3 * i + j] += rz1[3 * i + k] * ry[3 * k + j];
-        }
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            r[3 * i + j] = 0;
-            for (int k = 0; k < 3; k++)
-                r[3 * i + j] += a[3 * i + k] * rz2[3 * k + j];
-        }
-    for (int i = 0; i < 3; i++) {
-        m[4 * i] = r[3 * i];
-        m[4 * i + 1] = r[3 * i + 1];
-        m[4 * i + 2] = r[3 * i + 2];
-        m[4 * i + 3] = 120 * (u[3 + i] - 0.5);
-    }
 }
 
 /* Column k of the rotation of a 3x4 transform. */
@@ -213,7 +174,7 @@ static sr_alignment align_posed(const sr_mesh *canon, unsigned seed, const sr_sy
     sr_mesh m;
     assert_int_equal(sr_mesh_copy(&m, canon), SR_OK);
     double pose[12];
-    random_pose(seed, pose);
+    test_random_pose(seed, pose);
     sr_mesh_transform(&m, pose);
     sr_alignment a;
     sr_err err = {{0}};
@@ -277,7 +238,7 @@ static void axial_canonical_frame_puts_axis_on_z_and_part_above_zero(void **stat
     sr_mesh m;
     make_stepped(&m);
     double pose[12];
-    random_pose(11, pose);
+    test_random_pose(11, pose);
     sr_mesh_transform(&m, pose);
     sr_symmetry sym = {SR_SYM_AXIAL, 0, 0};
     sr_alignment a;
@@ -347,7 +308,7 @@ static void mirror_arrow_plane_found_and_frame_puts_it_at_x0(void **state)
     sr_mesh p;
     assert_int_equal(sr_mesh_copy(&p, &m), SR_OK);
     double pose[12];
-    random_pose(3, pose);
+    test_random_pose(3, pose);
     sr_mesh_transform(&p, pose);
     sr_mesh_transform(&p, a.xform);
     double lo[3], hi[3];
@@ -423,7 +384,7 @@ static void mirror_hint_picks_another_good_plane(void **state)
     double lo[3] = {-40, -15, 0}, hi[3] = {40, 15, 6};
     assert_int_equal(sr_shape_box(lo, hi, &m, &err), SR_OK);
     double pose[12], ty[3];
-    random_pose(9, pose);
+    test_random_pose(9, pose);
     sr_mesh_transform(&m, pose);
     column(pose, 1, ty);
     sr_align_opts o = {0};
@@ -479,7 +440,7 @@ static void glide_bar_plane_and_shift_found(void **state)
     assert_near(a.glide_shift_mm, 10, 0.01);
     /* the in-plane axis is the shift direction: the bar's length */
     double pose[12], tz[3];
-    random_pose(4, pose);
+    test_random_pose(4, pose);
     column(pose, 2, tz);
     assert_true(line_angle_deg(a.axis_dir, tz) < 0.01);
     sr_mesh_release(&m);
@@ -576,7 +537,7 @@ static void paper_method_finds_a_mirror_plane_through_the_slicing_axis(void **st
     sr_mesh m;
     assert_int_equal(sr_shape_revolve(&ro, &m, NULL), SR_OK);
     double pose[12], ty[3];
-    random_pose(8, pose);
+    test_random_pose(8, pose);
     sr_mesh_transform(&m, pose);
     column(pose, 1, ty);
     sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
