@@ -299,6 +299,7 @@ bench: deps
 	$(Q)sh tests/bench/nominal_bench.sh build/release/symrec
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 	$(Q)sh tests/bench/symmetry_bench.sh build/release/symrec
+	$(Q)sh tests/bench/big_scan_bench.sh build/release/symrec
 
 bench-built: $(BENCH)
 
