@@ -279,23 +279,18 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     if (opts->method == SR_METHOD_IMAGE) {
         double tu = now_s();
         phase(opts, "unfold");
-        /* a noisy scan's folds undone first, where the union would cut them out */
-        st = sr_mesh_copy(&unfolded, scan_in);
-        if (st != SR_OK)
-            return sr_err_set(err, st, "out of memory copying the scan");
-        /* its slivers folded over by noise by their own flip or collapse first (a
-         * generated perforated strip's scan: 72,535 crossing pairs, 42 left, where moving
-         * vertices alone left 7,403 for the mender to cut out and fill, 125 mm3 of
-         * fracture face filled flat across its chip) */
+        /* a noisy scan's folds undone first, where the union would cut them out: its
+         * slivers folded over by noise by their own flip or collapse first (a generated
+         * perforated strip's scan: 72,535 crossing pairs, 42 left, where moving vertices
+         * alone left 7,403 for the mender to cut out and fill, 125 mm3 of fracture face
+         * filled flat across its chip), then the vertices around what still crosses */
         sr_sliver_report slivers = {0};
-        int cleaned = sr_mesh_clean_folded_slivers(&unfolded, UNFOLD_MAX_MM, &slivers,
-                                                   NULL) == SR_OK &&
-                      slivers.crossing_pairs > 0;
-        if (sr_mesh_unfold(&unfolded, UNFOLD_MAX_MM, &unfold, NULL) == SR_OK &&
-            (unfold.moved_vertices || cleaned)) {
+        if (sr_mesh_unfold_scan(scan_in, UNFOLD_MAX_MM, &unfolded, &slivers, &unfold, NULL) ==
+                SR_OK &&
+            slivers.crossing_pairs > 0) {
             scan = &unfolded;
             r.unfold_sliver_tris = slivers.faces_removed;
-            r.unfold_pairs = cleaned ? slivers.crossing_pairs : unfold.crossing_pairs;
+            r.unfold_pairs = slivers.crossing_pairs;
             r.unfold_left = unfold.remaining_pairs;
             r.unfold_vertices = unfold.moved_vertices;
             r.unfold_max_mm = unfold.max_move_mm;

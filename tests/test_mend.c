@@ -516,27 +516,32 @@ static size_t triangle_of(const sr_mesh *m, uint32_t a, uint32_t b, uint32_t c)
  * down and lies over the triangle beyond the edge. Every point stays on the box, so the
  * cleaned surface must be the box exactly: no crossing, closed, volume 1000, area 600;
  * the fold is a cap's, so an edge flip cures it and no triangle is lost. */
-static void folded_cap_is_flipped_and_the_box_stays_exact(void **state)
+static void make_folded_cap_box(sr_mesh *f)
 {
-    (void)state;
     sr_mesh m;
     make_grid_box(&m);
     uint32_t a = (uint32_t)nearest_vertex(&m, 4, 4, 10), b = (uint32_t)nearest_vertex(&m, 5, 4, 10),
              d = (uint32_t)nearest_vertex(&m, 5, 5, 10);
     size_t t = triangle_of(&m, a, b, d);
-    sr_mesh f;
-    assert_int_equal(sr_mesh_alloc(&f, m.vertex_count + 1, m.tri_count + 2), SR_OK);
-    memcpy(f.xyz, m.xyz, 3 * m.vertex_count * sizeof *m.xyz);
-    memcpy(f.tri, m.tri, 3 * m.tri_count * sizeof *m.tri);
+    assert_int_equal(sr_mesh_alloc(f, m.vertex_count + 1, m.tri_count + 2), SR_OK);
+    memcpy(f->xyz, m.xyz, 3 * m.vertex_count * sizeof *m.xyz);
+    memcpy(f->tri, m.tri, 3 * m.tri_count * sizeof *m.tri);
     uint32_t w = (uint32_t)m.vertex_count;
     double pw[3] = {4.5, 3.98, 10.0};
-    memcpy(f.xyz + 3 * w, pw, sizeof pw);
+    memcpy(f->xyz + 3 * w, pw, sizeof pw);
     uint32_t fan[9] = {a, b, w, b, d, w, d, a, w};
-    memcpy(f.tri + 3 * t, fan, 3 * sizeof *fan);
-    memcpy(f.tri + 3 * m.tri_count, fan + 3, 6 * sizeof *fan);
-    f.vertex_count = m.vertex_count + 1;
-    f.tri_count = m.tri_count + 2;
+    memcpy(f->tri + 3 * t, fan, 3 * sizeof *fan);
+    memcpy(f->tri + 3 * m.tri_count, fan + 3, 6 * sizeof *fan);
+    f->vertex_count = m.vertex_count + 1;
+    f->tri_count = m.tri_count + 2;
     sr_mesh_release(&m);
+}
+
+static void folded_cap_is_flipped_and_the_box_stays_exact(void **state)
+{
+    (void)state;
+    sr_mesh f;
+    make_folded_cap_box(&f);
     assert_true(sr_mesh_is_closed(&f));
     assert_true(crosses(&f));
     sr_sliver_report rep;
@@ -575,6 +580,81 @@ static void clean_surface_is_left_and_bad_input_refused(void **state)
     sr_mesh_release(&before);
 }
 
+/* ---- sr_mesh_unfold_scan --------------------------------------------------------------- */
+
+/* The one-pass unfold gives exactly what the two steps give one after the other
+ * (slivers cleaned, then sr_mesh_unfold over the whole mesh): the same triangles, byte
+ * for byte, and the same vertices to rounding (a ring's points are summed in the order of
+ * a mesh built once, not twice), on a folded cap (cured by a flip) and on a vertex folded past
+ * its neighbour by noise (cured by moving vertices); the input is left as it was. */
+static void expect_one_pass_equals_two_steps(const sr_mesh *in)
+{
+    sr_mesh two;
+    assert_int_equal(sr_mesh_copy(&two, in), SR_OK);
+    sr_sliver_report s2;
+    sr_unfold_report u2;
+    assert_int_equal(sr_mesh_clean_folded_slivers(&two, 0.1, &s2, NULL), SR_OK);
+    assert_int_equal(sr_mesh_unfold(&two, 0.1, &u2, NULL), SR_OK);
+    sr_mesh one, copy;
+    assert_int_equal(sr_mesh_copy(&copy, in), SR_OK);
+    sr_sliver_report s1;
+    sr_unfold_report u1;
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_unfold_scan(in, 0.1, &one, &s1, &u1, &err), SR_OK);
+    assert_true(s1.crossing_pairs > 0);
+    assert_int_equal(s1.crossing_pairs, s2.crossing_pairs);
+    assert_int_equal(s1.faces_removed, s2.faces_removed);
+    assert_int_equal(u1.moved_vertices, u2.moved_vertices);
+    assert_int_equal(u1.remaining_pairs, 0);
+    assert_false(crosses(&one));
+    assert_true(sr_mesh_is_closed(&one));
+    assert_int_equal(one.vertex_count, two.vertex_count);
+    assert_int_equal(one.tri_count, two.tri_count);
+    assert_memory_equal(one.tri, two.tri, 3 * one.tri_count * sizeof *one.tri);
+    for (size_t i = 0; i < 3 * one.vertex_count; i++) /* ring sums in another order */
+        assert_near(one.xyz[i], two.xyz[i], 1e-12);
+    assert_memory_equal(in->xyz, copy.xyz, 3 * in->vertex_count * sizeof *in->xyz);
+    sr_mesh_release(&one);
+    sr_mesh_release(&two);
+    sr_mesh_release(&copy);
+}
+
+static void one_pass_unfold_equals_the_two_steps(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    make_folded_cap_box(&m);
+    expect_one_pass_equals_two_steps(&m);
+    sr_mesh_release(&m);
+    make_ringed_cylinder(&m);
+    fold_by(&m, 30, 20, 1.04);
+    expect_one_pass_equals_two_steps(&m);
+    sr_mesh_release(&m);
+}
+
+/* Nothing crosses: the answer is empty (the scan as it is). A bad bound and a
+ * non-manifold scan are refused with the answer empty. */
+static void one_pass_unfold_leaves_clean_scans_and_refuses_bad_input(void **state)
+{
+    (void)state;
+    sr_mesh m, out;
+    make_grid_box(&m);
+    sr_sliver_report s;
+    sr_unfold_report u;
+    assert_int_equal(sr_mesh_unfold_scan(&m, 0.1, &out, &s, &u, NULL), SR_OK);
+    assert_int_equal(s.crossing_pairs, 0);
+    assert_int_equal(u.moved_vertices, 0);
+    assert_int_equal(out.tri_count, 0);
+    assert_null(out.xyz);
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_unfold_scan(&m, -1.0, &out, &s, &u, &err), SR_E_RANGE);
+    assert_non_null(strstr(err.msg, "bound"));
+    memcpy(m.tri + 3, m.tri, 3 * sizeof *m.tri);
+    assert_int_equal(sr_mesh_unfold_scan(&m, 0.1, &out, NULL, NULL, &err), SR_E_INVALID);
+    assert_int_equal(out.tri_count, 0);
+    sr_mesh_release(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -591,6 +671,8 @@ int main(void)
         cmocka_unit_test(fold_beyond_the_cap_is_left_and_said),
         cmocka_unit_test(folded_cap_is_flipped_and_the_box_stays_exact),
         cmocka_unit_test(clean_surface_is_left_and_bad_input_refused),
+        cmocka_unit_test(one_pass_unfold_equals_the_two_steps),
+        cmocka_unit_test(one_pass_unfold_leaves_clean_scans_and_refuses_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -86,6 +86,16 @@ typedef struct sr_sliver_report {
 sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
                                        sr_sliver_report *report, sr_err *err);
 
+/* A noisy scan's folds undone in one pass: sr_mesh_clean_folded_slivers, then
+ * sr_mesh_unfold's rounds around what crossed, on one mesh built once and searched for
+ * crossings once (the rest of the scan is left as it is, so it cannot cross anew).
+ * When anything crossed, *out is the unfolded scan (vertices renumbered) and
+ * slivers->crossing_pairs > 0; otherwise *out is empty and scan is the answer.
+ * SR_E_INVALID when scan is not an oriented manifold; SR_E_RANGE for a bad bound;
+ * SR_E_NOMEM. slivers and unfold may be NULL. */
+sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,
+                              sr_sliver_report *slivers, sr_unfold_report *unfold, sr_err *err);
+
 /* Collapses every edge shorter than min_edge_mm (off the border, where the link
  * condition allows) to its midpoint, in passes until none is left: the needles two
  * booleans leave where faces met to rounding (a fin of slivers standing inside the

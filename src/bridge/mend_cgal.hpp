@@ -7,7 +7,9 @@
  *                         Surface_mesh built straight from the sr_mesh arrays (build)
  *   mend_fill_cgal.cpp    the regions cut out, and the fill of one from its own points
  *                         (CDT_2 across its mean normal)
- *   mend_unfold_cgal.cpp  sr_mesh_unfold and sr_mesh_collapse_short_edges
+ *   mend_unfold_cgal.cpp  sr_mesh_unfold and sr_mesh_collapse_short_edges; its rounds
+ *                         on a Surface_mesh (unfold_rounds), which sliver_cgal.cpp's
+ *                         sr_mesh_unfold_scan runs after cleaning the slivers
  *
  * CGAL_ALWAYS_ROUND_TO_NEAREST is defined here, before any CGAL header, for Valgrind as
  * in boolean_cgal.hpp (see its comment): every file above includes this header first.
@@ -71,6 +73,15 @@ enum Fill { fill_none, fill_ok, fill_crossing };
 Fill fill_from_points(const Mesh &sm, const Region &reg, size_t id,
                       const std::vector<uint32_t> &region_of, bool in_space,
                       std::vector<uint32_t> &tris, std::vector<uint32_t> &grow_at);
+
+/* ---- mend_unfold_cgal.cpp ---- */
+
+/* The faces around seeds (removed vertices skipped) and rings - 1 rings more. */
+std::vector<Face_index> faces_near(const Mesh &sm, std::vector<Vertex_index> seeds, int rings);
+
+/* sr_mesh_unfold's rounds on sm (which may hold removed elements), looking for crossings
+ * first among range only: rep gets what they did; sm's points move. */
+void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_unfold_report *rep);
 
 } // namespace sr_mend
 

@@ -24,20 +24,46 @@ namespace sr_mend {
 
 namespace {
 
-const int unfold_rounds = 6; /* relaxation rounds of sr_mesh_unfold */
+const int unfold_rounds_max = 6; /* relaxation rounds of sr_mesh_unfold */
 
-/* sr_mesh_unfold proper: see mend.h. */
-sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err)
+} // namespace
+
+/* The faces around the seed vertices (removed ones skipped) and rings - 1 rings more,
+ * each once, in index order. */
+std::vector<Face_index> faces_near(const Mesh &sm, std::vector<Vertex_index> seeds, int rings)
 {
-    Mesh sm;
-    if (!build(m, sm))
-        return sr_err_set(err, SR_E_INVALID, "cannot unfold: not an oriented manifold");
-    std::vector<Point> start(m->vertex_count);
+    std::vector<uint8_t> take(sm.num_faces(), 0);
+    std::vector<Vertex_index> more;
+    for (int r = 0; r < rings; r++) {
+        more.clear();
+        for (Vertex_index v : seeds) {
+            if (sm.is_removed(v) || sm.halfedge(v) == Mesh::null_halfedge())
+                continue;
+            for (Face_index f : sm.faces_around_target(sm.halfedge(v))) {
+                if (f == Mesh::null_face() || take[f.idx()])
+                    continue;
+                take[f.idx()] = 1;
+                for (Vertex_index w : sm.vertices_around_face(sm.halfedge(f)))
+                    more.push_back(w);
+            }
+        }
+        seeds.swap(more);
+    }
+    std::vector<Face_index> range;
+    for (Face_index f : sm.faces())
+        if (take[f.idx()])
+            range.push_back(f);
+    return range;
+}
+
+/* The rounds of sr_mesh_unfold (see mend.h) on sm, looking first among range. */
+void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_unfold_report *rep)
+{
+    std::vector<Point> start(sm.num_vertices());
     for (Vertex_index v : sm.vertices())
         start[v.idx()] = sm.point(v);
-    std::vector<Face_index> range(sm.faces().begin(), sm.faces().end());
-    std::vector<uint8_t> moved(m->vertex_count, 0);
-    for (int round = 0; round < unfold_rounds; round++) {
+    std::vector<uint8_t> moved(sm.num_vertices(), 0);
+    for (int round = 0; round < unfold_rounds_max; round++) {
         std::vector<std::pair<Face_index, Face_index>> pairs;
         PMP::self_intersections(range, sm, std::back_inserter(pairs));
         if (round == 0)
@@ -91,38 +117,37 @@ sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err
         }
         /* the next round looks where this one moved: the triangles around the moved
          * vertices and two rings more */
-        std::vector<uint8_t> take(sm.number_of_faces(), 0);
-        std::vector<Vertex_index> ring(verts), more;
-        for (int r = 0; r < 3; r++) {
-            more.clear();
-            for (Vertex_index v : ring)
-                for (Face_index f : sm.faces_around_target(sm.halfedge(v))) {
-                    if (f == Mesh::null_face() || take[f.idx()])
-                        continue;
-                    take[f.idx()] = 1;
-                    for (Vertex_index w : sm.vertices_around_face(sm.halfedge(f)))
-                        more.push_back(w);
-                }
-            ring.swap(more);
-        }
-        range.clear();
-        for (Face_index f : sm.faces())
-            if (take[f.idx()])
-                range.push_back(f);
+        range = faces_near(sm, verts, 3);
     }
     double worst = 0;
     for (Vertex_index v : sm.vertices()) {
         if (!moved[v.idx()])
             continue;
         rep->moved_vertices++;
-        const Point &p = sm.point(v), &o = start[v.idx()];
-        worst = std::max(worst, std::sqrt(CGAL::squared_distance(p, o)));
+        worst = std::max(worst, std::sqrt(CGAL::squared_distance(sm.point(v), start[v.idx()])));
+    }
+    rep->max_move_mm = worst;
+}
+
+namespace
+{
+
+/* sr_mesh_unfold proper: see mend.h. */
+sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err)
+{
+    Mesh sm;
+    if (!build(m, sm))
+        return sr_err_set(err, SR_E_INVALID, "cannot unfold: not an oriented manifold");
+    unfold_rounds(sm, std::vector<Face_index>(sm.faces().begin(), sm.faces().end()), max_move, rep);
+    if (rep->moved_vertices == 0)
+        return SR_OK;
+    for (Vertex_index v : sm.vertices()) {
+        const Point &p = sm.point(v);
         double *x = m->xyz + 3 * v.idx();
         x[0] = p.x();
         x[1] = p.y();
         x[2] = p.z();
     }
-    rep->max_move_mm = worst;
     return SR_OK;
 }
 

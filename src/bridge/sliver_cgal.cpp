@@ -13,12 +13,19 @@
  * on the crossing triangles and their neighbours only, with the collapse length and the
  * flipped triangles' height bounded by max_move_mm, so the surface moves by no more
  * than that and only where it folds.
+ *
+ * sr_mesh_unfold_scan does that and then sr_mesh_unfold's rounds (mend_unfold_cgal.cpp)
+ * on the same Surface_mesh, the first round looking only around what crossed: nothing
+ * else changed, so nothing else can cross. A million-triangle scan is built once and
+ * searched for crossings once, not twice each.
  */
 #include "bridge/boolean_cgal.hpp"
+#include "bridge/mend_cgal.hpp"
 
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <iterator>
@@ -89,5 +96,48 @@ extern "C" sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move
         return SR_OK;
     } catch (...) {
         return status_from_exception(err, "cleaning slivers");
+    }
+}
+
+extern "C" sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,
+                                         sr_sliver_report *slivers, sr_unfold_report *unfold,
+                                         sr_err *err)
+{
+    sr_sliver_report local_slivers = {0, 0};
+    sr_unfold_report local_unfold = {0, 0, 0, 0};
+    if (!slivers)
+        slivers = &local_slivers;
+    if (!unfold)
+        unfold = &local_unfold;
+    *slivers = local_slivers;
+    *unfold = local_unfold;
+    sr_mesh_init(out);
+    if (!(max_move_mm > 0) || !std::isfinite(max_move_mm))
+        return sr_err_set(err, SR_E_RANGE, "bad unfold move bound %g mm", max_move_mm);
+    try {
+        Mesh sm;
+        size_t bad = 0;
+        if (!build_surface_mesh(scan, sm, &bad))
+            return sr_err_set(err, SR_E_INVALID, "mesh is not an oriented manifold at triangle %zu",
+                              bad);
+        std::vector<Face_index> near = folded_faces(sm, &slivers->crossing_pairs);
+        if (near.empty())
+            return SR_OK; /* nothing crosses: out stays empty */
+        std::vector<Mesh::Vertex_index> seeds;
+        for (Face_index f : near)
+            for (Mesh::Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+                seeds.push_back(v);
+        std::sort(seeds.begin(), seeds.end());
+        seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+        size_t faces_before = sm.number_of_faces();
+        PMP::experimental::remove_almost_degenerate_faces(
+            near, sm, std::cos(CAP_ANGLE_DEG * M_PI / 180.0), NEEDLE_RATIO, max_move_mm,
+            CGAL::parameters::flip_triangle_height_threshold(max_move_mm));
+        slivers->faces_removed = faces_before - sm.number_of_faces();
+        sr_mend::unfold_rounds(sm, sr_mend::faces_near(sm, seeds, 3), max_move_mm, unfold);
+        return mesh_to_arrays(sm, out, err, "unfolding a scan");
+    } catch (...) {
+        sr_mesh_release(out);
+        return status_from_exception(err, "unfolding a scan");
     }
 }
