@@ -28,9 +28,12 @@ static const char usage_identify[] =
     "from the scan to the part's frame (rotation in degrees, move in mm).\n"
     "\n"
     "Then the verdict: `match` (the first explains the scan: coverage >= 80 %, lacking\n"
-    "<= 30 %, RMS <= a quarter of the tolerance, and the second scores at least 0.05\n"
-    "less), `too close to call` (the first two within 0.05), or `no match` (no part\n"
-    "explains the scan: it is of a part not in the catalogue). Parts added before\n"
+    "<= 30 %, RMS <= a quarter of the tolerance, and the next other design scores at\n"
+    "least 0.05 less), `too close to call` (two designs within 0.05), or `no match`\n"
+    "(no part explains the scan: it is of a part not in the catalogue). Parts within\n"
+    "0.05 of the first whose intact meshes are the first's (each within the tolerance\n"
+    "of the other) are one design under several numbers: the match names them all.\n"
+    "Parts added before\n"
     "descriptors were kept get theirs computed on the first run, and stored when the\n"
     "catalogue can be written.\n"
     "\n"
@@ -44,6 +47,7 @@ static const char usage_identify[] =
     "  --json     one JSON object: {\"scan\", \"tol_mm\", \"parts\", \"registered\",\n"
     "             \"descriptors_computed\", \"descriptors_stored\", \"verdict\" (\"match\",\n"
     "             \"too_close\", \"no_match\"), \"match\" (the part number, or null),\n"
+    "             \"same_design\" (the other numbers of the matched design),\n"
     "             \"candidates\": [{\"rank\", \"part\", \"name\", \"score\", \"coverage\",\n"
     "             \"rms_mm\", \"lacking\", \"descriptor_distance\", \"rotation_deg\",\n"
     "             \"translation_mm\", \"matrix\" (3 x 4 rows, scan -> part)}]}\n"
@@ -88,6 +92,11 @@ static int print_json(const sr_identify_result *res, const char *scan)
     json_string(&j, verdict_key(res->verdict));
     json_key(&j, "match");
     json_string(&j, res->verdict == SR_IDENTIFY_MATCH ? res->cand[0].number : NULL);
+    json_key(&j, "same_design");
+    json_array_begin(&j);
+    for (size_t i = 1; res->verdict == SR_IDENTIFY_MATCH && i < res->same_design; i++)
+        json_string(&j, res->cand[i].number);
+    json_array_end(&j);
     json_key(&j, "candidates");
     json_array_begin(&j);
     for (size_t i = 0; i < res->count; i++) {
@@ -155,13 +164,18 @@ int cli_identify_print(const sr_identify_result *res, const char *scan, bool jso
     bool ok = cli_table_print(&t, stdout, 2);
     cli_table_release(&t);
     const sr_identify_candidate *a = &res->cand[0];
-    if (res->verdict == SR_IDENTIFY_MATCH)
+    size_t k = res->same_design;
+    if (res->verdict == SR_IDENTIFY_MATCH) {
         printf("match: part '%s' (%s), score %.3f, next %.3f\n", cli_tx(a->number), cli_tx(a->name),
-               a->fit.score, res->registered > 1 ? res->cand[1].fit.score : 0.0);
-    else if (res->verdict == SR_IDENTIFY_TOO_CLOSE)
+               a->fit.score, k < res->registered ? res->cand[k].fit.score : 0.0);
+        for (size_t i = 1; i < k; i++)
+            printf("  the same design as part '%s' (%s, score %.3f): its intact mesh is this "
+                   "part's within the tolerance\n",
+                   cli_tx(res->cand[i].number), cli_tx(res->cand[i].name), res->cand[i].fit.score);
+    } else if (res->verdict == SR_IDENTIFY_TOO_CLOSE) {
         printf("too close to call: parts '%s' and '%s' score %.3f and %.3f\n", cli_tx(a->number),
-               cli_tx(res->cand[1].number), a->fit.score, res->cand[1].fit.score);
-    else
+               cli_tx(res->cand[k].number), a->fit.score, res->cand[k].fit.score);
+    } else
         printf("no match: no part explains the scan (best: '%s', %.1f %% of the scan on it, "
                "%.1f %% of it lacking)\n",
                cli_tx(a->number), 100 * a->fit.coverage, 100 * a->fit.lacking);

@@ -166,21 +166,27 @@ static int pick_part(sr_catalog *cat, const sr_mesh *mesh, const char *path, boo
     *st = sr_catalog_identify(cat, mesh, NULL, &res, err);
     if (*st != SR_OK)
         return CLI_OK;
-    if (res.verdict == SR_IDENTIFY_MATCH) {
+    if (res.verdict == SR_IDENTIFY_MATCH && res.same_design == 1) {
         *st = sr_catalog_part_find(cat, res.cand[0].number, out, err);
         if (*st == SR_OK)
             cli_note("'%s' identified as part '%s' (score %.3f, next %.3f)", cli_tx(path),
                      cli_tx(res.cand[0].number), res.cand[0].fit.score,
-                     res.count > 1 ? res.cand[1].fit.score : 0.0);
+                     res.registered > 1 ? res.cand[1].fit.score : 0.0);
         sr_identify_result_release(&res);
         return CLI_OK;
     }
     cli_identify_print(&res, path, json);
-    if (res.verdict == SR_IDENTIFY_TOO_CLOSE)
+    if (res.verdict == SR_IDENTIFY_MATCH)
+        cli_error("cannot pick the part of '%s': it is one design filed under %zu part "
+                  "numbers ('%s', '%s'%s); give --part",
+                  cli_tx(path), res.same_design, cli_tx(res.cand[0].number),
+                  cli_tx(res.cand[1].number), res.same_design > 2 ? ", ..." : "");
+    else if (res.verdict == SR_IDENTIFY_TOO_CLOSE)
         cli_error("cannot pick the part of '%s': '%s' and '%s' are too close to call "
                   "(scores %.3f and %.3f); give --part",
-                  cli_tx(path), cli_tx(res.cand[0].number), cli_tx(res.cand[1].number),
-                  res.cand[0].fit.score, res.cand[1].fit.score);
+                  cli_tx(path), cli_tx(res.cand[0].number),
+                  cli_tx(res.cand[res.same_design].number), res.cand[0].fit.score,
+                  res.cand[res.same_design].fit.score);
     else
         cli_error("cannot pick the part of '%s': no part in the catalogue explains it; add "
                   "the part first, or give --part",

@@ -122,6 +122,7 @@ static void identify_prints_the_ranking_and_the_match(void **state)
     s = jq_text(r.out, "$.match");
     assert_string_equal(s, "lever_posed");
     free(s);
+    assert_int_equal(jq_len(r.out, "$.same_design"), 0);
     assert_true(fabs(jq_num(r.out, "$.tol_mm") - 0.5) < 1e-12);
     assert_true(jq_num(r.out, "$.parts") == 4);
     assert_int_equal(jq_len(r.out, "$.candidates"), 2);
@@ -196,7 +197,8 @@ static void instance_add_part_auto_refuses_without_a_clear_part(void **state)
     cli_expect_contains(r.err, "symrec: error: cannot pick the part of '");
     cli_expect_contains(r.err, "no part in the catalogue explains it");
     cli_result_free(&r);
-    /* a second rail under another number: too close to call */
+    /* a second rail under another number: one design under two numbers, which the
+     * user picks */
     sr_catalog *cat;
     assert_int_equal(sr_catalog_open(f->db, 0, &cat, NULL), SR_OK);
     sr_mesh m;
@@ -207,10 +209,18 @@ static void instance_add_part_auto_refuses_without_a_clear_part(void **state)
     CLI_RUN(&r, "--db", f->db, "instance", "add", "--part", "auto", "--mesh",
             SCAN("rail_glide_chipped"));
     assert_int_equal(r.code, 1);
-    cli_expect_contains(r.out, "too close to call: parts '");
+    cli_expect_contains(r.out, "match: part '");
+    cli_expect_contains(r.out, "  the same design as part '");
     cli_expect_contains(r.out, " rail-copy ");
     cli_expect_contains(r.out, " rail_glide_chipped ");
-    cli_expect_contains(r.err, "are too close to call (scores 0.");
+    cli_expect_contains(r.err, "it is one design filed under 2 part numbers ('");
+    cli_result_free(&r);
+    CLI_RUN(&r, "--db", f->db, "identify", SCAN("rail_glide_chipped"), "--json");
+    cli_expect_ok(&r);
+    char *s = jq_text(r.out, "$.verdict");
+    assert_string_equal(s, "match");
+    free(s);
+    assert_int_equal(jq_len(r.out, "$.same_design"), 1);
     cli_result_free(&r);
     /* nothing was added */
     CLI_RUN(&r, "--db", f->db, "instance", "list", "--json");

@@ -240,6 +240,7 @@ static sr_status fit_shortlist(sr_catalog *cat, sr_identify_scan *scan, const en
     for (size_t i = 0; i < n && st == SR_OK; i++) {
         sr_identify_candidate *c = &res->cand[i];
         c->part_id = e[i].part_id;
+        c->mesh_id = e[i].mesh_id;
         memcpy(c->number, e[i].number, sizeof c->number);
         memcpy(c->name, e[i].name, sizeof c->name);
         c->descriptor_distance = e[i].dist;
@@ -253,6 +254,62 @@ static sr_status fit_shortlist(sr_catalog *cat, sr_identify_scan *scan, const en
     if (st == SR_OK)
         res->count = n;
     return st;
+}
+
+/* Whether candidates a and b are one design: b's intact mesh registered to a's (as
+ * a scan is to a part) covers it and lacks nothing of it, within tol. */
+static sr_status one_design(sr_catalog *cat, const sr_identify_candidate *a,
+                            const sr_identify_candidate *b, double tol, bool *same, sr_err *err)
+{
+    *same = false;
+    sr_mesh ma, mb;
+    sr_mesh_init(&ma);
+    sr_mesh_init(&mb);
+    sr_identify_scan *sc = NULL;
+    sr_identify_fit fit;
+    const sr_mesh *parts[1] = {&ma};
+    sr_status st = sr_catalog_mesh_load(cat, a->mesh_id, &ma, err);
+    if (st == SR_OK)
+        st = sr_catalog_mesh_load(cat, b->mesh_id, &mb, err);
+    if (st == SR_OK)
+        st = sr_identify_scan_make(&mb, tol, &sc, err);
+    if (st == SR_OK)
+        st = sr_identify_fit_parts(sc, parts, 1, &fit, err);
+    if (st == SR_OK)
+        *same = fit.coverage >= SR_IDENTIFY_SAME_COVERAGE &&
+                fit.lacking <= SR_IDENTIFY_SAME_LACKING &&
+                fit.rms_mm <= SR_IDENTIFY_MAX_RMS_TOL * fit.tol_mm;
+    sr_identify_scan_free(sc);
+    sr_mesh_release(&ma);
+    sr_mesh_release(&mb);
+    return st;
+}
+
+/* The verdict on the sorted candidates, and how many of the first are one design. */
+static sr_status judge(sr_catalog *cat, sr_identify_result *res, sr_err *err)
+{
+    res->same_design = 1;
+    if (!sr_identify_fit_matches(&res->cand[0].fit)) {
+        res->verdict = SR_IDENTIFY_NO_MATCH;
+        return SR_OK;
+    }
+    const sr_identify_candidate *first = &res->cand[0];
+    size_t k = 1;
+    while (k < res->count && res->cand[k].fit.score >= first->fit.score - SR_IDENTIFY_MARGIN) {
+        bool same;
+        sr_status st = one_design(cat, first, &res->cand[k], res->tol_mm, &same, err);
+        if (st != SR_OK)
+            return st;
+        if (!same)
+            break;
+        /* kept next to the first, in the order of the scores */
+        k++;
+    }
+    res->same_design = k;
+    res->verdict = k < res->count && res->cand[k].fit.score >= first->fit.score - SR_IDENTIFY_MARGIN
+                       ? SR_IDENTIFY_TOO_CLOSE
+                       : SR_IDENTIFY_MATCH;
+    return SR_OK;
 }
 
 void sr_identify_result_release(sr_identify_result *res)
@@ -308,15 +365,14 @@ sr_status sr_catalog_identify(sr_catalog *cat, const sr_mesh *scan, const sr_ide
         res.parts = ev.count;
         res.registered = res.count;
         res.tol_mm = sr_identify_scan_tol(sc);
-        if (!sr_identify_fit_matches(&res.cand[0].fit))
-            res.verdict = SR_IDENTIFY_NO_MATCH;
-        else if (res.count > 1 &&
-                 res.cand[1].fit.score >= res.cand[0].fit.score - SR_IDENTIFY_MARGIN)
-            res.verdict = SR_IDENTIFY_TOO_CLOSE;
-        else
-            res.verdict = SR_IDENTIFY_MATCH;
-        if (res.count > top)
-            res.count = top;
+        st = judge(cat, &res, err);
+    }
+    if (st == SR_OK) {
+        /* top, and every number of the matched design (cand[] holds all registered,
+         * so the next design's score stays readable) */
+        size_t keep = top > res.same_design ? top : res.same_design;
+        if (res.count > keep)
+            res.count = keep;
     }
     free(ev.v);
     sr_identify_scan_free(sc);

@@ -11,6 +11,12 @@
  * lacking within the bounds of identify.h); too close to call when the second scores
  * within SR_IDENTIFY_MARGIN of it; otherwise no match - a scan of a part that is not
  * in the catalogue must not be given another part's number.
+ *
+ * One design filed under two numbers (a copy of a part, a part renumbered) cannot be
+ * ranked apart by any scan: candidates within the margin of the first whose intact
+ * meshes are the first's (each registered to the other within the tolerance: the
+ * coverage and lacking bounds of SR_IDENTIFY_SAME_*) are one answer, the first's
+ * `same_design`, and the margin is taken to the next other design.
  */
 #ifndef SR_CATALOG_IDENTIFY_H
 #define SR_CATALOG_IDENTIFY_H
@@ -20,6 +26,13 @@
 
 #include "align/identify.h"
 #include "catalog/catalog.h"
+
+/* Two intact meshes are one design when, the second registered to the first, at
+ * least this share of each lies within the tolerance of the other (samples falling
+ * between two tessellations of one surface aside) and the RMS is within the match
+ * bound of identify.h. */
+#define SR_IDENTIFY_SAME_COVERAGE 0.98
+#define SR_IDENTIFY_SAME_LACKING 0.02
 
 /* Parts always registered: the descriptor ranks the right part among the first few
  * on damaged scans (a quarter of the volume missing shifts the D2 distribution), and
@@ -41,12 +54,14 @@ typedef struct sr_identify_opts {
 
 typedef enum sr_identify_verdict {
     SR_IDENTIFY_NO_MATCH = 0,
-    SR_IDENTIFY_MATCH,     /* cand[0] is the scan's part */
-    SR_IDENTIFY_TOO_CLOSE, /* cand[0] and cand[1] both fit, within the margin */
+    SR_IDENTIFY_MATCH,     /* cand[0] is the scan's part (cand[1..same_design - 1] its
+                            * design under other numbers) */
+    SR_IDENTIFY_TOO_CLOSE, /* cand[0] and another design both fit, within the margin */
 } sr_identify_verdict;
 
 typedef struct sr_identify_candidate {
     int64_t part_id;
+    int64_t mesh_id; /* the part's intact mesh */
     char number[64];
     char name[128];
     double descriptor_distance; /* octaves */
@@ -60,7 +75,10 @@ typedef struct sr_identify_result {
     size_t described; /* their descriptors computed by this call */
     size_t stored;    /* of those, stored in the catalogue (0 when read-only) */
     size_t registered; /* parts registered to the scan (the shortlist) */
-    size_t count;      /* candidates given, best score first (<= registered) */
+    size_t count;      /* candidates given, best score first (<= registered); cand[]
+                        * holds all registered */
+    size_t same_design; /* the first this many candidates are one design (>= 1 when
+                         * count > 0); the margin is to cand[same_design] */
     sr_identify_candidate *cand;
 } sr_identify_result;
 
