@@ -2,9 +2,12 @@
  * nominal.h: the nominal model as a second opinion on a reconstruction (issue 19,
  * item 3). When the damaged instance's part has an intact mesh (its nominal, CAD
  * model), that mesh is registered to the scan (align/register.h: robust and trimmed,
- * so the missing material does not pull it), and what it has that the scan lacks,
+ * so the missing material does not pull it; started from the reconstruction's symmetry
+ * alignment when given, nominal_start.c), and what it has that the scan lacks,
  * registered intact − scan by one exact CGAL difference (bridge/boolean.h), is the
- * nominal's missing material. That is split into its connected pieces; pieces thinner
+ * nominal's missing material. A closed scan that crosses itself (a noisy one), which
+ * the exact difference refuses, is measured cell by cell instead (nominal_cells.c:
+ * exact volumes per cell without a boolean, pieces without meshes). That is split into its connected pieces; pieces thinner
  * than the registration's own scatter are the slivers two tessellations of one surface
  * leave between them, not damage, and are dropped. Each kept piece is given to the
  * symmetry section whose patch it overlaps most; the figures per section (symmetry
@@ -25,6 +28,7 @@
 
 #include <stddef.h>
 
+#include "align/align.h"
 #include "align/register.h"
 #include "base/status.h"
 #include "mesh/mesh.h"
@@ -35,6 +39,11 @@ typedef struct sr_nominal_opts {
     double tol_mm;         /* registration tolerance; 0 = register.h's default */
     size_t samples;        /* registration samples; 0 = register.h's default */
     double min_volume_mm3; /* smallest piece kept (the run's min_volume_mm3); 0 = 1 mm³ */
+    const sr_alignment *alignment; /* the scan's symmetry alignment (the reconstruction's):
+                                    * the registration starts from it; NULL = the full
+                                    * start search of sr_register */
+    int order;                     /* axial: the order the reconstruction used (0 =
+                                    * continuous) */
 } sr_nominal_opts;
 
 /* The smallest registration coverage a nominal of the scan's part reaches: a damaged
@@ -94,7 +103,15 @@ typedef struct sr_nominal_result {
     size_t only_symmetry;      /* sections with no piece */
     int poor;                  /* 1: the nominal does not fit this scan (note says why) */
     char note[240];
-    double seconds; /* time taken, s */
+    int full_search;      /* 1: the registration ran the full start search (no alignment,
+                      * or the start from it did not hold) */
+    int by_cells;         /* 1: the exact difference refused the scan (it crosses itself):
+                      * the volumes are measured cell by cell (the winding number's
+                      * integral over each cell of a grid), pieces have no mesh,
+                      * `missing` is empty and thickness_mm is 0 */
+    double cell_mm;       /* the cells' size when by_cells */
+    char exact_note[200]; /* why the exact difference refused, when by_cells */
+    double seconds;       /* time taken, s */
 } sr_nominal_result;
 
 /* The nominal's second opinion on a reconstruction of `scan` whose sections are
