@@ -46,6 +46,7 @@ int cli_nominal_step(sr_catalog *cat, int64_t part_id, const sr_mesh *scan,
     o.min_volume_mm3 = min_volume_mm3;
     o.alignment = &r->alignment;
     o.order = r->order;
+    o.exact_pieces = reference_nominal; /* the patch is the pieces' meshes */
     sr_nominal_result nr;
     st = sr_nominal_compare(scan, &intact, r->sections, r->section_count, &o, &nr, &err);
     sr_mesh_release(&intact);

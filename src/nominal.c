@@ -505,8 +505,15 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
     sr_status st = nominal_register(scan, intact, &o, &r.reg, &r.full_search, err);
     if (st == SR_OK)
         st = sr_mesh_copy(&r.registered, intact);
-    if (st == SR_OK) {
+    if (st == SR_OK)
         sr_mesh_transform(&r.registered, r.reg.mat);
+    if (st == SR_OK && !o.exact_pieces) { /* the cells need closed surfaces */
+        if (!sr_mesh_is_closed(scan))
+            st = sr_err_set(err, SR_E_INVALID, "'the scan' is not closed");
+        else if (!sr_mesh_is_closed(intact))
+            st = sr_err_set(err, SR_E_INVALID, "'the nominal' is not closed");
+        r.by_cells = 1;
+    } else if (st == SR_OK) {
         st = sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, &r.registered, "the registered nominal",
                                 scan, "the scan", &raw, &why);
         /* a closed scan that crosses itself: measured by cells (nominal_cells.c) */

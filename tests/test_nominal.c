@@ -96,7 +96,11 @@ static void the_cut_comes_back_and_agrees_with_its_section(void **state)
     secs[1].volume_mm3 = 8;
     sr_nominal_result r;
     sr_err err = {{0}};
-    assert_int_equal(sr_nominal_compare(&scan, &bar, secs, 2, NULL, &r, &err), SR_OK);
+    sr_nominal_opts exact = {0};
+    exact.exact_pieces = 1;
+    assert_int_equal(sr_nominal_compare(&scan, &bar, secs, 2, &exact, &r, &err), SR_OK);
+    assert_int_equal(r.by_cells, 0);
+    assert_true(r.missing.tri_count > 0);
     assert_near(r.nominal_mm3, 2700, 2700 * 1e-4);
     assert_int_equal(r.piece_count, 1);
     assert_int_equal(r.pieces[0].section, 0);
@@ -148,6 +152,7 @@ static void without_sections_the_cut_is_only_the_nominals(void **state)
     sr_nominal_result r;
     sr_err err = {{0}};
     assert_int_equal(sr_nominal_compare(&scan, &bar, NULL, 0, NULL, &r, &err), SR_OK);
+    assert_int_equal(r.by_cells, 1); /* the default measure */
     assert_near(r.nominal_mm3, 2700, 2700 * 1e-4);
     assert_int_equal(r.only_nominal, 1);
     assert_near(r.only_nominal_mm3, 2700, 0.3);
@@ -243,7 +248,7 @@ static void from_the_symmetry_alignment_no_search_runs(void **state)
     assert_int_equal(r.full_search, 0);
     assert_near(r.nominal_mm3, 2700, 2700 * 1e-4);
     assert_true(r.reg.coverage > 0.75 && r.reg.coverage < 0.99);
-    assert_int_equal(r.by_cells, 0);
+    assert_int_equal(r.by_cells, 1);
     sr_nominal_result_release(&r);
     /* a wrong part's start does not hold: the full search runs, and it is flagged */
     sr_mesh cyl;
@@ -259,7 +264,8 @@ static void from_the_symmetry_alignment_no_search_runs(void **state)
 }
 
 /* A scan that crosses itself (a 4 x 4 x 6 mm box through the short leg's top face, as
- * a noise fold): the exact difference refuses it, the cells measure the cut. */
+ * a noise fold): the exact difference, asked for, refuses it; the cells measure the
+ * cut. */
 static void a_scan_crossing_itself_is_measured_by_cells(void **state)
 {
     (void)state;
@@ -275,7 +281,9 @@ static void a_scan_crossing_itself_is_measured_by_cells(void **state)
     sec.volume_mm3 = 2700;
     sr_nominal_result r;
     sr_err err = {{0}};
-    assert_int_equal(sr_nominal_compare(&scan, &bar, &sec, 1, NULL, &r, &err), SR_OK);
+    sr_nominal_opts exact = {0};
+    exact.exact_pieces = 1;
+    assert_int_equal(sr_nominal_compare(&scan, &bar, &sec, 1, &exact, &r, &err), SR_OK);
     assert_int_equal(r.by_cells, 1);
     assert_non_null(strstr(r.exact_note, "intersects itself"));
     assert_near(r.nominal_mm3, 2700, 2700 * 0.001);
