@@ -297,6 +297,7 @@ bench: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all bench-built
 	$(Q)SYMREC_IDENTIFY_GEN="$(IDENTIFY_GEN_DIRS)" build/release/bench/symrec_bench
 	$(Q)sh tests/bench/nominal_bench.sh build/release/symrec
+	$(Q)sh tests/bench/nominal_bench.sh build/release/symrec "" damaged_scan.stl
 	$(Q)sh tests/bench/partgen_bench.sh build/release/symrec
 	$(Q)sh tests/bench/symmetry_bench.sh build/release/symrec
 	$(Q)sh tests/bench/big_scan_bench.sh build/release/symrec

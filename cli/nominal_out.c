@@ -44,6 +44,9 @@ int cli_nominal_step(sr_catalog *cat, int64_t part_id, const sr_mesh *scan,
         return cli_fail(st, &err);
     sr_nominal_opts o = {0};
     o.min_volume_mm3 = min_volume_mm3;
+    o.alignment = &r->alignment;
+    o.order = r->order;
+    o.exact_pieces = reference_nominal; /* the patch is the pieces' meshes */
     sr_nominal_result nr;
     st = sr_nominal_compare(scan, &intact, r->sections, r->section_count, &o, &nr, &err);
     sr_mesh_release(&intact);
@@ -55,8 +58,15 @@ int cli_nominal_step(sr_catalog *cat, int64_t part_id, const sr_mesh *scan,
         fprintf(stderr, "symrec: error: --reference nominal: %s\n", why);
         return CLI_FAIL;
     }
-    if (reference_nominal && nr.poor) {
-        fprintf(stderr, "symrec: error: --reference nominal: %s\n", nr.note);
+    if (reference_nominal && (nr.poor || nr.by_cells)) {
+        if (nr.poor)
+            fprintf(stderr, "symrec: error: --reference nominal: %s\n", nr.note);
+        else
+            fprintf(stderr,
+                    "symrec: error: --reference nominal: the exact difference refused the scan "
+                    "(%s), so the nominal's missing material was measured by cells and has no "
+                    "patch mesh\n",
+                    nr.exact_note);
         sr_nominal_result_release(&nr);
         return CLI_FAIL;
     }

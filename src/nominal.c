@@ -3,6 +3,8 @@
  * registration of the intact mesh to the scan, the exact difference registered intact
  * − scan, its pieces sorted from the slivers, the pieces given to the symmetry
  * sections, the per-section figures and the check that the nominal fits the scan.
+ * The registration's start is nominal_start.c's; the cell measure that stands in for
+ * the difference on a scan crossing itself is nominal_cells.c's (nominal_int.h).
  *
  * Slivers: two surfaces that are the same design surface tessellated differently (a
  * cylinder's facets in the CAD export and in the scan), or a noisy scan over the
@@ -13,7 +15,7 @@
  * thickness t has V = A t / 2) is under three times the registration's RMS (and under
  * 0.05 % of the part's size, the scale of an exact copy's rounding) is a sliver.
  */
-#include "nominal.h"
+#include "nominal_int.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -230,6 +232,40 @@ static double box_distance(const double p[3], const double *b)
     return sqrt(d);
 }
 
+size_t nominal_nearest_section(const double p[3], const double *boxes, size_t count)
+{
+    size_t best = count;
+    double bd = INFINITY;
+    for (size_t s = 0; s < count; s++) {
+        double d = box_distance(p, boxes + 7 * s);
+        if (d <= boxes[7 * s + 6] && d < bd) {
+            bd = d;
+            best = s;
+        }
+    }
+    return best;
+}
+
+/* p's section (the largest share; -1 = the share near no section, share[count]), that
+ * share, and p's centroid: the no-section share's (acc: its volume-weighted sum of
+ * points) when that is at least min_vol, else the piece's (all over vall), else o. */
+static void settle_piece(sr_nominal_piece *p, const double *share, size_t count, double min_vol,
+                         const double acc[3], const double all[3], double vall, const double o[3])
+{
+    p->outside_mm3 = share[count];
+    p->section = -1;
+    double most = share[count];
+    for (size_t s = 0; s < count; s++)
+        if (share[s] > most) {
+            most = share[s];
+            p->section = (long)s;
+        }
+    for (int k = 0; k < 3; k++)
+        p->centroid[k] = p->outside_mm3 >= min_vol ? acc[k] / p->outside_mm3
+                         : vall > 0                ? all[k] / vall
+                                                   : o[k];
+}
+
 /* Splits piece p's volume among the sections (boxes: count x {lo, hi, reach}): each
  * triangle's tetrahedron to the piece's centre goes to the section whose patch box is
  * nearest its centroid, within the box's own diagonal, else to no section. By the
@@ -260,15 +296,7 @@ static void share_piece(sr_nominal_piece *p, const double *boxes, size_t count, 
         double v = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                     a[2] * (b[0] * c[1] - b[1] * c[0])) /
                    6.0;
-        size_t best = count;
-        double bd = INFINITY;
-        for (size_t s = 0; s < count; s++) {
-            double d = box_distance(cen, boxes + 7 * s);
-            if (d <= boxes[7 * s + 6] && d < bd) {
-                bd = d;
-                best = s;
-            }
-        }
+        size_t best = nominal_nearest_section(cen, boxes, count);
         share[best] += v;
         for (int k = 0; k < 3; k++) { /* the tetrahedron's centroid, weighted */
             double g = o[k] + (a[k] + b[k] + c[k]) / 4;
@@ -278,32 +306,15 @@ static void share_piece(sr_nominal_piece *p, const double *boxes, size_t count, 
         }
         vall += v;
     }
-    p->outside_mm3 = share[count];
-    p->section = -1;
-    double most = share[count];
-    for (size_t s = 0; s < count; s++)
-        if (share[s] > most) {
-            most = share[s];
-            p->section = (long)s;
-        }
-    for (int k = 0; k < 3; k++)
-        p->centroid[k] = p->outside_mm3 >= min_vol ? acc[k] / p->outside_mm3
-                         : vall > 0                ? all[k] / vall
-                                                   : o[k];
+    settle_piece(p, share, count, min_vol, acc, all, vall, o);
 }
 
-/* Splits every piece among the sections, and fills the sections' figures. */
-static sr_status assign_sections(const sr_section *secs, size_t count, double min_vol,
-                                 sr_nominal_result *r, sr_err *err)
+/* The sections' patch boxes: count x {lo[3], hi[3], reach (the diagonal)}; a section
+ * without a patch gets an empty box that nothing is near. NULL when out of memory. */
+static double *section_boxes(const sr_section *secs, size_t count)
 {
     double *boxes = malloc((7 * count + 1) * sizeof *boxes);
-    double *share = malloc((count + 1) * r->piece_count * sizeof *share + sizeof *share);
-    if (!boxes || !share) {
-        free(boxes);
-        free(share);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory comparing with the nominal");
-    }
-    for (size_t s = 0; s < count; s++) {
+    for (size_t s = 0; boxes && s < count; s++) {
         double *b = boxes + 7 * s;
         if (secs[s].patch.tri_count == 0) {
             b[0] = b[1] = b[2] = INFINITY; /* no patch: nothing is near it */
@@ -315,9 +326,60 @@ static sr_status assign_sections(const sr_section *secs, size_t count, double mi
         b[6] = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) +
                     (b[5] - b[2]) * (b[5] - b[2]));
     }
+    return boxes;
+}
+
+/* Appends to *out the triangles of m whose box meets b grown by margin. */
+static sr_status append_near(const sr_mesh *m, const double *b, double margin, sr_mesh *out)
+{
+    uint32_t *in = malloc((m->tri_count + 1) * sizeof *in);
+    uint32_t *map = malloc((m->vertex_count + 1) * sizeof *map);
+    size_t n = 0;
+    for (size_t t = 0; in && t < m->tri_count; t++) {
+        in[t] = 0;
+        for (int k = 0; k < 3 && !in[t]; k++) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (int v = 0; v < 3; v++) {
+                double x = m->xyz[3 * (size_t)m->tri[3 * t + v] + k];
+                lo = fmin(lo, x);
+                hi = fmax(hi, x);
+            }
+            in[t] = hi < b[k] - margin || lo > b[3 + k] + margin;
+        }
+        in[t] = !in[t];
+        n += in[t];
+    }
+    sr_mesh part;
+    sr_mesh_init(&part);
+    sr_status st = in && map ? SR_OK : SR_E_NOMEM;
+    if (st == SR_OK && n > 0)
+        st = extract_shell(m, in, 1, n, map, &part);
+    if (st == SR_OK && n > 0)
+        st = sr_mesh_append(out, &part);
+    sr_mesh_release(&part);
+    free(in);
+    free(map);
+    return st;
+}
+
+/* Fills the sections' figures from the pieces' shares: share (count + 1 per piece, in
+ * r->pieces' order) when given (the cell measure), else each piece split by its
+ * surface. The deviation of a section's patch is measured against the surface of its
+ * pieces, or, with near (the cell measure: no piece meshes), against the registered
+ * intact and the scan near the patch (a piece's surface is made of the two). */
+static sr_status assign_sections(const sr_section *secs, size_t count, double min_vol,
+                                 const double *boxes, const double *given, const sr_mesh *near,
+                                 double margin, sr_nominal_result *r, sr_err *err)
+{
+    double *share = malloc((count + 1) * r->piece_count * sizeof *share + sizeof *share);
+    if (!share)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory comparing with the nominal");
     for (size_t i = 0; i < r->piece_count; i++) {
         double *sh = share + (count + 1) * i;
-        share_piece(&r->pieces[i], boxes, count, min_vol, sh);
+        if (given)
+            memcpy(sh, given + (count + 1) * i, (count + 1) * sizeof *sh);
+        else
+            share_piece(&r->pieces[i], boxes, count, min_vol, sh);
         if (r->pieces[i].outside_mm3 >= min_vol) {
             r->only_nominal++;
             r->only_nominal_mm3 += r->pieces[i].outside_mm3;
@@ -335,9 +397,12 @@ static sr_status assign_sections(const sr_section *secs, size_t count, double mi
             ns->nominal_mm3 += v;
             if (v >= min_vol) {
                 ns->pieces++;
-                st = sr_mesh_append(&mine, &r->pieces[i].mesh);
+                if (!near)
+                    st = sr_mesh_append(&mine, &r->pieces[i].mesh);
             }
         }
+        for (int k = 0; near && k < 2 && st == SR_OK && ns->pieces > 0; k++)
+            st = append_near(&near[k], boxes + 7 * s, margin, &mine);
         ns->diff_mm3 = ns->nominal_mm3 - ns->symmetry_mm3;
         double base = ns->nominal_mm3 > 0 ? ns->nominal_mm3 : ns->symmetry_mm3;
         ns->diff_pct = base > 0 ? 100.0 * ns->diff_mm3 / base : 0;
@@ -347,7 +412,7 @@ static sr_status assign_sections(const sr_section *secs, size_t count, double mi
         sr_mesh_init(&patch);
         if (st == SR_OK && ns->pieces > 0 && secs[s].patch.tri_count > 0)
             st = compact(&secs[s].patch, &patch, err);
-        if (st == SR_OK && patch.tri_count > 0) {
+        if (st == SR_OK && patch.tri_count > 0 && mine.tri_count > 0) {
             sr_deviation ab;
             st = sr_mesh_deviation(&patch, &mine, &ab, err);
             if (st == SR_OK) {
@@ -358,15 +423,48 @@ static sr_status assign_sections(const sr_section *secs, size_t count, double mi
         sr_mesh_release(&mine);
         sr_mesh_release(&patch);
         if (st != SR_OK) {
-            free(boxes);
             free(share);
             return st == SR_E_NOMEM
                        ? sr_err_set(err, st, "out of memory comparing section %zu", s + 1)
                        : st;
         }
     }
-    free(boxes);
     free(share);
+    return SR_OK;
+}
+
+static int by_cell_volume_desc(const void *a, const void *b)
+{
+    double va = ((const nominal_cell_piece *)a)->volume_mm3;
+    double vb = ((const nominal_cell_piece *)b)->volume_mm3;
+    return va < vb ? 1 : va > vb ? -1 : 0;
+}
+
+/* r->pieces from the cell measure's pieces (no meshes), those under min_vol counted as
+ * slivers; *shares: their shares, count + 1 each, in r->pieces' order. */
+static sr_status cell_pieces(nominal_cell_pieces *cp, size_t count, double min_vol,
+                             sr_nominal_result *r, double **shares, sr_err *err)
+{
+    qsort(cp->pieces, cp->count, sizeof *cp->pieces, by_cell_volume_desc);
+    r->pieces = calloc(cp->count + 1, sizeof *r->pieces);
+    *shares = malloc((cp->count + 1) * (count + 1) * sizeof **shares);
+    if (!r->pieces || !*shares)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory comparing with the nominal");
+    for (size_t i = 0; i < cp->count; i++) {
+        const nominal_cell_piece *c = &cp->pieces[i];
+        if (c->volume_mm3 < min_vol) {
+            r->slivers++;
+            r->sliver_mm3 += fabs(c->volume_mm3);
+            continue;
+        }
+        sr_nominal_piece *p = &r->pieces[r->piece_count];
+        sr_mesh_init(&p->mesh);
+        p->volume_mm3 = c->volume_mm3;
+        memcpy(*shares + (count + 1) * r->piece_count, c->share, (count + 1) * sizeof **shares);
+        settle_piece(p, c->share, count, min_vol, c->outside_centroid, c->centroid, c->volume_mm3,
+                     c->centroid);
+        r->piece_count++;
+    }
     return SR_OK;
 }
 
@@ -395,18 +493,37 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
     if (opts)
         o = *opts;
     double min_vol = o.min_volume_mm3 > 0 ? o.min_volume_mm3 : 1.0;
-    sr_register_opts ro = {o.tol_mm, o.samples};
     sr_nominal_result r;
     memset(&r, 0, sizeof r);
     sr_mesh raw;
     sr_mesh_init(&raw);
-    sr_status st = sr_register(intact, scan, &ro, &r.reg, err);
+    nominal_cell_pieces cp;
+    memset(&cp, 0, sizeof cp);
+    double *boxes = NULL, *shares = NULL;
+    sr_err why;
+    sr_err_clear(&why);
+    sr_status st = nominal_register(scan, intact, &o, &r.reg, &r.full_search, err);
     if (st == SR_OK)
         st = sr_mesh_copy(&r.registered, intact);
-    if (st == SR_OK) {
+    if (st == SR_OK)
         sr_mesh_transform(&r.registered, r.reg.mat);
+    if (st == SR_OK && !o.exact_pieces) { /* the cells need closed surfaces */
+        if (!sr_mesh_is_closed(scan))
+            st = sr_err_set(err, SR_E_INVALID, "'the scan' is not closed");
+        else if (!sr_mesh_is_closed(intact))
+            st = sr_err_set(err, SR_E_INVALID, "'the nominal' is not closed");
+        r.by_cells = 1;
+    } else if (st == SR_OK) {
         st = sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, &r.registered, "the registered nominal",
-                                scan, "the scan", &raw, err);
+                                scan, "the scan", &raw, &why);
+        /* a closed scan that crosses itself: measured by cells (nominal_cells.c) */
+        if (st == SR_E_INVALID && sr_mesh_is_closed(scan) && sr_mesh_is_closed(&r.registered)) {
+            r.by_cells = 1;
+            snprintf(r.exact_note, sizeof r.exact_note, "%.199s", why.msg);
+            st = SR_OK;
+        } else if (st != SR_OK) {
+            st = sr_err_set(err, st, "%s", why.msg);
+        }
     }
     if (st == SR_OK && count > 0) {
         r.sections = calloc(count, sizeof *r.sections);
@@ -414,6 +531,8 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
             st = sr_err_set(err, SR_E_NOMEM, "out of memory comparing with the nominal");
         r.section_count = count;
     }
+    if (st == SR_OK && !(boxes = section_boxes(secs, count)))
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory comparing with the nominal");
     if (st == SR_OK) {
         double lo[3], hi[3];
         sr_mesh_bbox(scan, lo, hi);
@@ -421,17 +540,31 @@ sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const s
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
         r.min_volume_mm3 = min_vol;
         r.sliver_mm = fmax(3.0 * r.reg.rms_mm, 5e-4 * diag);
-        r.extra_mm3 = fmax(0, sr_mesh_volume(scan) - sr_mesh_volume(intact) + sr_mesh_volume(&raw));
         r.extra_limit_mm3 = sr_mesh_area(scan) * r.reg.tol_mm;
-        st = split_pieces(&raw, min_vol, &r, err);
+        if (r.by_cells) {
+            st = nominal_cells(&r.registered, scan, boxes, count, r.sliver_mm, &cp, err);
+            if (st == SR_OK)
+                st = cell_pieces(&cp, count, min_vol, &r, &shares, err);
+            r.extra_mm3 = cp.extra_mm3;
+            r.cell_mm = cp.cell_mm;
+        } else {
+            r.extra_mm3 =
+                fmax(0, sr_mesh_volume(scan) - sr_mesh_volume(intact) + sr_mesh_volume(&raw));
+            st = split_pieces(&raw, min_vol, &r, err);
+        }
     }
     for (size_t i = 0; st == SR_OK && i < r.piece_count; i++) {
         r.nominal_mm3 += r.pieces[i].volume_mm3;
         st = sr_mesh_append(&r.missing, &r.pieces[i].mesh);
     }
+    const sr_mesh near[2] = {r.registered, *scan};
     if (st == SR_OK)
-        st = assign_sections(secs, count, min_vol, &r, err);
+        st = assign_sections(secs, count, min_vol, boxes, shares, r.by_cells ? near : NULL,
+                             2 * r.cell_mm, &r, err);
     sr_mesh_release(&raw);
+    nominal_cell_pieces_release(&cp);
+    free(boxes);
+    free(shares);
     if (st != SR_OK) {
         sr_nominal_result_release(&r);
         return st;

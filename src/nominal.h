@@ -2,9 +2,15 @@
  * nominal.h: the nominal model as a second opinion on a reconstruction (issue 19,
  * item 3). When the damaged instance's part has an intact mesh (its nominal, CAD
  * model), that mesh is registered to the scan (align/register.h: robust and trimmed,
- * so the missing material does not pull it), and what it has that the scan lacks,
+ * so the missing material does not pull it; started from the reconstruction's symmetry
+ * alignment when given, nominal_start.c), and what it has that the scan lacks,
  * registered intact − scan by one exact CGAL difference (bridge/boolean.h), is the
- * nominal's missing material. That is split into its connected pieces; pieces thinner
+ * nominal's missing material. By default that is measured cell by cell instead
+ * (nominal_cells.c: exact volumes per cell without a boolean, pieces without meshes), a
+ * fraction of a second where the difference over nearly coincident surfaces takes
+ * seconds, and closed scans that cross themselves (noisy ones), which the exact
+ * difference refuses, are measured too; the exact difference runs when its meshes are
+ * wanted (a restoration by the nominal). That is split into its connected pieces; pieces thinner
  * than the registration's own scatter are the slivers two tessellations of one surface
  * leave between them, not damage, and are dropped. Each kept piece is given to the
  * symmetry section whose patch it overlaps most; the figures per section (symmetry
@@ -25,6 +31,7 @@
 
 #include <stddef.h>
 
+#include "align/align.h"
 #include "align/register.h"
 #include "base/status.h"
 #include "mesh/mesh.h"
@@ -35,6 +42,16 @@ typedef struct sr_nominal_opts {
     double tol_mm;         /* registration tolerance; 0 = register.h's default */
     size_t samples;        /* registration samples; 0 = register.h's default */
     double min_volume_mm3; /* smallest piece kept (the run's min_volume_mm3); 0 = 1 mm³ */
+    const sr_alignment *alignment; /* the scan's symmetry alignment (the reconstruction's):
+                                    * the registration starts from it; NULL = the full
+                                    * start search of sr_register */
+    int order;                     /* axial: the order the reconstruction used (0 =
+                                    * continuous) */
+    /* 1: the missing material by the exact difference, as meshes (`missing`: a
+     * restoration by the nominal needs them; seconds on nearly coincident surfaces),
+     * falling back to the cells when it refuses a scan that crosses itself; 0: measured
+     * by cells (a fraction of a second; pieces without meshes) */
+    int exact_pieces;
 } sr_nominal_opts;
 
 /* The smallest registration coverage a nominal of the scan's part reaches: a damaged
@@ -94,14 +111,24 @@ typedef struct sr_nominal_result {
     size_t only_symmetry;      /* sections with no piece */
     int poor;                  /* 1: the nominal does not fit this scan (note says why) */
     char note[240];
-    double seconds; /* time taken, s */
+    /* 1: the registration ran the full start search (no alignment, or the start from
+     * it did not hold) */
+    int full_search;
+    /* 1: the volumes are measured cell by cell (the winding number's integral over each
+     * cell of a grid: opts->exact_pieces 0, or the exact difference refused the scan):
+     * pieces have no mesh, `missing` is empty and thickness_mm is 0 */
+    int by_cells;
+    double cell_mm; /* the cells' size when by_cells */
+    /* why the exact difference refused ("" when not asked or when it did not) */
+    char exact_note[200];
+    double seconds;       /* time taken, s */
 } sr_nominal_result;
 
 /* The nominal's second opinion on a reconstruction of `scan` whose sections are
  * secs[0..count) (patches in the scan's frame; count may be 0). `intact` is the part's
  * intact mesh in any frame. opts may be NULL. SR_E_INVALID naming the mesh when the
- * registration or the difference refuses it (a scan that is not closed, say), with the
- * message; SR_E_NOMEM. *out only on success (release with sr_nominal_result_release). */
+ * registration or the measure refuses it (a scan or nominal that is not closed), with
+ * the message; SR_E_NOMEM. *out only on success (release with sr_nominal_result_release). */
 sr_status sr_nominal_compare(const sr_mesh *scan, const sr_mesh *intact, const sr_section *secs,
                              size_t count, const sr_nominal_opts *opts, sr_nominal_result *out,
                              sr_err *err);

@@ -6,7 +6,9 @@
  * agrees with a section whose patch is the cut; a section elsewhere is one only the
  * symmetry sees; the intact bar against itself has nothing missing; a different part
  * (a cylinder) as the nominal is flagged, not believed; a scan that is not closed is
- * refused naming it; a bad reference is refused.
+ * refused naming it; a bad reference is refused. Started from the bar's mirror
+ * alignment the registration needs no search; a scan crossing itself (a box through
+ * one face) is measured by cells and still gives the cut.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -67,6 +69,15 @@ static void cut_bar(sr_mesh *scan, sr_mesh *cut)
     sr_mesh_release(&box);
 }
 
+/* *out = the box [lo, hi], posed as the scan. */
+static void posed_box(const double lo[3], const double hi[3], sr_mesh *out)
+{
+    assert_int_equal(sr_shape_box(lo, hi, out, NULL), SR_OK);
+    double m[12];
+    pose(m);
+    sr_mesh_transform(out, m);
+}
+
 static void the_cut_comes_back_and_agrees_with_its_section(void **state)
 {
     (void)state;
@@ -76,10 +87,7 @@ static void the_cut_comes_back_and_agrees_with_its_section(void **state)
     /* section 1: the cut, as the symmetry would find it, 100 mm³ short; section 2: a
      * box far from any damage (only the symmetry sees it) */
     const double lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2};
-    assert_int_equal(sr_shape_box(lo, hi, &far, NULL), SR_OK);
-    double m[12];
-    pose(m);
-    sr_mesh_transform(&far, m);
+    posed_box(lo, hi, &far);
     sr_section secs[2];
     memset(secs, 0, sizeof secs);
     secs[0].patch = cut;
@@ -88,11 +96,16 @@ static void the_cut_comes_back_and_agrees_with_its_section(void **state)
     secs[1].volume_mm3 = 8;
     sr_nominal_result r;
     sr_err err = {{0}};
-    assert_int_equal(sr_nominal_compare(&scan, &bar, secs, 2, NULL, &r, &err), SR_OK);
+    sr_nominal_opts exact = {0};
+    exact.exact_pieces = 1;
+    assert_int_equal(sr_nominal_compare(&scan, &bar, secs, 2, &exact, &r, &err), SR_OK);
+    assert_int_equal(r.by_cells, 0);
+    assert_true(r.missing.tri_count > 0);
     assert_near(r.nominal_mm3, 2700, 2700 * 1e-4);
     assert_int_equal(r.piece_count, 1);
     assert_int_equal(r.pieces[0].section, 0);
     assert_false(r.poor);
+    assert_int_equal(r.full_search, 1); /* no alignment given */
     assert_true(r.reg.coverage > 0.75 && r.reg.coverage < 0.99);
     assert_int_equal(r.section_count, 2);
     assert_near(r.sections[0].nominal_mm3, 2700, 0.3);
@@ -139,6 +152,7 @@ static void without_sections_the_cut_is_only_the_nominals(void **state)
     sr_nominal_result r;
     sr_err err = {{0}};
     assert_int_equal(sr_nominal_compare(&scan, &bar, NULL, 0, NULL, &r, &err), SR_OK);
+    assert_int_equal(r.by_cells, 1); /* the default measure */
     assert_near(r.nominal_mm3, 2700, 2700 * 1e-4);
     assert_int_equal(r.only_nominal, 1);
     assert_near(r.only_nominal_mm3, 2700, 0.3);
@@ -215,6 +229,78 @@ static void a_scan_that_is_not_closed_is_refused(void **state)
     sr_mesh_release(&bar);
 }
 
+/* The registration starts from the scan's symmetry alignment (the bar is a mirror about
+ * its mid-plane z = 7.5): no search of the principal frames, the same answer. */
+static void from_the_symmetry_alignment_no_search_runs(void **state)
+{
+    (void)state;
+    sr_mesh scan, cut, bar;
+    cut_bar(&scan, &cut);
+    l_bar(&bar);
+    sr_symmetry mirror = {SR_SYM_MIRROR, 0, 0};
+    sr_alignment al;
+    sr_err err = {{0}};
+    assert_int_equal(sr_align(&scan, &mirror, NULL, &al, &err), SR_OK);
+    sr_nominal_opts o = {0};
+    o.alignment = &al;
+    sr_nominal_result r;
+    assert_int_equal(sr_nominal_compare(&scan, &bar, NULL, 0, &o, &r, &err), SR_OK);
+    assert_int_equal(r.full_search, 0);
+    assert_near(r.nominal_mm3, 2700, 2700 * 1e-4);
+    assert_true(r.reg.coverage > 0.75 && r.reg.coverage < 0.99);
+    assert_int_equal(r.by_cells, 1);
+    sr_nominal_result_release(&r);
+    /* a wrong part's start does not hold: the full search runs, and it is flagged */
+    sr_mesh cyl;
+    assert_int_equal(sr_shape_cylinder(20, 0, 15, 64, &cyl, NULL), SR_OK);
+    assert_int_equal(sr_nominal_compare(&scan, &cyl, NULL, 0, &o, &r, &err), SR_OK);
+    assert_int_equal(r.full_search, 1);
+    assert_true(r.poor);
+    sr_nominal_result_release(&r);
+    sr_mesh_release(&cyl);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&cut);
+    sr_mesh_release(&bar);
+}
+
+/* A scan that crosses itself (a 4 x 4 x 6 mm box through the short leg's top face, as
+ * a noise fold): the exact difference, asked for, refuses it; the cells measure the
+ * cut. */
+static void a_scan_crossing_itself_is_measured_by_cells(void **state)
+{
+    (void)state;
+    sr_mesh scan, cut, bar, fold;
+    cut_bar(&scan, &cut);
+    l_bar(&bar);
+    const double lo[3] = {2, 30, 12}, hi[3] = {6, 34, 18};
+    posed_box(lo, hi, &fold);
+    assert_int_equal(sr_mesh_append(&scan, &fold), SR_OK);
+    sr_section sec;
+    memset(&sec, 0, sizeof sec);
+    sec.patch = cut;
+    sec.volume_mm3 = 2700;
+    sr_nominal_result r;
+    sr_err err = {{0}};
+    sr_nominal_opts exact = {0};
+    exact.exact_pieces = 1;
+    assert_int_equal(sr_nominal_compare(&scan, &bar, &sec, 1, &exact, &r, &err), SR_OK);
+    assert_int_equal(r.by_cells, 1);
+    assert_non_null(strstr(r.exact_note, "intersects itself"));
+    assert_near(r.nominal_mm3, 2700, 2700 * 0.001);
+    assert_int_equal(r.piece_count, 1);
+    assert_int_equal(r.pieces[0].section, 0);
+    assert_near(r.sections[0].nominal_mm3, 2700, 2700 * 0.001);
+    assert_true(r.sections[0].dev_mean_mm >= 0 && r.sections[0].dev_mean_mm < 0.05);
+    assert_int_equal(r.missing.tri_count, 0);
+    assert_near(r.extra_mm3, 96, 96 * 0.05); /* the fold's box: counted twice inside */
+    assert_false(r.poor);
+    sr_nominal_result_release(&r);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&cut);
+    sr_mesh_release(&bar);
+    sr_mesh_release(&fold);
+}
+
 static void a_bad_reference_is_refused(void **state)
 {
     (void)state;
@@ -236,6 +322,8 @@ int main(void)
         cmocka_unit_test(an_intact_scan_misses_nothing),
         cmocka_unit_test(a_different_part_as_the_nominal_is_flagged),
         cmocka_unit_test(a_scan_that_is_not_closed_is_refused),
+        cmocka_unit_test(from_the_symmetry_alignment_no_search_runs),
+        cmocka_unit_test(a_scan_crossing_itself_is_measured_by_cells),
         cmocka_unit_test(a_bad_reference_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -299,16 +299,16 @@ sr_status sr_register_check(const sr_mesh *moving, const sr_mesh *fixed,
 
 #define MAX_STARTS 160
 #define KEEP 4
+#define PRESCORED 4 /* sr_register_from: starts that get the ICP */
 
-void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *coarse,
-                     const al_samples *medium, const al_samples *fine, double tol,
-                     const al_register_effort *effort, double mat[12], double *scratch)
+/* The fit of al_register_fit from the start poses cand[0..count) (overwritten). */
+static void fit_from(al_surface *fix, const al_samples *coarse, const al_samples *medium,
+                     const al_samples *fine, double tol, const al_register_effort *effort,
+                     pose *cand, size_t count, double mat[12], double *scratch)
 {
     double size = fix->diag;
     double floor = fmax(tol / 4, 1e-6 * size);
-    pose cand[MAX_STARTS];
     score sc[MAX_STARTS];
-    size_t count = starts(fix, mov, effort->turns, cand, MAX_STARTS);
     /* every start, briefly, on a few hundred samples */
     for (size_t i = 0; i < count; i++) {
         icp(fix, coarse, &cand[i], effort->coarse_iters, effort->coarse_cutoff * size, floor, size,
@@ -349,6 +349,29 @@ void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *c
     }
 }
 
+void al_register_fit(al_surface *fix, const al_surface *mov, const al_samples *coarse,
+                     const al_samples *medium, const al_samples *fine, double tol,
+                     const al_register_effort *effort, double mat[12], double *scratch)
+{
+    pose cand[MAX_STARTS];
+    size_t count = starts(fix, mov, effort->turns, cand, MAX_STARTS);
+    fit_from(fix, coarse, medium, fine, tol, effort, cand, count, mat, scratch);
+}
+
+/* *out from the fitted mat (3 x 4), and c released. */
+static sr_status finish(reg_ctx *c, const double mat[12], double tol, sr_register_result *out)
+{
+    pose p;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            p.r[3 * i + j] = mat[4 * i + j];
+        p.t[i] = mat[4 * i + 3];
+    }
+    fill_result(c, &p, tol, out);
+    ctx_release(c);
+    return SR_OK;
+}
+
 sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_register_opts *opts,
                       sr_register_result *out, sr_err *err)
 {
@@ -360,15 +383,57 @@ sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_regi
     static const al_register_effort effort = {12, 0.25, 12, KEEP, 20, 40, 0};
     double tol = tol_of(opts, &c.fix), mat[12];
     al_register_fit(&c.fix, &c.mov, &c.coarse, &c.medium, &c.fine, tol, &effort, mat, c.scratch);
-    pose p;
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++)
-            p.r[3 * i + j] = mat[4 * i + j];
-        p.t[i] = mat[4 * i + 3];
+    return finish(&c, mat, tol, out);
+}
+
+sr_status sr_register_from(const sr_mesh *moving, const sr_mesh *fixed, const double *start,
+                           size_t count, const sr_register_opts *opts, sr_register_result *out,
+                           sr_err *err)
+{
+    if (count == 0 || count > MAX_STARTS)
+        return sr_err_set(err, SR_E_RANGE, "registration: %zu start poses (1 to %d)", count,
+                          MAX_STARTS);
+    reg_ctx c;
+    size_t n = opts && opts->samples ? opts->samples : 4000;
+    sr_status st = ctx_make(&c, moving, fixed, n, err);
+    if (st != SR_OK)
+        return st;
+    /* the starts are near: a short first cut-off keeps each closest-point query cheap */
+    static const al_register_effort effort = {0, 0.03, 12, 2, 20, 40, 0};
+    pose cand[MAX_STARTS];
+    for (size_t k = 0; k < count; k++)
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++)
+                cand[k].r[3 * i + j] = start[12 * k + 4 * i + j];
+            cand[k].t[i] = start[12 * k + 4 * i + 3];
+        }
+    double tol = tol_of(opts, &c.fix), mat[12];
+    /* many starts: only the best few by their score as they are go on (a query far from
+     * the surface is the costly one, and most starts are far) */
+    if (count > PRESCORED) {
+        size_t near[MAX_STARTS];
+        for (size_t k = 0; k < count; k++) {
+            distances(&c.fix, &c.coarse, &cand[k], 4 * tol, c.scratch);
+            near[k] = 0;
+            for (size_t i = 0; i < c.coarse.count; i++)
+                near[k] += c.scratch[i] < 4 * tol;
+        }
+        for (size_t k = 0; k < PRESCORED; k++) { /* the most samples within 4 tol first */
+            size_t best = k;
+            for (size_t i = k + 1; i < count; i++)
+                if (near[i] > near[best])
+                    best = i;
+            pose tp = cand[k];
+            cand[k] = cand[best];
+            cand[best] = tp;
+            size_t tn = near[k];
+            near[k] = near[best];
+            near[best] = tn;
+        }
+        count = PRESCORED;
     }
-    fill_result(&c, &p, tol, out);
-    ctx_release(&c);
-    return SR_OK;
+    fit_from(&c.fix, &c.coarse, &c.medium, &c.fine, tol, &effort, cand, count, mat, c.scratch);
+    return finish(&c, mat, tol, out);
 }
 
 double sr_bbox_overlap(const sr_mesh *a, const sr_mesh *b)

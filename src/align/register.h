@@ -49,6 +49,17 @@ typedef struct sr_register_result {
 sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_register_opts *opts,
                       sr_register_result *out, sr_err *err);
 
+/* As sr_register, but from the given start poses only (start: count x 12, each a 3 x 4
+ * row-major moving -> fixed), for a caller that knows the pose to within a few % of the
+ * size up to a few discrete choices (an alignment both meshes share, up to the signs of
+ * its axes): each start gets the short robust ICP on a few hundred samples (first
+ * cut-off 3 % of the fixed mesh's diagonal), the best two the medium stage, the best
+ * of those the final fit. SR_E_RANGE when count is 0 or over 160; as sr_register
+ * otherwise. */
+sr_status sr_register_from(const sr_mesh *moving, const sr_mesh *fixed, const double *start,
+                           size_t count, const sr_register_opts *opts, sr_register_result *out,
+                           sr_err *err);
+
 /* How well `moving` lies on `fixed` as they are (no registration): *out with the
  * identity, coverage, RMS and median as sr_register gives them. */
 sr_status sr_register_check(const sr_mesh *moving, const sr_mesh *fixed,

@@ -1,8 +1,9 @@
 #!/bin/sh
 # nominal_bench.sh SYMREC [PARTS_DIR] [INPUT]: the nominal's second opinion against
-# truth for `make bench` (issue 19, item 3). For every part of PARTS_DIR (default
-# ../shared/parts) a catalogue with the part's intact.stl and the instance INPUT
-# (default damaged_posed.stl; damaged_scan.stl for the noisy scans) is made in a
+# truth for `make bench` (issue 19, item 3). For every part of PARTS_DIR (default, or
+# empty: ../shared/parts) a catalogue with the part's intact.stl and the instance INPUT
+# (default damaged_posed.stl; damaged_scan.stl for the noisy scans, which `make bench`
+# runs too) is made in a
 # temporary folder, `reconstruct --json` runs, and the nominal's missing volume is set
 # beside truth.json's missing_volume: the error in %, PASS within 2 %. Also the
 # symmetry's volume, the registration's coverage, the flag and the seconds the
