@@ -42,7 +42,9 @@ struct ins_where {
     sr_surface_query *model;
     sr_surface_query **patch; /* one per section */
     size_t count;
-    double on_mm; /* a restored point this close to a patch lies on it */
+    double on_mm;   /* a restored point this close to a patch lies on it */
+    double near_mm; /* a scan point this close to a patch lies over it (the larger of
+                     * the tolerance and the registration's) */
 };
 
 int ins_section_of(ins_where *w, const double p[3], double *signed_dist)
@@ -64,6 +66,14 @@ int ins_section_of(ins_where *w, const double p[3], double *signed_dist)
             best_d = dk;
         }
     }
+    /* or p itself on a patch: the fracture surface of a section left as it was, whose
+     * closest restored point can lie beside the patch near its rim */
+    best_d = w->near_mm;
+    for (size_t k = 0; best < 0 && k < w->count; k++) {
+        double dk;
+        if (sr_surface_query_closest(w->patch[k], p, best_d, NULL, &dk, NULL) && dk <= best_d)
+            return (int)k;
+    }
     return best;
 }
 
@@ -76,7 +86,7 @@ static void where_release(ins_where *w)
     memset(w, 0, sizeof *w);
 }
 
-static sr_status where_build(const sr_run *run, ins_where *w, sr_err *err)
+static sr_status where_build(const sr_run *run, double tol, ins_where *w, sr_err *err)
 {
     memset(w, 0, sizeof *w);
     double lo[3], hi[3];
@@ -84,6 +94,7 @@ static sr_status where_build(const sr_run *run, ins_where *w, sr_err *err)
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
     w->on_mm = 1e-4 * diag + 1e-6;
+    w->near_mm = tol;
     w->patch = calloc(run->section_count ? run->section_count : 1, sizeof *w->patch);
     if (!w->patch)
         return sr_err_set(err, SR_E_NOMEM, "out of memory");
@@ -210,7 +221,7 @@ static void section_verdict(sr_inspect_section *s, double tol, double allowance)
     if (s->under_share > SHARE_LIMIT && s->underfill_depth_mm > tol) {
         s->verdict = SR_INSPECT_REWORK;
         n += snprintf(s->reasons + n, cap - (size_t)n,
-                      "under-fill %.3g mm3, up to %.3g mm below the restored surface over %.3g %% "
+                      "under-fill %.1f mm3, up to %.3g mm below the restored surface over %.3g %% "
                       "of the region",
                       s->underfill_mm3, s->underfill_depth_mm, 100 * s->under_share);
     }
@@ -377,7 +388,7 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
         sr_inspect_release(&r);
         return sr_err_set(err, SR_E_NOMEM, "out of memory");
     }
-    st = where_build(run, &w, err);
+    st = where_build(run, r.tolerance_mm, &w, err);
     if (st != SR_OK) {
         free(accs);
         sr_inspect_release(&r);
@@ -393,6 +404,8 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
         sr_err_set(err, st, "out of memory");
     if (st == SR_OK)
         st = place_scan(run, &w, o.register_mode, &r, err);
+    /* a scan point within the registration's tolerance of a patch lies over it */
+    w.near_mm = fmax(w.near_mm, r.reg_tol_mm);
     double outside_max = 0;
     if (st == SR_OK)
         st = measure(&w, &r, samples, accs, &outside_max, err);

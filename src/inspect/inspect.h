@@ -93,6 +93,8 @@ typedef struct sr_inspect_result {
     double reg_tol_mm;
     double allowance_mm, tolerance_mm; /* as used */
     int volumes_exact;                 /* 1: booleans; 0: estimated from the samples */
+    char volume_note[512];             /* why not exact ("the scan is not closed", a boolean's
+                            * refusal); "" when exact */
     sr_inspect_section *sections;
     size_t section_count;
     size_t outside_samples; /* samples outside every section */

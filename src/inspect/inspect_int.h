@@ -21,8 +21,9 @@ int ins_section_of(ins_where *w, const double p[3], double *signed_dist);
 
 /* Fills r->sections[k].underfill_mm3 and overbuild_mm3 and r->outside_overbuild_mm3
  * by booleans of r->scan (model frame) with the run's patches and restored mesh, and
- * sets r->volumes_exact = 1. Returns SR_OK with r->volumes_exact 0 and the volumes
- * untouched when the scan is not closed or a boolean refuses it (the caller then keeps
+ * sets r->volumes_exact = 1. Returns SR_OK with r->volumes_exact 0, the reason in
+ * r->volume_note and the volumes untouched (the under-fills of the sections whose
+ * boolean ran excepted) when the scan is not closed or a boolean refuses it (the caller then keeps
  * its estimates); SR_E_NOMEM. */
 sr_status ins_volumes(const sr_run *run, ins_where *w, sr_inspect_result *r, sr_err *err);
 

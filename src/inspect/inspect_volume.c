@@ -6,6 +6,7 @@
  * its vertices lie over, or to the outside when none of them does.
  */
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "bridge/boolean.h"
@@ -83,8 +84,12 @@ static sr_status assign_pieces(const sr_mesh *extra, ins_where *w, sr_inspect_re
 sr_status ins_volumes(const sr_run *run, ins_where *w, sr_inspect_result *r, sr_err *err)
 {
     r->volumes_exact = 0;
-    if (!sr_mesh_is_closed(&r->scan))
+    if (!sr_mesh_is_closed(&r->scan)) {
+        snprintf(r->volume_note, sizeof r->volume_note, "the scan is not closed");
         return SR_OK;
+    }
+    sr_err berr;
+    sr_err_clear(&berr);
     size_t ns = r->section_count;
     double *under = calloc(ns ? ns : 1, sizeof *under);
     if (!under)
@@ -93,16 +98,20 @@ sr_status ins_volumes(const sr_run *run, ins_where *w, sr_inspect_result *r, sr_
     sr_mesh_init(&d);
     for (size_t k = 0; k < ns; k++) {
         const sr_mesh *patch = &run->sections[k].patch;
-        if (sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, patch, "patch", &r->scan, "scan", &d, NULL) !=
-            SR_OK) {
+        if (sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, patch, "patch", &r->scan, "scan", &d,
+                               &berr) != SR_OK) {
+            snprintf(r->volume_note, sizeof r->volume_note, "%s", berr.msg);
             free(under);
             return SR_OK;
         }
+        /* exact under-fill even when the over-build below cannot be had */
+        r->sections[k].underfill_mm3 = d.tri_count ? sr_mesh_volume(&d) : 0;
         under[k] = d.tri_count ? sr_mesh_volume(&d) : 0;
         sr_mesh_release(&d);
     }
     if (sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, &r->scan, "scan", &run->restored, "restored mesh",
-                           &d, NULL) != SR_OK) {
+                           &d, &berr) != SR_OK) {
+        snprintf(r->volume_note, sizeof r->volume_note, "%s", berr.msg);
         free(under);
         return SR_OK;
     }
