@@ -66,6 +66,7 @@ int cmd_rules(const cli_ctx *ctx, int argc, char **argv);
 int cmd_materials(const cli_ctx *ctx, int argc, char **argv);
 int cmd_plan(const cli_ctx *ctx, int argc, char **argv);
 int cmd_symmetry(const cli_ctx *ctx, int argc, char **argv);
+int cmd_inspect(const cli_ctx *ctx, int argc, char **argv);
 
 /* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
 

@@ -55,6 +55,7 @@ static const cli_command commands[] = {
     {"compare", cmd_compare, "volume difference and surface deviation of two meshes"},
     {"identify", cmd_identify, "which catalogue part a scan is of, ranked, or no match"},
     {"plan", cmd_plan, "plan the layer-by-layer rebuild of a run's missing section"},
+    {"inspect", cmd_inspect, "check a repaired part against its run's restoration"},
     {"params", cmd_params, "list, show and set named parameter sets"},
     {"rules", cmd_rules, "list, show and edit the repair rules advice is drawn from"},
     {"materials", cmd_materials,

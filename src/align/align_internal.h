@@ -17,6 +17,8 @@
  *   align_paper.c    the paper's Algorithm 1 (fast layer) and Algorithm 3 (heuristic
  *                    alignment by counting symmetric layers over a grid of rotations)
  *   align.c          the public entry points: validation, canonical frame, override
+ *   surface_query.c  align_surface.c's closest points and samples for other modules
+ *                    (surface_query.h)
  */
 #ifndef SR_ALIGN_INTERNAL_H
 #define SR_ALIGN_INTERNAL_H

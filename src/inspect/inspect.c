@@ -1,0 +1,436 @@
+/*
+ * inspect.c: sr_inspect_run (inspect.h says the method): the checks, the scan taken
+ * onto the restored model (as it is, or registered with the sections' surface left
+ * out of the fit), the signed distances of area-uniform scan samples and of every
+ * scan vertex, the per-section and outside statistics, and the verdicts with their
+ * reasons. The volumes are inspect_volume.c's.
+ */
+#include "inspect/inspect.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "align/register.h"
+#include "align/surface_query.h"
+#include "inspect/inspect_int.h"
+
+#define DEFAULT_SAMPLES 20000
+#define SHARE_LIMIT 0.01 /* a verdict needs more than this share of the samples */
+#define SAME_FRAME 0.7   /* coverage outside the sections that takes the scan as it is */
+
+const char *sr_inspect_verdict_str(sr_inspect_verdict v)
+{
+    switch (v) {
+    case SR_INSPECT_PASS: return "pass";
+    case SR_INSPECT_MACHINE: return "machine";
+    case SR_INSPECT_REWORK: return "rework";
+    }
+    return "?";
+}
+
+int sr_inspect_verdict_parse(const char *s)
+{
+    for (int v = SR_INSPECT_PASS; v <= SR_INSPECT_REWORK; v++)
+        if (s && strcmp(s, sr_inspect_verdict_str((sr_inspect_verdict)v)) == 0)
+            return v;
+    return -1;
+}
+
+struct ins_where {
+    sr_surface_query *model;
+    sr_surface_query **patch; /* one per section */
+    size_t count;
+    double on_mm;   /* a restored point this close to a patch lies on it */
+    double near_mm; /* a scan point this close to a patch lies over it (the larger of
+                     * the tolerance and the registration's) */
+};
+
+int ins_section_of(ins_where *w, const double p[3], double *signed_dist)
+{
+    double q[3], d = 0, sd = 0;
+    if (!sr_surface_query_closest(w->model, p, INFINITY, q, &d, &sd)) {
+        if (signed_dist)
+            *signed_dist = 0;
+        return -1;
+    }
+    if (signed_dist)
+        *signed_dist = sd;
+    int best = -1;
+    double best_d = w->on_mm;
+    for (size_t k = 0; k < w->count; k++) {
+        double dk;
+        if (sr_surface_query_closest(w->patch[k], q, best_d, NULL, &dk, NULL) && dk <= best_d) {
+            best = (int)k;
+            best_d = dk;
+        }
+    }
+    /* or p itself on a patch: the fracture surface of a section left as it was, whose
+     * closest restored point can lie beside the patch near its rim */
+    best_d = w->near_mm;
+    for (size_t k = 0; best < 0 && k < w->count; k++) {
+        double dk;
+        if (sr_surface_query_closest(w->patch[k], p, best_d, NULL, &dk, NULL) && dk <= best_d)
+            return (int)k;
+    }
+    return best;
+}
+
+static void where_release(ins_where *w)
+{
+    sr_surface_query_free(w->model);
+    for (size_t k = 0; k < w->count; k++)
+        sr_surface_query_free(w->patch ? w->patch[k] : NULL);
+    free(w->patch);
+    memset(w, 0, sizeof *w);
+}
+
+static sr_status where_build(const sr_run *run, double tol, ins_where *w, sr_err *err)
+{
+    memset(w, 0, sizeof *w);
+    double lo[3], hi[3];
+    sr_mesh_bbox(&run->restored, lo, hi);
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    w->on_mm = 1e-4 * diag + 1e-6;
+    w->near_mm = tol;
+    w->patch = calloc(run->section_count ? run->section_count : 1, sizeof *w->patch);
+    if (!w->patch)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory");
+    sr_status st = sr_surface_query_build(&run->restored, &w->model, err);
+    for (size_t k = 0; st == SR_OK && k < run->section_count; k++) {
+        st = sr_surface_query_build(&run->sections[k].patch, &w->patch[k], err);
+        w->count = k + 1;
+    }
+    if (st != SR_OK)
+        where_release(w);
+    return st;
+}
+
+/* The restored mesh without the triangles that lie on a section's patch (the surface
+ * the repair rebuilt), for the registration; the whole mesh when nothing is left. */
+static sr_status trimmed_model(const sr_run *run, ins_where *w, sr_mesh *out)
+{
+    const sr_mesh *m = &run->restored;
+    sr_status st = sr_mesh_alloc(out, m->vertex_count, m->tri_count);
+    if (st != SR_OK)
+        return st;
+    memcpy(out->xyz, m->xyz, 3 * m->vertex_count * sizeof *m->xyz);
+    size_t kept = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const uint32_t *f = m->tri + 3 * t;
+        double c[3];
+        for (int k = 0; k < 3; k++)
+            c[k] = (m->xyz[3 * f[0] + k] + m->xyz[3 * f[1] + k] + m->xyz[3 * f[2] + k]) / 3;
+        bool on = false;
+        for (size_t s = 0; s < w->count && !on; s++) {
+            double d;
+            on = sr_surface_query_closest(w->patch[s], c, w->on_mm, NULL, &d, NULL);
+        }
+        if (!on) {
+            memcpy(out->tri + 3 * kept, f, 3 * sizeof *f);
+            kept++;
+        }
+    }
+    out->tri_count = kept ? kept : m->tri_count;
+    if (!kept)
+        memcpy(out->tri, m->tri, 3 * m->tri_count * sizeof *m->tri);
+    return SR_OK;
+}
+
+/* Takes r->scan onto the model: as it is when it lies on it, else registered. */
+static sr_status place_scan(const sr_run *run, ins_where *w, int mode, sr_inspect_result *r,
+                            sr_err *err)
+{
+    sr_mesh trim;
+    sr_mesh_init(&trim);
+    sr_status st = trimmed_model(run, w, &trim);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory");
+    sr_register_opts ro = {0};
+    sr_register_result id, reg;
+    sr_xform_identity(r->transform);
+    r->registered = 0;
+    st = sr_register_check(&r->scan, &trim, &ro, &id, err);
+    if (st == SR_OK) {
+        r->coverage = id.coverage;
+        r->reg_tol_mm = id.tol_mm;
+    }
+    if (st == SR_OK && mode != SR_INSPECT_REGISTER_NEVER &&
+        (mode == SR_INSPECT_REGISTER_ALWAYS || id.coverage < SAME_FRAME)) {
+        st = sr_register(&r->scan, &trim, &ro, &reg, err);
+        if (st == SR_OK && (mode == SR_INSPECT_REGISTER_ALWAYS || reg.coverage > id.coverage)) {
+            memcpy(r->transform, reg.mat, sizeof reg.mat);
+            r->registered = 1;
+            r->coverage = reg.coverage;
+            sr_mesh_transform(&r->scan, reg.mat);
+        }
+    }
+    sr_mesh_release(&trim);
+    return st;
+}
+
+/* Running figures of one set of samples. */
+typedef struct acc {
+    size_t n, under, stock;
+    double sum, sum2, min, max;
+    double stock_sum, stock_min, stock_max;
+    double under_est, over_est; /* depth x area, mm^3 */
+} acc;
+
+static void acc_add(acc *a, double d, double tol, double area)
+{
+    if (a->n == 0) {
+        a->min = d;
+        a->max = d;
+    }
+    a->n++;
+    a->sum += d;
+    a->sum2 += d * d;
+    a->min = fmin(a->min, d);
+    a->max = fmax(a->max, d);
+    if (d < -tol)
+        a->under++;
+    if (d > tol) {
+        if (a->stock == 0) {
+            a->stock_min = d;
+            a->stock_max = d;
+        }
+        a->stock++;
+        a->stock_sum += d;
+        a->stock_min = fmin(a->stock_min, d);
+        a->stock_max = fmax(a->stock_max, d);
+    }
+    if (d < 0)
+        a->under_est += -d * area;
+    else
+        a->over_est += d * area;
+}
+
+static void section_verdict(sr_inspect_section *s, double tol, double allowance)
+{
+    int n = 0;
+    size_t cap = sizeof s->reasons;
+    s->verdict = SR_INSPECT_PASS;
+    if (s->samples == 0) {
+        s->verdict = SR_INSPECT_REWORK;
+        snprintf(s->reasons, cap, "the scan does not reach the section");
+        return;
+    }
+    if (s->under_share > SHARE_LIMIT && s->underfill_depth_mm > tol) {
+        s->verdict = SR_INSPECT_REWORK;
+        n += snprintf(s->reasons + n, cap - (size_t)n,
+                      "under-fill %.1f mm3, up to %.3g mm below the restored surface over %.3g %% "
+                      "of the region",
+                      s->underfill_mm3, s->underfill_depth_mm, 100 * s->under_share);
+    }
+    if (s->stock_share > SHARE_LIMIT) {
+        if (s->verdict == SR_INSPECT_PASS)
+            s->verdict = SR_INSPECT_MACHINE;
+        if (n > 0 && (size_t)n < cap)
+            n += snprintf(s->reasons + n, cap - (size_t)n, "; ");
+        if ((size_t)n < cap)
+            n += snprintf(s->reasons + n, cap - (size_t)n,
+                          "stock %.3g to %.3g mm (mean %.3g) to machine, %s the allowance %.3g mm",
+                          s->stock_min_mm, s->stock_max_mm, s->stock_mean_mm,
+                          s->stock_max_mm > allowance + tol ? "beyond" : "within", allowance);
+    }
+    if (s->verdict == SR_INSPECT_PASS)
+        snprintf(s->reasons, cap, "on the restored surface within %.3g mm", tol);
+}
+
+static void overall_verdict(sr_inspect_result *r)
+{
+    size_t cap = sizeof r->reasons;
+    int n = 0;
+    r->verdict = SR_INSPECT_PASS;
+    for (size_t k = 0; k < r->section_count; k++) {
+        const sr_inspect_section *s = &r->sections[k];
+        if (s->verdict > r->verdict)
+            r->verdict = s->verdict;
+        if (s->verdict != SR_INSPECT_PASS && (size_t)n < cap)
+            n += snprintf(r->reasons + n, cap - (size_t)n, "%ssection %zu: %s", n ? "; " : "",
+                          s->index + 1, sr_inspect_verdict_str(s->verdict));
+    }
+    if (r->outside_samples > 0 && r->outside_share > SHARE_LIMIT) {
+        r->verdict = SR_INSPECT_REWORK;
+        if ((size_t)n < cap)
+            n +=
+                snprintf(r->reasons + n, cap - (size_t)n,
+                         "%soutside the sections the part changed: %.3g %% of its surface beyond "
+                         "%.3g mm, up to %.3g mm",
+                         n ? "; " : "", 100 * r->outside_share, r->tolerance_mm, r->outside_max_mm);
+    }
+    if (n == 0)
+        snprintf(r->reasons, cap, "every section and the rest of the part within %.3g mm",
+                 r->tolerance_mm);
+}
+
+static sr_status check_inputs(const sr_run *run, const sr_mesh *scan, const sr_inspect_opts *o,
+                              sr_err *err)
+{
+    if (o && (!(o->allowance_mm >= 0) || !isfinite(o->allowance_mm)))
+        return sr_err_set(err, SR_E_RANGE, "allowance must be >= 0 mm, got %g", o->allowance_mm);
+    if (o && (!(o->tolerance_mm >= 0) || !isfinite(o->tolerance_mm)))
+        return sr_err_set(err, SR_E_RANGE, "tolerance must be >= 0 mm, got %g", o->tolerance_mm);
+    if (run->restored.tri_count == 0)
+        return sr_err_set(err, SR_E_INVALID, "run %lld has no restored mesh", (long long)run->id);
+    sr_status st = sr_mesh_validate(&run->restored, "restored mesh", NULL, err);
+    for (size_t k = 0; st == SR_OK && k < run->section_count; k++) {
+        char what[48];
+        snprintf(what, sizeof what, "patch of section %zu", run->sections[k].index + 1);
+        if (run->sections[k].patch.tri_count == 0)
+            return sr_err_set(err, SR_E_INVALID, "run %lld keeps no %s", (long long)run->id, what);
+        st = sr_mesh_validate(&run->sections[k].patch, what, NULL, err);
+    }
+    if (st == SR_OK)
+        st = sr_mesh_validate(scan, "scan", NULL, err);
+    return st;
+}
+
+void sr_inspect_release(sr_inspect_result *r)
+{
+    if (!r)
+        return;
+    free(r->sections);
+    free(r->deviation);
+    sr_mesh_release(&r->scan);
+    memset(r, 0, sizeof *r);
+}
+
+/* Samples of the scan: figures per section slot (acc[k]) and outside (acc[count]). */
+static sr_status measure(ins_where *w, sr_inspect_result *r, size_t samples, acc *accs,
+                         double *outside_max, sr_err *err)
+{
+    sr_surface_query *sq = NULL;
+    sr_status st = sr_surface_query_build(&r->scan, &sq, err);
+    if (st != SR_OK)
+        return st;
+    double *xyz = malloc(3 * samples * sizeof *xyz);
+    if (!xyz) {
+        sr_surface_query_free(sq);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory");
+    }
+    st = sr_surface_query_samples(sq, samples, 0x5eed, xyz);
+    double area = sr_surface_query_area(sq) / (double)samples;
+    sr_surface_query_free(sq);
+    for (size_t i = 0; st == SR_OK && i < samples; i++) {
+        double d;
+        int s = ins_section_of(w, xyz + 3 * i, &d);
+        acc_add(&accs[s < 0 ? w->count : (size_t)s], d, r->tolerance_mm, area);
+        if (s < 0)
+            *outside_max = fmax(*outside_max, fabs(d));
+    }
+    free(xyz);
+    /* the vertices too, for the colours and for the extremes samples miss (corners) */
+    for (size_t v = 0; st == SR_OK && v < r->scan.vertex_count; v++) {
+        int s = ins_section_of(w, r->scan.xyz + 3 * v, &r->deviation[v]);
+        double d = r->deviation[v];
+        if (s < 0)
+            continue;
+        acc *a = &accs[s];
+        if (a->n > 0) {
+            a->min = fmin(a->min, d);
+            a->max = fmax(a->max, d);
+        }
+        if (a->stock > 0 && d > r->tolerance_mm)
+            a->stock_max = fmax(a->stock_max, d);
+    }
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory");
+    return SR_OK;
+}
+
+static void fill_section(sr_inspect_section *s, const sr_run_section *rs, const acc *a)
+{
+    s->index = rs->index;
+    s->patch_mm3 = sr_mesh_volume(&rs->patch);
+    s->samples = a->n;
+    if (a->n == 0)
+        return;
+    double n = (double)a->n;
+    s->dev_mean_mm = a->sum / n;
+    s->dev_rms_mm = sqrt(a->sum2 / n);
+    s->dev_min_mm = a->min;
+    s->dev_max_mm = a->max;
+    s->underfill_depth_mm = a->min < 0 ? -a->min : 0;
+    s->under_share = (double)a->under / n;
+    s->stock_share = (double)a->stock / n;
+    if (a->stock) {
+        s->stock_min_mm = a->stock_min;
+        s->stock_max_mm = a->stock_max;
+        s->stock_mean_mm = a->stock_sum / (double)a->stock;
+    }
+    s->underfill_mm3 = a->under_est;
+    s->overbuild_mm3 = a->over_est;
+}
+
+sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspect_opts *opts,
+                         sr_inspect_result *out, sr_err *err)
+{
+    sr_status st = check_inputs(run, scan, opts, err);
+    if (st != SR_OK)
+        return st;
+    sr_inspect_opts o = opts ? *opts : (sr_inspect_opts){0};
+    sr_inspect_result r;
+    memset(&r, 0, sizeof r);
+    r.allowance_mm = o.allowance_mm > 0 ? o.allowance_mm : SR_INSPECT_ALLOWANCE_MM;
+    r.tolerance_mm = o.tolerance_mm > 0 ? o.tolerance_mm : SR_INSPECT_TOLERANCE_MM;
+    size_t samples = o.samples ? o.samples : DEFAULT_SAMPLES;
+    size_t ns = run->section_count;
+    ins_where w;
+    acc *accs = calloc(ns + 1, sizeof *accs);
+    r.sections = calloc(ns ? ns : 1, sizeof *r.sections);
+    r.section_count = ns;
+    if (!accs || !r.sections) {
+        free(accs);
+        sr_inspect_release(&r);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory");
+    }
+    st = where_build(run, r.tolerance_mm, &w, err);
+    if (st != SR_OK) {
+        free(accs);
+        sr_inspect_release(&r);
+        return st;
+    }
+    st = sr_mesh_copy(&r.scan, scan);
+    if (st == SR_OK) {
+        r.deviation = calloc(scan->vertex_count ? scan->vertex_count : 1, sizeof *r.deviation);
+        if (!r.deviation)
+            st = SR_E_NOMEM;
+    }
+    if (st != SR_OK)
+        sr_err_set(err, st, "out of memory");
+    if (st == SR_OK)
+        st = place_scan(run, &w, o.register_mode, &r, err);
+    /* a scan point within the registration's tolerance of a patch lies over it */
+    w.near_mm = fmax(w.near_mm, r.reg_tol_mm);
+    double outside_max = 0;
+    if (st == SR_OK)
+        st = measure(&w, &r, samples, accs, &outside_max, err);
+    if (st == SR_OK) {
+        for (size_t k = 0; k < ns; k++)
+            fill_section(&r.sections[k], &run->sections[k], &accs[k]);
+        const acc *oa = &accs[ns];
+        r.outside_samples = oa->n;
+        r.outside_share = oa->n ? (double)(oa->under + oa->stock) / (double)oa->n : 0;
+        r.outside_max_mm = outside_max;
+        r.outside_rms_mm = oa->n ? sqrt(oa->sum2 / (double)oa->n) : 0;
+        r.outside_overbuild_mm3 = oa->over_est;
+        st = ins_volumes(run, &w, &r, err);
+    }
+    if (st == SR_OK) {
+        for (size_t k = 0; k < ns; k++)
+            section_verdict(&r.sections[k], r.tolerance_mm, r.allowance_mm);
+        overall_verdict(&r);
+    }
+    where_release(&w);
+    free(accs);
+    if (st != SR_OK) {
+        sr_inspect_release(&r);
+        return st;
+    }
+    *out = r;
+    return SR_OK;
+}

@@ -1,0 +1,321 @@
+/*
+ * test_inspect.c: sr_inspect_run (src/inspect/): a 20 x 20 x 10 mm box restored from
+ * two corner chips (4 x 4 x 4 mm patches, 64 mm3 each), inspected against after-repair
+ * scans built from it with known answers: a section built up 0.5 mm (machine, 27.125
+ * mm3 of stock), one 0.3 mm short over 2 x 4 mm (rework, 2.4 mm3 under-fill), one left
+ * damaged (rework, 64 mm3), a noisy scan of a perfect repair (pass), the built-up scan
+ * moved away (registered back, the same figures), and the refusals.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "bridge/boolean.h"
+#include "inspect/inspect.h"
+#include "mesh/shapes.h"
+#include "support/assert_near.h"
+#include "support/random_pose.h"
+#include "support/test_select.h"
+
+/* One face of a box as an n_u x n_v grid of squares of side h; axis `a` is the
+ * normal, side 0 = lo, 1 = hi. Coordinates are lo + i * h, so faces share their edge
+ * vertices bit for bit (welded afterwards). */
+static void grid_face(sr_mesh *m, size_t *nv, size_t *nt, const double lo[3], const int n[3],
+                      double h, int a, int side)
+{
+    int u = (a + 1) % 3, v = (a + 2) % 3; /* (u, v, a) right-handed */
+    size_t base = *nv;
+    for (int j = 0; j <= n[v]; j++)
+        for (int i = 0; i <= n[u]; i++) {
+            double *p = m->xyz + 3 * (*nv)++;
+            p[a] = lo[a] + side * n[a] * h;
+            p[u] = lo[u] + i * h;
+            p[v] = lo[v] + j * h;
+        }
+    for (int j = 0; j < n[v]; j++)
+        for (int i = 0; i < n[u]; i++) {
+            uint32_t c00 = (uint32_t)(base + (size_t)j * (n[u] + 1) + i), c10 = c00 + 1,
+                     c01 = c00 + (uint32_t)(n[u] + 1), c11 = c01 + 1;
+            uint32_t q[6] = {c00, c10, c11, c00, c11, c01};
+            if (!side) {
+                q[1] = c11, q[2] = c10, q[4] = c01, q[5] = c11;
+            }
+            memcpy(m->tri + 3 * (*nt), q, sizeof q);
+            *nt += 2;
+        }
+}
+
+/* The box lo .. lo + n * h as a closed grid mesh; each vertex then moved by up to
+ * `noise` mm along each axis (deterministic). */
+static void grid_box(const double lo[3], const int n[3], double h, double noise, sr_mesh *m)
+{
+    size_t verts = 0, tris = 0;
+    for (int a = 0; a < 3; a++) {
+        int u = (a + 1) % 3, v = (a + 2) % 3;
+        verts += 2 * (size_t)(n[u] + 1) * (size_t)(n[v] + 1);
+        tris += 4 * (size_t)n[u] * (size_t)n[v];
+    }
+    sr_mesh_init(m);
+    assert_int_equal(sr_mesh_alloc(m, verts, tris), SR_OK);
+    size_t nv = 0, nt = 0;
+    for (int a = 0; a < 3; a++)
+        for (int side = 0; side < 2; side++)
+            grid_face(m, &nv, &nt, lo, n, h, a, side);
+    assert_int_equal(sr_mesh_weld_exact(m), SR_OK);
+    assert_true(sr_mesh_is_closed(m));
+    uint64_t s = 12345;
+    for (size_t i = 0; noise > 0 && i < 3 * m->vertex_count; i++) {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        m->xyz[i] += noise * (2.0 * (double)(s >> 11) / 9007199254740992.0 - 1);
+    }
+}
+
+static void box(double x0, double y0, double z0, double x1, double y1, double z1, sr_mesh *m)
+{
+    const double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
+    assert_int_equal(sr_shape_box(lo, hi, m, NULL), SR_OK);
+}
+
+static const double LO[3] = {0, 0, 0};
+static const int N[3] = {20, 20, 10};
+
+/* The run: restored box, section 1 chip at the (20, 20, 10) corner, section 2 at
+ * (0, 0, 10). */
+static void make_run(sr_run *run)
+{
+    memset(run, 0, sizeof *run);
+    run->id = 7;
+    grid_box(LO, N, 1.0, 0, &run->restored);
+    run->section_count = 2;
+    run->sections = calloc(2, sizeof *run->sections);
+    assert_non_null(run->sections);
+    run->sections[0].index = 0;
+    box(16, 16, 6, 20, 20, 10, &run->sections[0].patch);
+    run->sections[1].index = 1;
+    box(0, 0, 6, 4, 4, 10, &run->sections[1].patch);
+}
+
+/* As make_run, but the part a pentagonal prism (no symmetry a registration could
+ * confuse) with the section 1 chip at its (20, 20, 10) corner only. */
+static void make_asymmetric_run(sr_run *run)
+{
+    memset(run, 0, sizeof *run);
+    run->id = 8;
+    const double xy[] = {0, 0, 20, 0, 20, 20, 6, 20, 0, 8};
+    assert_int_equal(sr_shape_prism(xy, 5, 0, 10, &run->restored, NULL), SR_OK);
+    run->section_count = 1;
+    run->sections = calloc(1, sizeof *run->sections);
+    assert_non_null(run->sections);
+    box(16, 16, 6, 20, 20, 10, &run->sections[0].patch);
+}
+
+static void op(sr_boolean_op o, const sr_mesh *a, const sr_mesh *b, sr_mesh *out)
+{
+    sr_err err = {{0}};
+    sr_status st = sr_boolean_compute(o, a, "a", b, "b", out, &err);
+    if (st != SR_OK)
+        print_error("%s\n", err.msg);
+    assert_int_equal(st, SR_OK);
+}
+
+static void inspect(const sr_run *run, const sr_mesh *scan, int mode, sr_inspect_result *r)
+{
+    sr_inspect_opts o = {.allowance_mm = 1.0, .tolerance_mm = 0.1, .register_mode = mode};
+    sr_err err = {{0}};
+    sr_status st = sr_inspect_run(run, scan, &o, r, &err);
+    if (st != SR_OK)
+        print_error("%s\n", err.msg);
+    assert_int_equal(st, SR_OK);
+}
+
+/* The section chip built up 0.5 mm on every face: 4.5^3 - 4^3 = 27.125 mm3 of stock. */
+static void built_up_scan(const sr_run *run, sr_mesh *scan)
+{
+    sr_mesh b;
+    box(16, 16, 6, 20.5, 20.5, 10.5, &b);
+    op(SR_BOOLEAN_UNION, &run->restored, &b, scan);
+    sr_mesh_release(&b);
+}
+
+static void check_built_up(const sr_inspect_result *r)
+{
+    assert_int_equal(r->verdict, SR_INSPECT_MACHINE);
+    const sr_inspect_section *s = &r->sections[0];
+    assert_int_equal(s->verdict, SR_INSPECT_MACHINE);
+    assert_true(r->volumes_exact);
+    assert_near(s->overbuild_mm3, 27.125, 0.05 * 27.125);
+    assert_near(s->underfill_mm3, 0, 0.05);
+    assert_true(s->stock_min_mm > 0.1 && s->stock_min_mm <= 0.5 + 1e-9);
+    assert_true(s->stock_max_mm > 0.5 && s->stock_max_mm <= sqrt(0.75) + 0.02);
+    assert_true(strstr(s->reasons, "stock") != NULL);
+    if (r->section_count > 1)
+        assert_int_equal(r->sections[1].verdict, SR_INSPECT_PASS);
+    assert_near(r->outside_overbuild_mm3, 0, 0.05);
+}
+
+static void a_section_built_up_half_a_millimetre_is_to_machine(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_mesh scan;
+    built_up_scan(&run, &scan);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.registered, 0);
+    check_built_up(&r);
+    assert_near(r.sections[0].stock_mean_mm, 0.5, 0.05);
+    /* the colours: a signed distance per scan vertex, the far corner of the stock
+     * sqrt(3) x 0.5 mm out */
+    double top = -1;
+    for (size_t v = 0; v < r.scan.vertex_count; v++)
+        top = fmax(top, r.deviation[v]);
+    assert_near(top, sqrt(0.75), 1e-9);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_run_release(&run);
+}
+
+static void a_region_0_3_mm_short_is_rework_with_its_volume_and_depth(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_mesh c, scan;
+    box(16, 16, 9.7, 18, 20.5, 10.5, &c);
+    op(SR_BOOLEAN_DIFFERENCE, &run.restored, &c, &scan);
+    sr_mesh_release(&c);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_NEVER, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    const sr_inspect_section *s = &r.sections[0];
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    assert_near(s->underfill_mm3, 2.4, 0.05 * 2.4);
+    assert_near(s->underfill_depth_mm, 0.3, 0.01);
+    assert_near(s->overbuild_mm3, 0, 1e-6);
+    assert_true(strstr(s->reasons, "under-fill 2.4 mm3") != NULL);
+    assert_int_equal(r.sections[1].verdict, SR_INSPECT_PASS);
+    assert_true(strstr(r.reasons, "section 1: rework") != NULL);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_run_release(&run);
+}
+
+static void a_section_left_damaged_is_rework_with_the_whole_patch_missing(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_mesh scan;
+    op(SR_BOOLEAN_DIFFERENCE, &run.restored, &run.sections[1].patch, &scan);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    assert_int_equal(r.sections[0].verdict, SR_INSPECT_PASS);
+    const sr_inspect_section *s = &r.sections[1];
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    assert_near(s->patch_mm3, 64, 1e-9);
+    assert_near(s->underfill_mm3, 64, 0.05 * 64);
+    assert_near(s->underfill_depth_mm, 4, 1e-9);
+    assert_true(strstr(r.reasons, "section 2: rework") != NULL);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_run_release(&run);
+}
+
+static void a_noisy_scan_of_a_perfect_repair_passes(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_mesh scan;
+    grid_box(LO, N, 1.0, 0.03, &scan);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_PASS);
+    for (size_t k = 0; k < 2; k++) {
+        const sr_inspect_section *s = &r.sections[k];
+        assert_int_equal(s->verdict, SR_INSPECT_PASS);
+        assert_true(s->underfill_mm3 < 0.05 * 64);
+        assert_true(s->underfill_depth_mm <= 0.03 * sqrt(3) + 1e-9);
+        assert_true(s->samples > 100);
+    }
+    assert_true(r.outside_max_mm <= 0.03 * sqrt(3) + 1e-9);
+    assert_near(r.outside_share, 0, 1e-12);
+    assert_true(strstr(r.reasons, "within 0.1 mm") != NULL);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_run_release(&run);
+}
+
+static void a_scan_in_another_frame_is_registered_with_the_same_figures(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_asymmetric_run(&run);
+    sr_mesh scan;
+    built_up_scan(&run, &scan);
+    double m[12];
+    test_random_pose(20, m);
+    sr_mesh_transform(&scan, m);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.registered, 1);
+    assert_true(r.coverage > 0.9);
+    check_built_up(&r);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_run_release(&run);
+}
+
+static void refusals_name_what_is_wrong(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_inspect_result r;
+    sr_err err = {{0}};
+    sr_inspect_opts o = {.tolerance_mm = -1};
+    assert_int_equal(sr_inspect_run(&run, &run.restored, &o, &r, &err), SR_E_RANGE);
+    assert_msg_has(err, "tolerance must be >= 0 mm, got -1");
+    o = (sr_inspect_opts){.allowance_mm = NAN};
+    assert_int_equal(sr_inspect_run(&run, &run.restored, &o, &r, &err), SR_E_RANGE);
+    assert_msg_has(err, "allowance");
+    sr_mesh_release(&run.sections[1].patch);
+    assert_int_equal(sr_inspect_run(&run, &run.restored, NULL, &r, &err), SR_E_INVALID);
+    assert_msg_has(err, "run 7 keeps no patch of section 2");
+    sr_mesh_release(&run.restored);
+    assert_int_equal(sr_inspect_run(&run, &run.restored, NULL, &r, &err), SR_E_INVALID);
+    assert_msg_has(err, "run 7 has no restored mesh");
+    sr_run_release(&run);
+}
+
+static void verdict_names_round_trip(void **state)
+{
+    (void)state;
+    for (int v = SR_INSPECT_PASS; v <= SR_INSPECT_REWORK; v++)
+        assert_int_equal(sr_inspect_verdict_parse(sr_inspect_verdict_str((sr_inspect_verdict)v)),
+                         v);
+    assert_int_equal(sr_inspect_verdict_parse("fail"), -1);
+    assert_int_equal(sr_inspect_verdict_parse(NULL), -1);
+}
+
+int main(void)
+{
+    struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_section_built_up_half_a_millimetre_is_to_machine),
+        cmocka_unit_test(a_region_0_3_mm_short_is_rework_with_its_volume_and_depth),
+        cmocka_unit_test(a_section_left_damaged_is_rework_with_the_whole_patch_missing),
+        cmocka_unit_test(a_noisy_scan_of_a_perfect_repair_passes),
+        cmocka_unit_test(a_scan_in_another_frame_is_registered_with_the_same_figures),
+        cmocka_unit_test(refusals_name_what_is_wrong),
+        cmocka_unit_test(verdict_names_round_trip),
+    };
+    size_t n = sr_test_select(tests, sizeof tests / sizeof tests[0]);
+    return _cmocka_run_group_tests("test_inspect", tests, n, NULL, NULL);
+}
