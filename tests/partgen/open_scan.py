@@ -3,6 +3,7 @@
 
 usage: open_scan.py PART_DIR [PART_DIR ...] --out SETDIR [--seed N] [--name open_scan]
                     [--from damaged_scan.stl] [--holes 10,30] [--strays 24,48] [--uneven]
+                    [--no-base]
 
 PART_DIR is a part folder in the layout of ../shared/parts (a shared part or one made by
 ../shared/partgen): truth.json (pose, sections), missing.stl and the posed scan. For each
@@ -18,7 +19,8 @@ and two files of its own:
              small islands 1.5-12 mm off the surface (a quarter of them under the base, as a
              turntable leaves them); with --uneven, a third of the surface coarsened (its
              vertices snapped to a 2.5 mm grid and the collapsed triangles dropped), so the
-             triangle size varies about 10:1.
+             triangle size varies about 10:1. --no-base keeps the base, --holes 0,0 and
+             --strays 0,0 leave out the holes or the strays (to see which one matters).
   NAME.json  the truth: the base opening (triangles, area, the canonical z it lay at), every
              hole (centre in posed and canonical frames, diameter drawn, triangles and area
              removed), every stray island (centre, triangles, area, distance to the surface),
@@ -158,7 +160,7 @@ def uneven(V, F, canon, rng, cell=2.5):
     return G[np.sort(first)], float(lo), float(hi)
 
 
-def make_scan(part_dir, out_dir, seed, name, src, holes_rng, strays_rng, use_uneven):
+def make_scan(part_dir, out_dir, seed, name, src, holes_rng, strays_rng, use_uneven, no_base):
     pname = os.path.basename(os.path.normpath(part_dir))
     truth = json.load(open(os.path.join(part_dir, "truth.json")))
     R = np.array(truth["pose"]["rotation_matrix_3x3"], dtype=np.float64)
@@ -180,7 +182,10 @@ def make_scan(part_dir, out_dir, seed, name, src, holes_rng, strays_rng, use_une
     zt = C[F, 2].max(axis=1)
     base = (nrm[:, 2] < -np.cos(np.radians(30))) & (zt < zmin + 0.3)
     how = "down-facing triangles at the minimum z"
-    if area[base].sum() < 1.0:
+    if no_base:
+        base[:] = False
+        how = "kept (--no-base)"
+    elif area[base].sum() < 1.0:
         base = zt < zmin + 1.0
         how = "a 1 mm slab at the minimum z"
     removed |= base
@@ -316,13 +321,14 @@ def main():
     ap.add_argument("--holes", type=pair, default=(10, 30))
     ap.add_argument("--strays", type=pair, default=(24, 48))
     ap.add_argument("--uneven", action="store_true")
+    ap.add_argument("--no-base", action="store_true", help="keep the face the part stood on")
     a = ap.parse_args()
     for p in a.parts:
         if not os.path.isfile(os.path.join(p, "truth.json")):
             sys.exit(f"open_scan: error: '{p}' is not a part folder (no truth.json)")
         pname = os.path.basename(os.path.normpath(p))
         make_scan(p, os.path.join(a.out, pname), a.seed, a.name, a.src, a.holes, a.strays,
-                  a.uneven)
+                  a.uneven, a.no_base)
 
 
 if __name__ == "__main__":
