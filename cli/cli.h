@@ -21,6 +21,7 @@
 #include "base/status.h"
 #include "base/symmetry.h"
 #include "mesh/mesh.h"
+#include "mesh/scan_describe.h"
 #include "mesh/units.h"
 
 enum {
@@ -324,5 +325,19 @@ void cli_print_field(FILE *f, const char *label, const char *value);
  * could not be written). */
 struct sr_identify_result;
 int cli_identify_print(const struct sr_identify_result *res, const char *scan, bool json);
+
+/* ---- input meshes read as scans (cli/scan_out.c) ---- */
+
+/* True when d is a plain closed part: no opening, one component, no non-manifold edge. */
+bool cli_scan_is_plain(const sr_scan_desc *d);
+/* The description as `check` prints it: lines on stdout. */
+void cli_scan_print(const sr_scan_desc *d);
+/* The description as reconstruct's text output prints it (stdout, the strays as
+ * dropped), nothing for a plain closed part. */
+void cli_scan_summary(const sr_scan_desc *d);
+/* Describes the input scan and drops its strays from *scan (the caller prints it with
+ * cli_scan_summary). *out (released by the caller) is the description before the drop. On
+ * failure *scan and *out are untouched. */
+sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_err *err);
 
 #endif

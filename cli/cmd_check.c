@@ -5,6 +5,7 @@
  * Exit 0 when the file reads; the verdict line says whether it is a closed solid.
  */
 #include <stdio.h>
+#include <string.h>
 
 #include "bridge/mesh_io.h"
 #include "cli.h"
@@ -21,11 +22,16 @@ static const char usage[] =
     "triangles, the connected pieces, and the unit its size suggests for a machined\n"
     "part (a guess on the numbers as written in the file: a part 2.5 long is more likely\n"
     "2.5 in than 2.5 mm); a size outside 5 mm .. 3 m is warned about on stderr.\n"
+    "A mesh that is open or in several pieces is described as a scanner's output: its\n"
+    "openings (boundary loops, longest first, edges and length), its components, the\n"
+    "share of the surface that is open and its strays (pieces far smaller than the part\n"
+    "and off its surface, which reconstruct drops).\n"
     "\n" CLI_UNITS_HELP
     "  --json         one JSON object with the same facts (lengths in mm, volume mm³, area\n"
     "                 mm²; \"units\": the unit read in)\n";
 
-static void print_json(const char *path, sr_unit unit, const sr_mesh_facts *f)
+static void print_json(const char *path, sr_unit unit, const sr_mesh_facts *f,
+                       const sr_scan_desc *scan)
 {
     json_out j;
     json_init(&j, stdout);
@@ -74,11 +80,14 @@ static void print_json(const char *path, sr_unit unit, const sr_mesh_facts *f)
     json_int(&j, (int64_t)f->largest_component);
     json_key(&j, "likely_unit");
     json_string(&j, f->likely_unit);
+    json_key(&j, "scan"); /* read as a scan: openings, components, strays */
+    json_scan(&j, scan);
     json_object_end(&j);
     json_finish(&j);
 }
 
-static void print_text(const char *path, sr_unit unit, const sr_mesh_facts *f)
+static void print_text(const char *path, sr_unit unit, const sr_mesh_facts *f,
+                       const sr_scan_desc *scan)
 {
     printf("%s\n", cli_tx(path));
     printf("  read in             %s (numbers below in mm)\n", sr_unit_name(unit));
@@ -100,6 +109,8 @@ static void print_text(const char *path, sr_unit unit, const sr_mesh_facts *f)
            f->largest_component);
     printf("  likely unit         %s (largest side %.4g as read)\n", f->likely_unit,
            f->largest_extent);
+    if (!cli_scan_is_plain(scan))
+        cli_scan_print(scan);
     if (f->outward)
         printf("a closed solid, facing outward\n");
     else if (f->oriented)
@@ -107,7 +118,7 @@ static void print_text(const char *path, sr_unit unit, const sr_mesh_facts *f)
     else if (f->closed)
         printf("closed but not consistently oriented\n");
     else
-        printf("not a closed solid: %zu boundary and %zu non-manifold edges\n",
+        printf("not a closed solid: %zu boundary and %zu non-manifold edges: read as a scan\n",
                f->edges.boundary_edges, f->edges.nonmanifold_edges);
 }
 
@@ -130,15 +141,20 @@ int cmd_check(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh mesh;
     sr_mesh_init(&mesh);
     sr_mesh_facts f;
+    sr_scan_desc scan;
+    memset(&scan, 0, sizeof scan);
     sr_status st = cli_mesh_read(path, unit, &mesh, &unit, &err);
     if (st == SR_OK)
         st = sr_mesh_facts_get(&mesh, &f, &err);
+    if (st == SR_OK)
+        st = sr_scan_describe(&mesh, NULL, &scan, &err);
     sr_mesh_release(&mesh);
     if (st != SR_OK)
         return cli_fail(st, &err);
     if (json)
-        print_json(path, unit, &f);
+        print_json(path, unit, &f, &scan);
     else
-        print_text(path, unit, &f);
+        print_text(path, unit, &f, &scan);
+    sr_scan_desc_release(&scan);
     return CLI_OK;
 }

@@ -134,10 +134,12 @@ static int misfit_axial(const sr_recon_result *r)
 #define POOR_FIT_SCORE 0.5
 
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
-                        const sr_params *p, int64_t run_id, const char *why_no_nominal)
+                        const sr_params *p, int64_t run_id, const char *why_no_nominal,
+                        const sr_scan_desc *scan)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", cli_tx(source));
+    cli_scan_summary(scan);
     printf("  method:     %s", sr_recon_method_name(r->method));
     if (r->method == SR_METHOD_ROBUST)
         printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
@@ -230,7 +232,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
 
 static int print_json(const sr_recon_result *r, const sr_run *run, const char *mesh_file,
                       int64_t instance_id, const char *source, const sr_symmetry *sym,
-                      const sr_params *p, int64_t run_id)
+                      const sr_params *p, int64_t run_id, const sr_scan_desc *scan)
 {
     json_out j;
     json_init(&j, stdout);
@@ -244,6 +246,8 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
         json_null(&j);
     else
         json_int(&j, instance_id);
+    json_key(&j, "scan"); /* the input read as a scan: openings, components, strays dropped */
+    json_scan(&j, scan);
     json_key(&j, "symmetry"); /* as used: an order found by --order auto */
     sr_symmetry used = *sym;
     if (used.kind == SR_SYM_AXIAL)
@@ -672,6 +676,10 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
             snprintf(source, sizeof source, "instance %lld (part %s, serial %s)", (long long)id,
                      inst.part_number, inst.serial[0] ? inst.serial : "-");
     }
+    sr_scan_desc scan_desc; /* the input read as a scan; its strays dropped from scan */
+    memset(&scan_desc, 0, sizeof scan_desc);
+    if (st == SR_OK)
+        st = cli_scan_input(&scan, &scan_desc, &err);
     if (st != SR_OK) {
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -702,6 +710,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if (out && !cli_outset_begin(&set, out, "reconstruct", out_names)) {
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
+        sr_scan_desc_release(&scan_desc);
         return CLI_FAIL;
     }
     char *fit_json = NULL;
@@ -709,6 +718,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         cli_outset_abort(&set);
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
+        sr_scan_desc_release(&scan_desc);
         return CLI_FAIL;
     }
     cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
@@ -724,6 +734,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         cli_outset_abort(&set);
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
+        sr_scan_desc_release(&scan_desc);
         return cli_fail(st, &err);
     }
     sr_run_nominal *nominal = NULL;
@@ -755,9 +766,10 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     }
     if (rc == CLI_OK) {
         if (json)
-            rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id);
+            rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id,
+                            &scan_desc);
         else
-            print_human(&r, &run, source, &params, run_id, why_no_nominal);
+            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc);
     }
     free(fit_json);
     sr_run_nominal_free(nominal);
@@ -765,6 +777,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_run_release(&run);
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);
+    sr_scan_desc_release(&scan_desc);
     sr_catalog_close(cat);
     return rc;
 }

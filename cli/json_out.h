@@ -77,5 +77,8 @@ void json_run_advice(json_out *j, const sr_run *r);
 void cli_symfit_json(json_out *j, const char *fit_json);
 /* The nominal record as one object (null when n is NULL): cli/nominal_out.c. */
 void json_run_nominal(json_out *j, const sr_run_nominal *n);
+/* An input scan's description as one object (cli/scan_out.c). */
+struct sr_scan_desc;
+void json_scan(json_out *j, const struct sr_scan_desc *d);
 
 #endif

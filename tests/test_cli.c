@@ -1796,6 +1796,39 @@ static void check_and_convert_a_mesh_file(void **state)
     result_free(&r);
 }
 
+/* check reads an open mesh as a scan: a 10 mm cube without its top and a stray triangle
+ * 30 mm above it has one opening (4 edges, 40 mm, 100 of 600 mm² open) and two
+ * components, the triangle (0.5 mm²) a stray. */
+static void check_describes_an_open_scan(void **state)
+{
+    const env *e = *state;
+    char path[160];
+    path_in(e, "scan.obj", path, sizeof path);
+    const char text[] = "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\n"
+                        "v 0 0 10\nv 10 0 10\nv 10 10 10\nv 0 10 10\n"
+                        "v 5 5 40\nv 6 5 40\nv 5 6 40\n"
+                        "f 1 3 2\nf 1 4 3\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
+                        "f 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\nf 9 10 11\n";
+    write_bytes(path, text, sizeof text - 1);
+    result r;
+    RUN(&r, "check", path);
+    expect_ok(&r);
+    expect_contains(r.out, "  openings            1 boundary loop, 4 edges (4 edges 40.0 mm)\n");
+    expect_contains(r.out, "  open share          16.67 % (100 mm² of openings)\n");
+    expect_contains(r.out, "  strays              1 (1 triangles, 0.5 mm²)");
+    expect_contains(r.out, "read as a scan\n");
+    result_free(&r);
+    RUN(&r, "check", path, "--json");
+    expect_ok(&r);
+    assert_true(jq_num(r.out, "$.scan.loops[0].length_mm") == 40);
+    assert_true(jq_num(r.out, "$.scan.loops[0].span_mm2") == 100);
+    assert_int_equal(jq_len(r.out, "$.scan.components"), 2);
+    /* (5, 6, 40) to the rim of the wall y = 10: sqrt(4² + 30²) */
+    assert_true(fabs(jq_num(r.out, "$.scan.components[1].distance_mm") - sqrt(916)) < 1e-9);
+    assert_true(jq_num(r.out, "$.scan.strays.count") == 1);
+    result_free(&r);
+}
+
 static void export_of_an_unknown_id_fails(void **state)
 {
     const env *e = *state;
@@ -3833,6 +3866,7 @@ int main(void)
         T(export_round_trips_through_every_format),
         T(export_of_an_unknown_id_fails),
         T(check_and_convert_a_mesh_file),
+        T(check_describes_an_open_scan),
         T(export_run_writes_its_restored_part_and_patches),
         T(params_list_show_and_set),
         T(rules_list_show_and_set),

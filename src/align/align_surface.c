@@ -413,65 +413,6 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
     return SR_OK;
 }
 
-/* Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection
- * 5.1.5). */
-static void closest_on_triangle(const double p[3], const double a[3], const double b[3],
-                                const double c[3], double q[3])
-{
-    double ab[3], ac[3], ap[3];
-    for (int k = 0; k < 3; k++) {
-        ab[k] = b[k] - a[k];
-        ac[k] = c[k] - a[k];
-        ap[k] = p[k] - a[k];
-    }
-    double d1 = v3_dot(ab, ap), d2 = v3_dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) {
-        memcpy(q, a, 3 * sizeof(double));
-        return;
-    }
-    double bp[3];
-    for (int k = 0; k < 3; k++)
-        bp[k] = p[k] - b[k];
-    double d3 = v3_dot(ab, bp), d4 = v3_dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) {
-        memcpy(q, b, 3 * sizeof(double));
-        return;
-    }
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        double v = d1 / (d1 - d3);
-        for (int k = 0; k < 3; k++)
-            q[k] = a[k] + v * ab[k];
-        return;
-    }
-    double cp[3];
-    for (int k = 0; k < 3; k++)
-        cp[k] = p[k] - c[k];
-    double d5 = v3_dot(ab, cp), d6 = v3_dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) {
-        memcpy(q, c, 3 * sizeof(double));
-        return;
-    }
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        double w = d2 / (d2 - d6);
-        for (int k = 0; k < 3; k++)
-            q[k] = a[k] + w * ac[k];
-        return;
-    }
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        for (int k = 0; k < 3; k++)
-            q[k] = b[k] + w * (c[k] - b[k]);
-        return;
-    }
-    double den = 1 / (va + vb + vc);
-    double v = vb * den, w = vc * den;
-    for (int k = 0; k < 3; k++)
-        q[k] = a[k] + ab[k] * v + ac[k] * w;
-}
-
 static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], double *best2,
                       size_t *best)
 {
@@ -504,7 +445,7 @@ static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], dou
         if (hp > 0 && hp * hp >= *best2)
             continue;
         double q[3];
-        closest_on_triangle(p, vtx(s, i, 0), vtx(s, i, 1), vtx(s, i, 2), q);
+        sr_tri_closest_point(p, vtx(s, i, 0), vtx(s, i, 1), vtx(s, i, 2), q);
         double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
                     (q[2] - p[2]) * (q[2] - p[2]);
         if (d2 < *best2) {
@@ -595,7 +536,7 @@ bool al_surface_closest(al_surface *s, const double p[3], double max_dist, doubl
     }
     if (best == SIZE_MAX)
         return false;
-    closest_on_triangle(p, vtx(s, best, 0), vtx(s, best, 1), vtx(s, best, 2), q);
+    sr_tri_closest_point(p, vtx(s, best, 0), vtx(s, best, 1), vtx(s, best, 2), q);
     al_surface_normal(s, best, n, NULL);
     *dist = sqrt(best2);
     return true;

@@ -559,3 +559,67 @@ void sr_mesh_tri_normal(const sr_mesh *mesh, size_t t, double n[3])
     n[1] = u[2] * v[0] - u[0] * v[2];
     n[2] = u[0] * v[1] - u[1] * v[0];
 }
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection
+ * 5.1.5). */
+void sr_tri_closest_point(const double p[3], const double a[3], const double b[3],
+                          const double c[3], double q[3])
+{
+    double ab[3], ac[3], ap[3];
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ac[k] = c[k] - a[k];
+        ap[k] = p[k] - a[k];
+    }
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0 && d2 <= 0) {
+        memcpy(q, a, 3 * sizeof(double));
+        return;
+    }
+    double bp[3];
+    for (int k = 0; k < 3; k++)
+        bp[k] = p[k] - b[k];
+    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0 && d4 <= d3) {
+        memcpy(q, b, 3 * sizeof(double));
+        return;
+    }
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        double v = d1 / (d1 - d3);
+        for (int k = 0; k < 3; k++)
+            q[k] = a[k] + v * ab[k];
+        return;
+    }
+    double cp[3];
+    for (int k = 0; k < 3; k++)
+        cp[k] = p[k] - c[k];
+    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0 && d5 <= d6) {
+        memcpy(q, c, 3 * sizeof(double));
+        return;
+    }
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        double w = d2 / (d2 - d6);
+        for (int k = 0; k < 3; k++)
+            q[k] = a[k] + w * ac[k];
+        return;
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        for (int k = 0; k < 3; k++)
+            q[k] = b[k] + w * (c[k] - b[k]);
+        return;
+    }
+    double den = 1 / (va + vb + vc);
+    double v = vb * den, w = vc * den;
+    for (int k = 0; k < 3; k++)
+        q[k] = a[k] + ab[k] * v + ac[k] * w;
+}

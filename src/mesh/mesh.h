@@ -109,4 +109,9 @@ void sr_xform_mul(double out[12], const double a[12], const double b[12]);
 void sr_xform_rigid_inverse(double out[12], const double m[12]);
 void sr_xform_apply(const double m[12], const double p[3], double out[3]);
 
+/* q: the closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
+ * Detection 5.1.5); a degenerate triangle gives a point on it too. */
+void sr_tri_closest_point(const double p[3], const double a[3], const double b[3],
+                          const double c[3], double q[3]);
+
 #endif

@@ -1,0 +1,480 @@
+/*
+ * scan_describe.c: the description of a scan (scan_describe.h). Edges: every triangle's
+ * three edges sorted by their vertex pair; a pair used once is a boundary edge, kept with
+ * the direction its triangle walks it; three or more uses make a non-manifold edge.
+ * Strays are found first: the edges and loops are those of the rest.
+ * Loops: the boundary edges walked head to tail (at a vertex several openings touch, the
+ * first unused edge out of it), each loop's opening measured by its vector area about the
+ * loop's centroid (exact for a plane loop, a little under for one on a curved surface).
+ * Components: union-find over the triangles' vertices. Strays: components with at most
+ * small_fraction of the largest's area (not its triangles: a scan's density varies) whose
+ * every vertex lies farther than
+ * off_surface_mm from the largest's triangles (closest points, Ericson 5.1.5, with a
+ * bounding-box cut per triangle: one pass over the largest component for all the small
+ * ones at once).
+ */
+#include "mesh/scan_describe.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct edge_rec {
+    uint32_t lo, hi;   /* vertex pair, lo < hi */
+    uint32_t from, to; /* as its triangle walks it */
+} edge_rec;
+
+static int edge_cmp(const void *pa, const void *pb)
+{
+    const edge_rec *a = pa, *b = pb;
+    if (a->lo != b->lo)
+        return a->lo < b->lo ? -1 : 1;
+    return (a->hi > b->hi) - (a->hi < b->hi);
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+static double tri_area(const sr_mesh *m, size_t t)
+{
+    double n[3];
+    sr_mesh_tri_normal(m, t, n);
+    return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+static const double *vtx(const sr_mesh *m, uint32_t v)
+{
+    return m->xyz + 3 * (size_t)v;
+}
+
+/* The boundary edges (from, to) of m's triangles outside d's strays into *out (count
+ * *n_out); edge counts into d. */
+static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out, sr_scan_desc *d)
+{
+    size_t n = 3 * m->tri_count;
+    edge_rec *e = malloc((n ? n : 1) * sizeof *e);
+    if (!e)
+        return SR_E_NOMEM;
+    n = 0;
+    for (size_t t = 0; t < m->tri_count; t++)
+        if (!d->components[d->tri_component[t]].stray)
+            for (int k = 0; k < 3; k++) {
+                uint32_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
+                e[n++] = (edge_rec){a < b ? a : b, a < b ? b : a, a, b};
+            }
+    qsort(e, n, sizeof *e, edge_cmp);
+    size_t nb = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && e[j].lo == e[i].lo && e[j].hi == e[i].hi)
+            j++;
+        if (j - i == 1)
+            e[nb++] = e[i]; /* compacted in place: nb <= i */
+        else if (j - i >= 3)
+            d->nonmanifold_edges++;
+        i = j;
+    }
+    uint32_t *b = malloc((nb ? nb : 1) * 2 * sizeof *b);
+    if (!b) {
+        free(e);
+        return SR_E_NOMEM;
+    }
+    for (size_t i = 0; i < nb; i++) {
+        b[2 * i] = e[i].from;
+        b[2 * i + 1] = e[i].to;
+    }
+    free(e);
+    d->boundary_edges = nb;
+    *out = b;
+    *n_out = nb;
+    return SR_OK;
+}
+
+static int by_from(const void *pa, const void *pb)
+{
+    const uint32_t *a = pa, *b = pb;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+static int loop_cmp(const void *pa, const void *pb)
+{
+    const sr_scan_loop *a = pa, *b = pb;
+    return (a->length_mm < b->length_mm) - (a->length_mm > b->length_mm);
+}
+
+/* Walks the boundary edges b (nb of them, sorted by from) into d->loops. */
+static sr_status walk_loops(const sr_mesh *m, const uint32_t *b, size_t nb, sr_scan_desc *d)
+{
+    unsigned char *used = calloc(nb ? nb : 1, 1);
+    size_t *order = malloc((nb ? nb : 1) * sizeof *order);
+    sr_scan_loop *loops = malloc((nb ? nb : 1) * sizeof *loops);
+    if (!used || !order || !loops) {
+        free(used);
+        free(order);
+        free(loops);
+        return SR_E_NOMEM;
+    }
+    size_t nloops = 0;
+    for (size_t s = 0; s < nb; s++) {
+        if (used[s])
+            continue;
+        size_t len = 0, cur = s;
+        bool closed = false;
+        for (;;) {
+            used[cur] = 1;
+            order[len++] = cur;
+            uint32_t to = b[2 * cur + 1];
+            if (to == b[2 * s]) {
+                closed = true;
+                break;
+            }
+            /* the first unused edge out of `to` (binary search for its run) */
+            size_t lo = 0, hi = nb;
+            while (lo < hi) {
+                size_t mid = lo + (hi - lo) / 2;
+                if (b[2 * mid] < to)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            while (lo < nb && b[2 * lo] == to && used[lo])
+                lo++;
+            if (lo >= nb || b[2 * lo] != to)
+                break;
+            cur = lo;
+        }
+        double c[3] = {0, 0, 0}, length = 0, va[3] = {0, 0, 0};
+        for (size_t i = 0; i < len; i++)
+            for (int k = 0; k < 3; k++)
+                c[k] += vtx(m, b[2 * order[i]])[k] / (double)len;
+        for (size_t i = 0; i < len; i++) {
+            const double *p = vtx(m, b[2 * order[i]]), *q = vtx(m, b[2 * order[i] + 1]);
+            double u[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+            double w[3] = {q[0] - c[0], q[1] - c[1], q[2] - c[2]};
+            va[0] += 0.5 * (u[1] * w[2] - u[2] * w[1]);
+            va[1] += 0.5 * (u[2] * w[0] - u[0] * w[2]);
+            va[2] += 0.5 * (u[0] * w[1] - u[1] * w[0]);
+            length += sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                           (q[2] - p[2]) * (q[2] - p[2]));
+        }
+        loops[nloops++] = (sr_scan_loop){
+            len, length, sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]), closed};
+    }
+    free(used);
+    free(order);
+    qsort(loops, nloops, sizeof *loops, loop_cmp);
+    d->loops = loops;
+    d->loop_count = nloops;
+    for (size_t i = 0; i < nloops; i++)
+        d->open_area_mm2 += loops[i].span_mm;
+    return SR_OK;
+}
+
+typedef struct comp_rank {
+    size_t triangles;
+    double area;
+    uint32_t raw;
+} comp_rank;
+
+static int comp_cmp(const void *pa, const void *pb)
+{
+    const comp_rank *a = pa, *b = pb;
+    if (a->triangles != b->triangles)
+        return a->triangles < b->triangles ? 1 : -1;
+    if (a->area != b->area)
+        return a->area < b->area ? 1 : -1;
+    return (a->raw > b->raw) - (a->raw < b->raw);
+}
+
+/* Components of m into d (components, tri_component), most triangles first. */
+static sr_status components(const sr_mesh *m, sr_scan_desc *d)
+{
+    size_t nv = m->vertex_count ? m->vertex_count : 1, nt = m->tri_count ? m->tri_count : 1;
+    uint32_t *parent = malloc(nv * sizeof *parent);
+    uint32_t *id = malloc(nv * sizeof *id);
+    uint32_t *tc = malloc(nt * sizeof *tc);
+    comp_rank *rank = NULL;
+    uint32_t *rank_of = NULL;
+    if (!parent || !id || !tc)
+        goto nomem;
+    for (size_t v = 0; v < m->vertex_count; v++)
+        parent[v] = (uint32_t)v;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        uint32_t a = uf_find(parent, m->tri[3 * t]);
+        for (int k = 1; k < 3; k++) {
+            uint32_t b = uf_find(parent, m->tri[3 * t + k]);
+            if (a != b)
+                parent[b] = a;
+        }
+    }
+    for (size_t v = 0; v < m->vertex_count; v++)
+        id[v] = UINT32_MAX;
+    size_t nc = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        uint32_t r = uf_find(parent, m->tri[3 * t]);
+        if (id[r] == UINT32_MAX)
+            id[r] = (uint32_t)nc++;
+        tc[t] = id[r];
+    }
+    rank = calloc(nc ? nc : 1, sizeof *rank);
+    rank_of = malloc((nc ? nc : 1) * sizeof *rank_of);
+    d->components = calloc(nc ? nc : 1, sizeof *d->components);
+    if (!rank || !rank_of || !d->components)
+        goto nomem;
+    for (size_t c = 0; c < nc; c++)
+        rank[c].raw = (uint32_t)c;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        double a = tri_area(m, t);
+        rank[tc[t]].triangles++;
+        rank[tc[t]].area += a;
+        d->area_mm2 += a;
+    }
+    qsort(rank, nc, sizeof *rank, comp_cmp);
+    for (size_t c = 0; c < nc; c++) {
+        rank_of[rank[c].raw] = (uint32_t)c;
+        d->components[c] = (sr_scan_component){rank[c].triangles, rank[c].area, c ? -1 : 0, false};
+    }
+    for (size_t t = 0; t < m->tri_count; t++)
+        tc[t] = rank_of[tc[t]];
+    d->component_count = nc;
+    d->tri_component = tc;
+    free(parent);
+    free(id);
+    free(rank);
+    free(rank_of);
+    return SR_OK;
+nomem:
+    free(parent);
+    free(id);
+    free(tc);
+    free(rank);
+    free(rank_of);
+    free(d->components);
+    d->components = NULL;
+    return SR_E_NOMEM;
+}
+
+/* Distance from the vertices of every small component to the largest's triangles; flags
+ * the strays. */
+static sr_status find_strays(const sr_mesh *m, double fraction, double off, sr_scan_desc *d)
+{
+    if (d->component_count < 2)
+        return SR_OK;
+    const sr_scan_component *big = &d->components[0];
+    size_t nc = d->component_count, nsmall = 0;
+    /* small components: ranks 1.. with little area */
+    size_t *small = malloc(nc * sizeof *small);
+    double *box = malloc(nc * 6 * sizeof *box); /* by rank; only small ones filled */
+    double *best = malloc(nc * sizeof *best);
+    if (!small || !box || !best) {
+        free(small);
+        free(box);
+        free(best);
+        return SR_E_NOMEM;
+    }
+    for (size_t c = 1; c < nc; c++) {
+        const sr_scan_component *k = &d->components[c];
+        best[c] = INFINITY;
+        if (k->area_mm2 <= fraction * big->area_mm2) {
+            small[nsmall++] = c;
+            for (int i = 0; i < 3; i++) {
+                box[6 * c + i] = INFINITY;
+                box[6 * c + 3 + i] = -INFINITY;
+            }
+        }
+    }
+    if (nsmall == 0)
+        goto done;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        uint32_t c = d->tri_component[t];
+        if (c == 0)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            const double *p = vtx(m, m->tri[3 * t + k]);
+            for (int i = 0; i < 3; i++) {
+                box[6 * c + i] = fmin(box[6 * c + i], p[i]);
+                box[6 * c + 3 + i] = fmax(box[6 * c + 3 + i], p[i]);
+            }
+        }
+    }
+    /* small components' vertex lists, CSR by rank */
+    size_t *start = calloc(nc + 1, sizeof *start);
+    uint32_t *verts = NULL;
+    if (!start)
+        goto nomem;
+    size_t total = 0;
+    for (size_t t = 0; t < m->tri_count; t++)
+        if (d->tri_component[t] != 0)
+            start[d->tri_component[t] + 1] += 3;
+    for (size_t c = 0; c < nc; c++)
+        start[c + 1] += start[c];
+    total = start[nc];
+    verts = malloc((total ? total : 1) * sizeof *verts);
+    size_t *fill = malloc(nc * sizeof *fill);
+    if (!verts || !fill) {
+        free(start);
+        free(verts);
+        free(fill);
+        goto nomem;
+    }
+    memcpy(fill, start, nc * sizeof *fill);
+    for (size_t t = 0; t < m->tri_count; t++) {
+        uint32_t c = d->tri_component[t];
+        if (c != 0)
+            for (int k = 0; k < 3; k++)
+                verts[fill[c]++] = m->tri[3 * t + k];
+    }
+    free(fill);
+    for (size_t t = 0; t < m->tri_count; t++) {
+        if (d->tri_component[t] != 0)
+            continue;
+        const double *a = vtx(m, m->tri[3 * t]), *b = vtx(m, m->tri[3 * t + 1]),
+                     *cc = vtx(m, m->tri[3 * t + 2]);
+        double lo[3], hi[3];
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(a[i], fmin(b[i], cc[i]));
+            hi[i] = fmax(a[i], fmax(b[i], cc[i]));
+        }
+        for (size_t s = 0; s < nsmall; s++) {
+            size_t c = small[s];
+            /* the gap between the boxes bounds every vertex's distance from below */
+            double gap2 = 0;
+            for (int i = 0; i < 3; i++) {
+                double g = fmax(0, fmax(lo[i] - box[6 * c + 3 + i], box[6 * c + i] - hi[i]));
+                gap2 += g * g;
+            }
+            if (gap2 >= best[c] * best[c])
+                continue;
+            for (size_t j = start[c]; j < start[c + 1]; j++) {
+                const double *p = vtx(m, verts[j]);
+                double q[3];
+                sr_tri_closest_point(p, a, b, cc, q);
+                double dist = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                   (p[2] - q[2]) * (p[2] - q[2]));
+                if (dist < best[c])
+                    best[c] = dist;
+            }
+        }
+    }
+    free(start);
+    free(verts);
+    for (size_t s = 0; s < nsmall; s++) {
+        size_t c = small[s];
+        sr_scan_component *k = &d->components[c];
+        k->distance_mm = best[c];
+        if (best[c] > off) {
+            k->stray = true;
+            d->strays++;
+            d->stray_triangles += k->triangles;
+            d->stray_area_mm2 += k->area_mm2;
+        }
+    }
+done:
+    free(small);
+    free(box);
+    free(best);
+    return SR_OK;
+nomem:
+    free(small);
+    free(box);
+    free(best);
+    return SR_E_NOMEM;
+}
+
+void sr_scan_desc_release(sr_scan_desc *d)
+{
+    if (!d)
+        return;
+    free(d->loops);
+    free(d->components);
+    free(d->tri_component);
+    memset(d, 0, sizeof *d);
+}
+
+sr_status sr_scan_describe(const sr_mesh *mesh, const sr_scan_opts *opts, sr_scan_desc *out,
+                           sr_err *err)
+{
+    double fraction = opts && opts->small_fraction != 0 ? opts->small_fraction : 0.01;
+    double off = opts && opts->off_surface_mm != 0 ? opts->off_surface_mm : 0.5;
+    if (!(fraction > 0 && fraction <= 1) || !(off > 0 && isfinite(off)))
+        return sr_err_set(err, SR_E_RANGE,
+                          "bad scan options: small fraction %g (0..1), off-surface %g mm (> 0)",
+                          fraction, off);
+    sr_scan_desc d;
+    memset(&d, 0, sizeof d);
+    d.triangles = mesh->tri_count;
+    uint32_t *b = NULL;
+    size_t nb = 0;
+    sr_status st = components(mesh, &d);
+    if (st == SR_OK)
+        st = find_strays(mesh, fraction, off, &d);
+    if (st == SR_OK)
+        st = boundary_edges(mesh, &b, &nb, &d);
+    if (st == SR_OK) {
+        qsort(b, nb, 2 * sizeof *b, by_from);
+        st = walk_loops(mesh, b, nb, &d);
+    }
+    free(b);
+    if (st != SR_OK) {
+        sr_scan_desc_release(&d);
+        return sr_err_set(err, st, "out of memory describing the scan");
+    }
+    d.open = d.boundary_edges > 0;
+    double kept = d.area_mm2 - d.stray_area_mm2;
+    d.open_share = kept + d.open_area_mm2 > 0 ? d.open_area_mm2 / (kept + d.open_area_mm2) : 0;
+    *out = d;
+    return SR_OK;
+}
+
+#define USED (UINT32_MAX - 1)
+
+sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
+{
+    if (d->strays == 0)
+        return SR_OK;
+    size_t keep_t = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++)
+        keep_t += !d->components[d->tri_component[t]].stray;
+    uint32_t *map = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * sizeof *map);
+    if (!map)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory dropping the scan's strays");
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        map[v] = UINT32_MAX;
+    size_t keep_v = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++)
+        if (!d->components[d->tri_component[t]].stray)
+            for (int k = 0; k < 3; k++)
+                if (map[mesh->tri[3 * t + k]] == UINT32_MAX)
+                    map[mesh->tri[3 * t + k]] = USED; /* numbered below in vertex order */
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        if (map[v] == USED)
+            map[v] = (uint32_t)keep_v++;
+    sr_mesh out;
+    sr_mesh_init(&out);
+    if (sr_mesh_alloc(&out, keep_v, keep_t) != SR_OK) {
+        free(map);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory dropping the scan's strays");
+    }
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        if (map[v] != UINT32_MAX)
+            memcpy(out.xyz + 3 * (size_t)map[v], mesh->xyz + 3 * v, 3 * sizeof(double));
+    size_t o = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++)
+        if (!d->components[d->tri_component[t]].stray) {
+            for (int k = 0; k < 3; k++)
+                out.tri[3 * o + k] = map[mesh->tri[3 * t + k]];
+            o++;
+        }
+    free(map);
+    sr_mesh_release(mesh);
+    *mesh = out;
+    return SR_OK;
+}

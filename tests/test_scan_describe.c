@@ -1,0 +1,193 @@
+/*
+ * test_scan_describe.c: sr_scan_describe and sr_scan_drop_strays (src/mesh/scan_describe.c)
+ * on meshes with known answers: a closed box 10 x 20 x 30 (no opening, one component);
+ * the box with its top face (10 x 20) left off (one loop of 4 edges, 60 mm, spanning
+ * 200 mm², open 200 / 2200 of the surface); the box with a stray triangle 20 mm above it
+ * (dropped: 12 triangles and 8 vertices left; kept when "small" is set below its
+ * 0.5 mm²), with a small triangle lying on its face
+ * (kept: on the surface), with a second box beside it (kept: not small); bad options.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "mesh/scan_describe.h"
+#include "mesh/shapes.h"
+#include "support/assert_near.h"
+
+static void box(double x0, sr_mesh *out)
+{
+    const double lo[3] = {x0, 0, 0}, hi[3] = {x0 + 10, 20, 30};
+    assert_int_equal(sr_shape_box(lo, hi, out, NULL), SR_OK);
+}
+
+/* Appends the triangle (a, b, c) as three new vertices. */
+static void add_triangle(sr_mesh *m, const double a[3], const double b[3], const double c[3])
+{
+    sr_mesh t;
+    assert_int_equal(sr_mesh_alloc(&t, 3, 1), SR_OK);
+    memcpy(t.xyz, a, 3 * sizeof(double));
+    memcpy(t.xyz + 3, b, 3 * sizeof(double));
+    memcpy(t.xyz + 6, c, 3 * sizeof(double));
+    t.tri[0] = 0;
+    t.tri[1] = 1;
+    t.tri[2] = 2;
+    assert_int_equal(sr_mesh_append(m, &t), SR_OK);
+    sr_mesh_release(&t);
+}
+
+static void a_closed_box_has_no_opening_and_one_component(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_false(d.open);
+    assert_int_equal(d.boundary_edges, 0);
+    assert_int_equal(d.loop_count, 0);
+    assert_int_equal(d.component_count, 1);
+    assert_int_equal(d.components[0].triangles, 12);
+    assert_near(d.components[0].area_mm2, 2200, 1e-9);
+    assert_near(d.open_share, 0, 0);
+    assert_int_equal(d.strays, 0);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
+static void a_box_without_its_top_has_one_loop_round_it(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    size_t kept = 0;
+    for (size_t t = 0; t < m.tri_count; t++) {
+        bool top = true;
+        for (int k = 0; k < 3; k++)
+            top = top && m.xyz[3 * m.tri[3 * t + k] + 2] == 30;
+        if (!top) {
+            memmove(m.tri + 3 * kept, m.tri + 3 * t, 3 * sizeof *m.tri);
+            kept++;
+        }
+    }
+    assert_int_equal(kept, 10);
+    m.tri_count = kept;
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_true(d.open);
+    assert_int_equal(d.boundary_edges, 4);
+    assert_int_equal(d.loop_count, 1);
+    assert_int_equal(d.loops[0].edges, 4);
+    assert_true(d.loops[0].closed);
+    assert_near(d.loops[0].length_mm, 60, 1e-9);
+    assert_near(d.loops[0].span_mm, 200, 1e-9);
+    assert_near(d.open_share, 200.0 / 2200.0, 1e-12);
+    assert_int_equal(d.component_count, 1);
+    assert_int_equal(d.strays, 0);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
+static void a_stray_triangle_off_the_box_is_dropped(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    const double a[3] = {5, 10, 50}, b[3] = {6, 10, 50}, c[3] = {5, 11, 50};
+    add_triangle(&m, a, b, c);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.component_count, 2);
+    assert_int_equal(d.strays, 1);
+    assert_int_equal(d.stray_triangles, 1);
+    assert_near(d.stray_area_mm2, 0.5, 1e-12);
+    assert_true(d.components[1].stray);
+    assert_near(d.components[1].distance_mm, 20, 1e-12);
+    /* the stray's own three edges are not openings of the part */
+    assert_false(d.open);
+    assert_int_equal(d.loop_count, 0);
+    assert_int_equal(sr_scan_drop_strays(&m, &d, NULL), SR_OK);
+    assert_int_equal(m.tri_count, 12);
+    assert_int_equal(m.vertex_count, 8);
+    for (size_t i = 0; i < 3 * m.tri_count; i++)
+        assert_true(m.tri[i] < 8);
+    /* at 0.01 % of the box's 2200 mm², 0.5 mm² is not small */
+    sr_scan_desc_release(&d);
+    add_triangle(&m, a, b, c);
+    sr_scan_opts o = {.small_fraction = 1e-4};
+    assert_int_equal(sr_scan_describe(&m, &o, &d, NULL), SR_OK);
+    assert_int_equal(d.strays, 0);
+    assert_near(d.components[1].distance_mm, -1, 0);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
+static void a_small_piece_on_the_surface_or_a_large_one_is_kept(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    /* on the face x = 0: a fragment of the surface, not a stray */
+    const double a[3] = {0, 5, 5}, b[3] = {0, 6, 5}, c[3] = {0, 5, 6};
+    add_triangle(&m, a, b, c);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.component_count, 2);
+    assert_int_equal(d.strays, 0);
+    assert_near(d.components[1].distance_mm, 0, 1e-12);
+    assert_true(d.open); /* the fragment's edges are its own openings */
+    assert_int_equal(d.loop_count, 1);
+    assert_int_equal(sr_scan_drop_strays(&m, &d, NULL), SR_OK);
+    assert_int_equal(m.tri_count, 13);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+
+    sr_mesh two, other;
+    box(0, &two);
+    box(50, &other);
+    assert_int_equal(sr_mesh_append(&two, &other), SR_OK);
+    assert_int_equal(sr_scan_describe(&two, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.component_count, 2);
+    assert_int_equal(d.strays, 0);
+    assert_false(d.open);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&two);
+    sr_mesh_release(&other);
+}
+
+static void bad_options_are_refused(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    sr_scan_desc d;
+    memset(&d, 0x5a, sizeof d);
+    sr_scan_opts o = {.small_fraction = 2};
+    sr_err err;
+    sr_err_clear(&err);
+    assert_int_equal(sr_scan_describe(&m, &o, &d, &err), SR_E_RANGE);
+    assert_non_null(strstr(err.msg, "small fraction"));
+    o = (sr_scan_opts){.off_surface_mm = -1};
+    assert_int_equal(sr_scan_describe(&m, &o, &d, NULL), SR_E_RANGE);
+    o = (sr_scan_opts){.off_surface_mm = INFINITY};
+    assert_int_equal(sr_scan_describe(&m, &o, &d, NULL), SR_E_RANGE);
+    assert_int_equal(d.triangles, (size_t)0x5a5a5a5a5a5a5a5aULL); /* untouched */
+    sr_scan_desc_release(NULL);
+    sr_mesh_release(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_closed_box_has_no_opening_and_one_component),
+        cmocka_unit_test(a_box_without_its_top_has_one_loop_round_it),
+        cmocka_unit_test(a_stray_triangle_off_the_box_is_dropped),
+        cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),
+        cmocka_unit_test(bad_options_are_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
