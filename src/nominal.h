@@ -80,7 +80,8 @@ typedef struct sr_nominal_section {
     double diff_mm3;     /* nominal − symmetry */
     double diff_pct;     /* diff as % of the nominal (of the symmetry when nominal is 0) */
     double dev_mean_mm;  /* mean distance from the patch's surface to the pieces' */
-    double dev_max_mm;   /* the largest (at the patch's vertices and centroids); both < 0
+    double dev_max_mm;   /* the largest (at the vertices and centroids of the patch, or
+                            * of 20,000 of its triangles evenly strided); both < 0
                             * when the section has no piece. One way only: a piece carries
                             * the thin skin two tessellations of one surface leave over the
                             * whole part where it touches it, which is not a deviation */
