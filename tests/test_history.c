@@ -920,6 +920,14 @@ static void the_latest_inspection_is_the_outcome_filtered_and_summed(void **stat
     assert_string_equal(err.msg, "bad verdict 'fail': expected pass, machine or rework");
     inspect_run(fx, fx->run[3], SR_INSPECT_PASS);
     cells_equal_runs(fx->cat, "inspected again");
+    /* catalog check: the verdict cells agree with the inspections, until tampered with */
+    int problems = 0;
+    sr_check_info info;
+    assert_int_equal(sr_catalog_check(fx->cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 0);
+    raw(fx->cat, "UPDATE history_verdict_cells SET runs = runs + 1 WHERE verdict = 'pass'");
+    assert_int_equal(sr_catalog_check(fx->cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 1);
     assert_int_equal(
         sr_catalog_inspection_add(fx->cat, 999, NULL, NULL, &(sr_inspect_result){0}, NULL, &err),
         SR_E_NOTFOUND);
