@@ -241,7 +241,8 @@ reconstruct_of_a_mesh_file_*,reconstruct_applies_the_sets_*,reconstruct_shows_pr
 compare_registers_*,export_run_*,json_names_agree_*,demo_json_runs_the_job_*,identify_*,instance_add_part_auto_*,\
 grooved_cylinder_is_*,\
 toothed_wheel_is_*,angle_bracket_is_mirror,bumped_bar_is_a_glide_*,the_fit_is_deterministic,\
-symfit_part_*,symmetry_of_a_mesh_file_is_proposed,reconstruct_symmetry_auto_*
+symfit_part_*,symmetry_of_a_mesh_file_is_proposed,reconstruct_symmetry_auto_*,\
+inspect_records_the_verdict_*,a_scan_in_another_frame_is_registered_*
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite
 valgrind: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built

@@ -13,27 +13,33 @@
 #include <string.h>
 
 #include "catalog/catalog_history.h"
+#include "inspect/inspect.h"
 #include "cli.h"
 #include "json_out.h"
 
 static const char usage_history[] =
     "usage: symrec [--db FILE] history [--part P] [--instance N] [--material M]\n"
-    "                                  [--since DATE] [--until DATE] [--summary]\n"
+    "                                  [--since DATE] [--until DATE]\n"
+    "                                  [--verdict pass|machine|rework] [--summary]\n"
     "                                  [--json | --csv]\n"
     "\n"
     "The recorded reconstruction runs that match every filter given, newest first:\n"
     "run id, start date (UTC), part, serial, material, symmetry, method, status,\n"
     "number of missing sections, missing volume (mm³, the sum of the sections'), damage\n"
     "classes, processes advised and the outcome: 'replace' when any advice says\n"
-    "replace, 'repair' when there is other advice, 'none' without advice.\n"
+    "replace, 'repair' when there is other advice, 'none' without advice; once the\n"
+    "repaired part is inspected (symrec inspect), the latest inspection's verdict:\n"
+    "'pass', 'machine' or 'rework'.\n"
     "\n"
     "  --part P        runs of instances of part P (number or id)\n"
     "  --instance N    runs of instance N\n"
     "  --material M    runs of parts made of material M (name, ignoring case)\n"
     "  --since DATE    runs started on or after DATE (YYYY-MM-DD, UTC)\n"
     "  --until DATE    runs started on or before DATE (YYYY-MM-DD, UTC)\n"
+    "  --verdict V     runs whose latest inspection said V: pass, machine or rework\n"
     "  --summary       the summaries instead of the run list: runs, repair vs replace,\n"
-    "                  average missing volume (mm³); per part the most frequent damage\n"
+    "                  average missing volume (mm³), runs by inspection verdict; per\n"
+    "                  part the most frequent damage\n"
     "                  class and average missing volume; runs per month (with --csv:\n"
     "                  one CSV row per part)\n"
     "  --json          one JSON object: \"runs\" (array) and \"summary\" (object)\n"
@@ -92,6 +98,8 @@ static int row_out(const sr_history_row *r, void *user)
     c->count++;
     char sym[64];
     cli_sym_str(&r->symmetry, sym, sizeof sym);
+    /* the outcome follows the latest inspection */
+    const char *outcome = r->verdict[0] ? r->verdict : sr_history_outcome_str(r->outcome);
     if (c->kind == OUT_JSON) {
         json_out *j = c->j;
         json_object_begin(j);
@@ -124,7 +132,9 @@ static int row_out(const sr_history_row *r, void *user)
         json_key(j, "advice");
         json_list(j, r->processes);
         json_key(j, "outcome");
-        json_string(j, sr_history_outcome_str(r->outcome));
+        json_string(j, outcome);
+        json_key(j, "verdict");
+        json_string(j, r->verdict[0] ? r->verdict : NULL);
         json_object_end(j);
         return 0;
     }
@@ -144,7 +154,7 @@ static int row_out(const sr_history_row *r, void *user)
         csv_fieldf(f, false, "%.3f", r->missing_volume_mm3);
         csv_field(f, r->classes, false);
         csv_field(f, r->processes, false);
-        csv_field(f, sr_history_outcome_str(r->outcome), true);
+        csv_field(f, outcome, true);
         return 0;
     }
     cli_table *t = &c->t;
@@ -159,7 +169,7 @@ static int row_out(const sr_history_row *r, void *user)
     cli_table_cell(t, "%.1f", r->missing_volume_mm3);
     cli_table_cell(t, "%s", r->classes[0] ? r->classes : "-");
     cli_table_cell(t, "%s", r->processes[0] ? r->processes : "-");
-    cli_table_cell(t, "%s", sr_history_outcome_str(r->outcome));
+    cli_table_cell(t, "%s", outcome);
     return 0;
 }
 
@@ -182,6 +192,15 @@ static void summary_json(json_out *j, const sr_history_summary *s)
     json_number(j, s->repair_fraction); /* null when no run was advised */
     json_key(j, "avg_missing_volume_mm3");
     json_number(j, s->avg_missing_volume_mm3);
+    json_key(j, "verdicts");
+    json_object_begin(j);
+    json_key(j, "pass");
+    json_int(j, (int64_t)s->pass);
+    json_key(j, "machine");
+    json_int(j, (int64_t)s->machine);
+    json_key(j, "rework");
+    json_int(j, (int64_t)s->rework);
+    json_object_end(j);
     json_key(j, "parts");
     json_array_begin(j);
     for (size_t i = 0; i < s->part_count; i++) {
@@ -250,6 +269,9 @@ static bool summary_table(const sr_history_summary *s)
                "advice\n",
                s->repair, s->replace, 100 * s->repair_fraction, s->none);
     printf("average missing volume: %.1f mm³ per run\n", s->avg_missing_volume_mm3);
+    if (s->pass + s->machine + s->rework)
+        printf("inspected: %zu pass, %zu machine, %zu rework (latest inspection of each run)\n",
+               s->pass, s->machine, s->rework);
     if (s->part_count) {
         printf("\nper part:\n");
         static const char *const headers[] = {"part",    "runs",   "avg missing mm³",
@@ -286,18 +308,14 @@ static bool summary_table(const sr_history_summary *s)
 
 int cmd_history(const cli_ctx *ctx, int argc, char **argv)
 {
-    const char *part = NULL, *instance = NULL, *material = NULL, *since = NULL,
-               *until = NULL;
+    const char *part = NULL, *instance = NULL, *material = NULL, *since = NULL, *until = NULL,
+               *verdict = NULL;
     bool json = false, csv = false, summary = false;
-    const cli_opt opts[] = {{"--part", &part, NULL},
-                            {"--instance", &instance, NULL},
-                            {"--material", &material, NULL},
-                            {"--since", &since, NULL},
-                            {"--until", &until, NULL},
-                            {"--summary", NULL, &summary},
-                            {"--json", NULL, &json},
-                            {"--csv", NULL, &csv},
-                            {NULL, NULL, NULL}};
+    const cli_opt opts[] = {{"--part", &part, NULL},         {"--instance", &instance, NULL},
+                            {"--material", &material, NULL}, {"--since", &since, NULL},
+                            {"--until", &until, NULL},       {"--verdict", &verdict, NULL},
+                            {"--summary", NULL, &summary},   {"--json", NULL, &json},
+                            {"--csv", NULL, &csv},           {NULL, NULL, NULL}};
     const cli_spec spec = {"history", usage_history, opts, 0, 0, NULL};
     int rc;
     if (!cli_parse(&spec, argc - 1, argv + 1, NULL, NULL, &rc))
@@ -309,6 +327,7 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv)
     filter.material = material;
     filter.since = since;
     filter.until = until;
+    filter.verdict = verdict;
     if (instance && !cli_parse_id("--instance", instance, &filter.instance_id))
         return CLI_USAGE;
     if (part && !*part)
@@ -319,6 +338,8 @@ int cmd_history(const cli_ctx *ctx, int argc, char **argv)
         return cli_usage_error("bad --since '%s': expected a date YYYY-MM-DD", since);
     if (until && !cli_date_valid(until))
         return cli_usage_error("bad --until '%s': expected a date YYYY-MM-DD", until);
+    if (verdict && sr_inspect_verdict_parse(verdict) < 0)
+        return cli_usage_error("bad --verdict '%s': expected pass, machine or rework", verdict);
     if (since && until && strcmp(since, until) > 0)
         return cli_usage_error("bad dates: --since %s is after --until %s", since, until);
 

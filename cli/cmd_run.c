@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "base/json_scan.h"
+#include "catalog/catalog_inspect.h"
 #include "catalog/catalog_runs.h"
 #include "cli.h"
 #include "json_out.h"
@@ -377,7 +378,32 @@ void json_run_advice(json_out *j, const sr_run *r)
     json_array_end(j);
 }
 
-static int print_json(const sr_run *r, bool layers)
+/* The latest inspection as run show gives it (NULL = none). */
+static void json_inspection(json_out *j, const sr_inspection_info *v)
+{
+    if (!v) {
+        json_null(j);
+        return;
+    }
+    json_object_begin(j);
+    json_key(j, "id");
+    json_int(j, v->id);
+    json_key(j, "verdict");
+    json_string(j, v->verdict);
+    json_key(j, "reasons");
+    json_string(j, v->reasons);
+    json_key(j, "allowance_mm");
+    json_number(j, v->allowance_mm);
+    json_key(j, "tolerance_mm");
+    json_number(j, v->tolerance_mm);
+    json_key(j, "registered");
+    json_bool(j, v->registered);
+    json_key(j, "inspected_at");
+    json_string(j, v->inspected_at);
+    json_object_end(j);
+}
+
+static int print_json(const sr_run *r, bool layers, const sr_inspection_info *insp)
 {
     json_out jo, *j = &jo;
     json_init(j, stdout);
@@ -458,6 +484,8 @@ static int print_json(const sr_run *r, bool layers)
     json_run_advice(j, r);
     json_key(j, "nominal");
     json_run_nominal(j, r->nominal);
+    json_key(j, "inspection"); /* the latest (symrec inspect); null = never inspected */
+    json_inspection(j, insp);
     if (layers) {
         json_key(j, "sectors");
         json_int(j, (int64_t)r->sectors);
@@ -534,7 +562,7 @@ void cli_run_advice_print(const sr_run *r)
     }
 }
 
-static bool print_text(const sr_run *r, bool layers)
+static bool print_text(const sr_run *r, bool layers, const sr_inspection_info *insp)
 {
     char sym[64];
     const sr_params *p = &r->params;
@@ -613,6 +641,10 @@ static bool print_text(const sr_run *r, bool layers)
     }
     cli_nominal_print(r->nominal, "none recorded");
     cli_run_advice_print(r);
+    if (insp)
+        printf("  inspection:  %lld on %s: %s: %s (allowance %.3g mm, tolerance %.3g mm)\n",
+               (long long)insp->id, insp->inspected_at, insp->verdict, cli_tx(insp->reasons),
+               insp->allowance_mm, insp->tolerance_mm);
     if (layers) {
         printf("  layers:      %zu x %zu sectors (aligned frame, x,y in mm; - = no point)\n",
                r->layer_count, r->sectors);
@@ -650,13 +682,20 @@ static int run_show(const cli_ctx *ctx, int argc, char **argv)
     sr_run r;
     sr_status st = sr_catalog_run_get(
         cat, id, SR_RUN_WITH_MESHES | (layers ? SR_RUN_WITH_LAYERS : 0), &r, &err);
+    sr_inspection_info insp;
+    bool inspected = false;
+    if (st == SR_OK) {
+        st = sr_catalog_inspection_latest(cat, id, &insp, &inspected, &err);
+        if (st != SR_OK)
+            sr_run_release(&r);
+    }
     sr_catalog_close(cat);
     if (st != SR_OK)
         return cli_fail(st, &err);
     rc = CLI_OK;
     if (json)
-        rc = print_json(&r, layers);
-    else if (!print_text(&r, layers))
+        rc = print_json(&r, layers, inspected ? &insp : NULL);
+    else if (!print_text(&r, layers, inspected ? &insp : NULL))
         rc = CLI_FAIL;
     sr_run_release(&r);
     return rc;

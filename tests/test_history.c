@@ -24,6 +24,7 @@
 
 #include "catalog/catalog.h"
 #include "catalog/catalog_history.h"
+#include "catalog/catalog_inspect.h"
 #include "catalog/catalog_int.h"
 #include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
@@ -296,6 +297,9 @@ static void summary_counts_classes_volumes_outcomes_and_months(void **state)
 static void assert_same_summary(const sr_history_summary *a, const sr_history_summary *b,
                                 const char *what)
 {
+    if (a->pass != b->pass || a->machine != b->machine || a->rework != b->rework)
+        fail_msg("%s: verdicts pass %zu/%zu machine %zu/%zu rework %zu/%zu", what, a->pass, b->pass,
+                 a->machine, b->machine, a->rework, b->rework);
     if (a->runs != b->runs || a->failed != b->failed || a->repair != b->repair ||
         a->replace != b->replace || a->none != b->none)
         fail_msg("%s: runs %zu/%zu failed %zu/%zu repair %zu/%zu replace %zu/%zu none %zu/%zu",
@@ -826,6 +830,110 @@ static void outcome_names(void **state)
     assert_string_equal(sr_history_outcome_str(SR_OUTCOME_REPLACE), "replace");
 }
 
+/* An inspection of run `run` (catalog_inspect.h) with only a verdict. */
+static void inspect_run(fixture *fx, int64_t run, sr_inspect_verdict v)
+{
+    sr_inspect_result r;
+    memset(&r, 0, sizeof r);
+    sr_xform_identity(r.transform);
+    r.tolerance_mm = 0.1;
+    r.allowance_mm = 0.5;
+    r.verdict = v;
+    snprintf(r.reasons, sizeof r.reasons, "as the test says");
+    sr_err err = {{0}};
+    int64_t id = 0;
+    if (sr_catalog_inspection_add(fx->cat, run, NULL, NULL, &r, &id, &err) != SR_OK)
+        fail_msg("inspection add: %s", err.msg);
+    assert_true(id > 0);
+}
+
+static void the_latest_inspection_is_the_outcome_filtered_and_summed(void **state)
+{
+    fixture *fx = *state;
+    inspect_run(fx, fx->run[0], SR_INSPECT_REWORK);
+    inspect_run(fx, fx->run[0], SR_INSPECT_PASS); /* the same second: the later id wins */
+    inspect_run(fx, fx->run[1], SR_INSPECT_MACHINE);
+    inspect_run(fx, fx->run[3], SR_INSPECT_REWORK);
+    sr_history_filter f = {0};
+    rows rs = query(fx, &f);
+    assert_string_equal(ids(fx, &rs), "5 4 3 2 1");
+    assert_string_equal(rs.v[0].verdict, "");
+    assert_string_equal(rs.v[1].verdict, "rework");
+    assert_string_equal(rs.v[2].verdict, "");
+    assert_string_equal(rs.v[3].verdict, "machine");
+    assert_string_equal(rs.v[4].verdict, "pass");
+    f.verdict = "pass";
+    rs = query(fx, &f);
+    assert_string_equal(ids(fx, &rs), "1");
+    f.verdict = "rework";
+    rs = query(fx, &f);
+    assert_string_equal(ids(fx, &rs), "4");
+    f.part = "A";
+    rs = query(fx, &f);
+    assert_string_equal(ids(fx, &rs), "");
+    sr_history_summary s;
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_history_summary(fx->cat, NULL, &s, &err), SR_OK);
+    assert_int_equal(s.pass, 1);
+    assert_int_equal(s.machine, 1);
+    assert_int_equal(s.rework, 1);
+    sr_history_summary_release(&s);
+    f = (sr_history_filter){.verdict = "machine"};
+    assert_int_equal(sr_catalog_history_summary(fx->cat, &f, &s, &err), SR_OK);
+    assert_int_equal(s.runs, 1);
+    assert_int_equal(s.machine, 1);
+    sr_history_summary_release(&s);
+    cells_equal_runs(fx->cat, "inspected");
+    /* the latest inspection taken away: run 1 is rework again */
+    char sql[160];
+    snprintf(sql, sizeof sql,
+             "DELETE FROM inspections WHERE id = (SELECT max(id) FROM inspections"
+             " WHERE run_id = %lld)",
+             (long long)fx->run[0]);
+    raw(fx->cat, sql);
+    assert_int_equal(sr_catalog_history_summary(fx->cat, NULL, &s, &err), SR_OK);
+    assert_int_equal(s.pass, 0);
+    assert_int_equal(s.rework, 2);
+    sr_history_summary_release(&s);
+    cells_equal_runs(fx->cat, "an inspection deleted");
+    /* a run, an instance moved and an instance removed with its runs */
+    snprintf(sql, sizeof sql, "DELETE FROM runs WHERE id = %lld", (long long)fx->run[1]);
+    raw(fx->cat, sql);
+    cells_equal_runs(fx->cat, "a run deleted");
+    raw(fx->cat, "UPDATE instances SET part_id = (SELECT id FROM parts WHERE number = 'A')"
+                 " WHERE serial = 'B1'");
+    cells_equal_runs(fx->cat, "an instance moved");
+    assert_int_equal(
+        sr_catalog_instance_remove(fx->cat, fx->inst[0], SR_CATALOG_WITH_RUNS, NULL, &err), SR_OK);
+    cells_equal_runs(fx->cat, "an instance removed");
+    assert_int_equal(raw_count(fx->cat, "SELECT sum(runs) FROM history_verdict_cells"), 1);
+    /* an inspection is a measurement: it is not changed */
+    char *msg = NULL;
+    assert_int_not_equal(
+        sqlite3_exec(fx->cat->db, "UPDATE inspections SET verdict = 'pass'", NULL, NULL, &msg),
+        SQLITE_OK);
+    assert_non_null(strstr(msg, "an inspection is not changed"));
+    sqlite3_free(msg);
+    /* a verdict the catalogue does not know */
+    f = (sr_history_filter){.verdict = "fail"};
+    assert_int_equal(sr_catalog_history_check(fx->cat, &f, &err), SR_E_RANGE);
+    assert_string_equal(err.msg, "bad verdict 'fail': expected pass, machine or rework");
+    inspect_run(fx, fx->run[3], SR_INSPECT_PASS);
+    cells_equal_runs(fx->cat, "inspected again");
+    /* catalog check: the verdict cells agree with the inspections, until tampered with */
+    int problems = 0;
+    sr_check_info info;
+    assert_int_equal(sr_catalog_check(fx->cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 0);
+    raw(fx->cat, "UPDATE history_verdict_cells SET runs = runs + 1 WHERE verdict = 'pass'");
+    assert_int_equal(sr_catalog_check(fx->cat, count_problem, &problems, &info, &err), SR_OK);
+    assert_int_equal(problems, 1);
+    assert_int_equal(
+        sr_catalog_inspection_add(fx->cat, 999, NULL, NULL, &(sr_inspect_result){0}, NULL, &err),
+        SR_E_NOTFOUND);
+    assert_string_equal(err.msg, "no run 999 in the catalogue");
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -839,6 +947,7 @@ int main(void)
         T(a_callback_can_stop_the_query),
         cmocka_unit_test(outcome_names),
         T(summary_cells_equal_the_runs_after_inserts),
+        T(the_latest_inspection_is_the_outcome_filtered_and_summed),
         T(summary_cells_follow_deletes),
         T(summary_cells_follow_updates),
         T(removals_with_runs_keep_the_cells_equal_to_the_runs),

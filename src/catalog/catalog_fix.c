@@ -459,6 +459,29 @@ static const char class_cells_sql[] = CLASS_WANT
     " AND w.month = c.month AND w.class = c.class)"
     " ORDER BY 1, 2, 3";
 
+/* The verdict cells (sql/009) against the runs' latest inspections, both ways. */
+#define VERDICT_WANT                                                                               \
+    "WITH want AS (SELECT part_id, month, verdict, count(*) AS runs"                               \
+    " FROM history_run_verdicts GROUP BY part_id, month, verdict) "
+static const char verdict_cells_sql[] = VERDICT_WANT
+    "SELECT w.part_id, w.month, w.verdict, coalesce(c.runs, 0), w.runs FROM want w"
+    " LEFT JOIN history_verdict_cells c"
+    " ON c.part_id = w.part_id AND c.month = w.month AND c.verdict = w.verdict"
+    " WHERE c.runs IS NOT w.runs"
+    " UNION ALL SELECT c.part_id, c.month, c.verdict, c.runs, 0 FROM history_verdict_cells c"
+    " WHERE NOT EXISTS (SELECT 1 FROM want w WHERE w.part_id = c.part_id"
+    " AND w.month = c.month AND w.verdict = c.verdict)"
+    " ORDER BY 1, 2, 3";
+
+static void verdict_cell_line(check_ctx *c, sqlite3_stmt *stmt)
+{
+    problem(c,
+            "history summary: part id %lld, month %s, verdict '%s': the cells count %lld "
+            "runs, the inspections %lld",
+            (long long)sqlite3_column_int64(stmt, 0), col_text(stmt, 1), col_text(stmt, 2),
+            (long long)sqlite3_column_int64(stmt, 3), (long long)sqlite3_column_int64(stmt, 4));
+}
+
 sr_status sr_catalog_check(sr_catalog *cat, sr_check_fn fn, void *user, sr_check_info *out,
                            sr_err *err)
 {
@@ -494,6 +517,9 @@ sr_status sr_catalog_check(sr_catalog *cat, sr_check_fn fn, void *user, sr_check
         st = each_row(cat, cells_sql, &c, cell_line, err, "check the history summary");
     if (st == SR_OK && cat->schema_version >= 4)
         st = each_row(cat, class_cells_sql, &c, class_cell_line, err, "check the history summary");
+    if (st == SR_OK && cat->schema_version >= 9)
+        st = each_row(cat, verdict_cells_sql, &c, verdict_cell_line, err,
+                      "check the history summary");
     if (st == SR_OK)
         st = count_of(cat, "SELECT count(*) FROM materials WHERE density_g_cm3 IS NULL", 0,
                       &info.no_density, err, "count materials without a density");

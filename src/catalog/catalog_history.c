@@ -6,7 +6,8 @@
  *   ?1 instance id (0 = any), ?2 part id (0 = any), ?3 material id (0 = any),
  *   ?4 lower bound of started_at (the since day, or "" = open),
  *   ?5 exclusive upper bound (the day after until, or "~" = open: it sorts after
- *      every date).
+ *      every date), ?6 the verdict of the run's latest inspection (NULL = any; schema
+ *      9's run_latest_inspection).
  * SQLite plans a statement once, before the values are bound, so a single statement
  * with "?1 = 0 OR ..." terms could not use any index for the condition that matters.
  * Each query therefore comes in five variants, one per driving condition (instance,
@@ -40,6 +41,7 @@
 
 #include "base/grow.h"
 #include "catalog/catalog_history.h"
+#include "inspect/inspect.h"
 
 /* ---- the statements ---- */
 
@@ -56,19 +58,24 @@ enum { BY_ALL, BY_INSTANCE, BY_PART, BY_MATERIAL, BY_DATE, BY_COUNT };
     " JOIN parts p ON p.id = i.part_id"                                                    \
     " LEFT JOIN materials m ON m.id = p.material_id"
 
-#define H_REST                                                                            \
-    " AND (?1 = 0 OR +r.instance_id = ?1) AND (?2 = 0 OR +i.part_id = ?2)"               \
-    " AND (?3 = 0 OR +p.material_id = ?3)"                                                 \
-    " AND +r.started_at >= ?4 AND +r.started_at < ?5"
+#define H_REST                                                                                     \
+    " AND (?1 = 0 OR +r.instance_id = ?1) AND (?2 = 0 OR +i.part_id = ?2)"                         \
+    " AND (?3 = 0 OR +p.material_id = ?3)"                                                         \
+    " AND +r.started_at >= ?4 AND +r.started_at < ?5"                                              \
+    " AND (?6 IS NULL OR EXISTS (SELECT 1 FROM run_latest_inspection v"                            \
+    " WHERE v.run_id = r.id AND v.verdict = ?6))"
+
+/* The verdict of the run's latest inspection (NULL = never inspected). */
+#define H_VERDICT " (SELECT v.verdict FROM run_latest_inspection v WHERE v.run_id = r.id)"
 
 /* The sections come by a LEFT JOIN grouped per run (one pass over the covering index,
  * cheaper than three correlated subqueries); the classes and processes come as they
  * are stored and are made distinct and sorted here. */
-#define H_ROWS_SELECT                                                                     \
-    "SELECT r.id, r.instance_id, r.started_at, p.number, coalesce(i.serial, ''),"         \
-    " coalesce(m.name, ''), r.symmetry_kind, r.symmetry_order, r.symmetry_shift_mm,"       \
-    " r.method, r.status, count(s.id), total(s.volume_mm3), group_concat(s.class, ','),"   \
-    " (SELECT group_concat(a.process, ',') FROM advice a WHERE a.run_id = r.id)"
+#define H_ROWS_SELECT                                                                              \
+    "SELECT r.id, r.instance_id, r.started_at, p.number, coalesce(i.serial, ''),"                  \
+    " coalesce(m.name, ''), r.symmetry_kind, r.symmetry_order, r.symmetry_shift_mm,"               \
+    " r.method, r.status, count(s.id), total(s.volume_mm3), group_concat(s.class, ','),"           \
+    " (SELECT group_concat(a.process, ',') FROM advice a WHERE a.run_id = r.id)," H_VERDICT
 
 #define H_ROWS(W)                                                                         \
     H_ROWS_SELECT H_FROM " LEFT JOIN sections s ON s.run_id = r.id" W H_REST             \
@@ -79,11 +86,11 @@ static const char *const rows_sql[BY_COUNT] = {
 };
 
 /* One light row per run for the summaries; the outcome as 0 none, 1 repair, 2 replace. */
-#define H_RUNS(W)                                                                         \
-    "SELECT p.number, substr(r.started_at, 1, 7), r.status,"                               \
-    " (SELECT coalesce(sum(s.volume_mm3), 0) FROM sections s WHERE s.run_id = r.id),"      \
-    " coalesce((SELECT max(CASE WHEN a.process LIKE 'replace%' THEN 2 ELSE 1 END)"         \
-    "           FROM advice a WHERE a.run_id = r.id), 0)" H_FROM W H_REST
+#define H_RUNS(W)                                                                                  \
+    "SELECT p.number, substr(r.started_at, 1, 7), r.status,"                                       \
+    " (SELECT coalesce(sum(s.volume_mm3), 0) FROM sections s WHERE s.run_id = r.id),"              \
+    " coalesce((SELECT max(CASE WHEN a.process LIKE 'replace%' THEN 2 ELSE 1 END)"                 \
+    "           FROM advice a WHERE a.run_id = r.id), 0)," H_VERDICT H_FROM W H_REST
 
 static const char *const runs_sql[BY_COUNT] = {
     H_RUNS(W_ALL), H_RUNS(W_INSTANCE), H_RUNS(W_PART), H_RUNS(W_MATERIAL), H_RUNS(W_DATE),
@@ -126,6 +133,19 @@ static const char *const cell_classes_sql[BY_COUNT] = {
     C_CLASSES(" WHERE p.material_id = ?3"), C_CLASSES(" WHERE k.month >= ?4 AND k.month < ?5"),
 };
 
+/* Runs per verdict from the cells of 009 (history_verdict_cells). */
+#define V_FROM " FROM history_verdict_cells x JOIN parts p ON p.id = x.part_id"
+#define C_VERDICTS(W)                                                                              \
+    "SELECT x.verdict, sum(x.runs)" V_FROM W C_REST("x") " AND x.runs > 0 GROUP BY x.verdict"
+
+static const char *const cell_verdicts_sql[BY_COUNT] = {
+    C_VERDICTS(" WHERE 1"),
+    NULL,
+    C_VERDICTS(" WHERE x.part_id = ?2"),
+    C_VERDICTS(" WHERE p.material_id = ?3"),
+    C_VERDICTS(" WHERE x.month >= ?4 AND x.month < ?5"),
+};
+
 /* ---- the filter ---- */
 
 static bool digits(const char *s, int n)
@@ -163,6 +183,7 @@ typedef struct bound_filter {
     bool whole_months;         /* since a 1st (or open), until a month's last day (or open) */
     char since_month[8];       /* 'YYYY-MM' of since, or "" */
     char until_month[16];      /* 'YYYY-MM' of until_next, or "~" */
+    const char *verdict;       /* NULL = any */
 } bound_filter;
 
 static sr_status resolve_material(sr_catalog *cat, const char *name, int64_t *out, sr_err *err)
@@ -186,6 +207,21 @@ static sr_status resolve_material(sr_catalog *cat, const char *name, int64_t *ou
         return sr_err_set(err, SR_E_NOTFOUND, "no material '%s' in the catalogue", name);
     *out = id;
     return SR_OK;
+}
+
+/* A catalogue from before schema 9 (one made by older migrations, as the tests make)
+ * has no inspections: an empty stand-in for the view the statements read, in the
+ * connection's temp schema, so the same statements run on it. */
+static sr_status verdict_view(sr_catalog *cat, sr_err *err)
+{
+    if (cat->schema_version >= 9)
+        return SR_OK;
+    sqlite3_stmt *stmt;
+    sr_status st = sr_cat_prepare(cat,
+                                  "CREATE TEMP VIEW IF NOT EXISTS run_latest_inspection AS"
+                                  " SELECT NULL AS run_id, NULL AS verdict WHERE 0",
+                                  &stmt, err);
+    return st == SR_OK ? sr_cat_exec(cat, stmt, err, "read the history") : st;
 }
 
 static sr_status check_instance(sr_catalog *cat, int64_t id, sr_err *err)
@@ -214,8 +250,9 @@ static sr_status bind_filter(sr_catalog *cat, const sr_history_filter *f, bound_
     strcpy(b->until_next, "~");
     strcpy(b->until_month, "~");
     b->whole_months = true;
-    if (!f)
-        return SR_OK;
+    sr_status vst = verdict_view(cat, err);
+    if (vst != SR_OK || !f)
+        return vst;
     int y, m, d;
     if (f->since) {
         if (!parse_day(f->since, &y, &m, &d))
@@ -251,6 +288,10 @@ static sr_status bind_filter(sr_catalog *cat, const sr_history_filter *f, bound_
     }
     if (f->instance_id < 0)
         return sr_err_set(err, SR_E_RANGE, "bad instance id %lld", (long long)f->instance_id);
+    if (f->verdict && sr_inspect_verdict_parse(f->verdict) < 0)
+        return sr_err_set(err, SR_E_RANGE, "bad verdict '%s': expected pass, machine or rework",
+                          f->verdict);
+    b->verdict = f->verdict;
     sr_status st;
     if (f->instance_id > 0) {
         st = check_instance(cat, f->instance_id, err);
@@ -290,6 +331,8 @@ static sr_status prepare_filtered(sr_catalog *cat, const char *const *sql, const
     sqlite3_bind_int64(stmt, 3, b->material_id);
     sqlite3_bind_text(stmt, 4, cells ? b->since_month : b->since, -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(stmt, 5, cells ? b->until_month : b->until_next, -1, SQLITE_TRANSIENT);
+    if (!cells)
+        sr_cat_bind_opt_text(stmt, 6, b->verdict);
     *out = stmt;
     return SR_OK;
 }
@@ -417,6 +460,7 @@ sr_status sr_catalog_history(sr_catalog *cat, const sr_history_filter *filter,
         r.missing_volume_mm3 = sqlite3_column_double(stmt, 12);
         const char *processes = (const char *)sqlite3_column_text(stmt, 14);
         r.outcome = outcome_of(processes);
+        sr_cat_column_text(stmt, 15, r.verdict, sizeof r.verdict);
         if (copy_list((const char *)sqlite3_column_text(stmt, 13), r.classes,
                       sizeof r.classes) != SR_OK ||
             copy_list(processes, r.processes, sizeof r.processes) != SR_OK) {
@@ -518,6 +562,39 @@ static sr_status acc_runs(summary_acc *a, sr_history_summary *s, const char *num
     return SR_OK;
 }
 
+/* Adds n runs whose latest inspection said `verdict` (NULL = none). */
+static void count_verdict(sr_history_summary *s, const char *verdict, size_t n)
+{
+    switch (verdict ? sr_inspect_verdict_parse(verdict) : -1) {
+    case SR_INSPECT_PASS: s->pass += n; break;
+    case SR_INSPECT_MACHINE: s->machine += n; break;
+    case SR_INSPECT_REWORK: s->rework += n; break;
+    default: break;
+    }
+}
+
+/* The runs per verdict from the cells. */
+static sr_status read_cell_verdicts(sr_catalog *cat, const bound_filter *b, sr_history_summary *s,
+                                    sr_err *err)
+{
+    sqlite3_stmt *stmt;
+    sr_status st = prepare_filtered(cat, cell_verdicts_sql, b, true, &stmt, err);
+    if (st != SR_OK)
+        return st;
+    for (;;) {
+        bool row;
+        st = sr_cat_step(cat, stmt, &row, err, "summarise the verdicts");
+        if (st != SR_OK) {
+            sqlite3_finalize(stmt);
+            return st;
+        }
+        if (!row)
+            return sr_cat_finish(cat, stmt, err, "summarise the verdicts");
+        int64_t n = sqlite3_column_int64(stmt, 1);
+        count_verdict(s, (const char *)sqlite3_column_text(stmt, 0), n > 0 ? (size_t)n : 0);
+    }
+}
+
 /* One row per run (`cells` false) or per cell (`cells` true). */
 static sr_status read_runs(sr_catalog *cat, const bound_filter *b, bool cells, summary_acc *a,
                            sr_history_summary *s, sr_err *err)
@@ -551,6 +628,7 @@ static sr_status read_runs(sr_catalog *cat, const bound_filter *b, bool cells, s
             int outcome = sqlite3_column_int(stmt, 4);
             st = acc_runs(a, s, number, month, 1, !status || strcmp(status, "ok") != 0,
                           outcome == 1, outcome == 2, sqlite3_column_double(stmt, 3), err);
+            count_verdict(s, (const char *)sqlite3_column_text(stmt, 5), 1);
         }
         if (st != SR_OK)
             break;
@@ -603,7 +681,7 @@ static sr_status read_classes(sr_catalog *cat, const bound_filter *b, bool cells
 static sr_status cells_answer(sr_catalog *cat, const bound_filter *b, bool *out, sr_err *err)
 {
     *out = false;
-    if (cat->schema_version < 4 || b->by == BY_INSTANCE || !b->whole_months)
+    if (cat->schema_version < 9 || b->by == BY_INSTANCE || !b->whole_months || b->verdict)
         return SR_OK;
     if (!b->since_month[0] && strcmp(b->until_month, "~") == 0) {
         *out = true;
@@ -655,6 +733,8 @@ sr_status sr_cat_history_summary_way(sr_catalog *cat, const sr_history_filter *f
     st = read_runs(cat, &b, cells, &a, &s, err);
     if (st == SR_OK)
         st = read_classes(cat, &b, cells, &a, err);
+    if (st == SR_OK && cells)
+        st = read_cell_verdicts(cat, &b, &s, err);
     if (st == SR_OK && a.part_count) {
         s.parts = malloc(a.part_count * sizeof *s.parts);
         if (!s.parts)

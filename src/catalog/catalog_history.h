@@ -28,6 +28,8 @@ typedef struct sr_history_filter {
     const char *material;       /* material name, ignoring ASCII case */
     const char *since;          /* 'YYYY-MM-DD': runs started on or after that day */
     const char *until;          /* 'YYYY-MM-DD': runs started on or before that day */
+    const char *verdict;        /* 'pass', 'machine', 'rework': runs whose latest
+                                 * inspection (catalog_inspect.h) said so */
 } sr_history_filter;
 
 typedef enum sr_history_outcome {
@@ -56,6 +58,7 @@ typedef struct sr_history_row {
     char classes[256];          /* damage classes, comma list; "" = no sections */
     char processes[256];        /* advised processes, comma list; "" = no advice */
     sr_history_outcome outcome;
+    char verdict[8]; /* the latest inspection's verdict; "" = not inspected */
 } sr_history_row;
 
 /* Checks the filter alone (the checks and errors of sr_catalog_history below), so a
@@ -63,8 +66,8 @@ typedef struct sr_history_row {
 sr_status sr_catalog_history_check(sr_catalog *cat, const sr_history_filter *filter,
                                    sr_err *err);
 
-/* Checks the filter (dates real 'YYYY-MM-DD', since <= until: SR_E_RANGE naming the
- * field; an unknown part, instance or material: SR_E_NOTFOUND "no part 'X' in the
+/* Checks the filter (dates real 'YYYY-MM-DD', since <= until, a known verdict:
+ * SR_E_RANGE naming the field; an unknown part, instance or material: SR_E_NOTFOUND "no part 'X' in the
  * catalogue" ...), then calls fn for each matching run, newest first (start time,
  * then id). fn returns non-zero to stop. No catalogue call may run inside fn. */
 typedef int (*sr_history_fn)(const sr_history_row *row, void *user);
@@ -91,6 +94,8 @@ typedef struct sr_history_month {
 typedef struct sr_history_summary {
     size_t runs, failed;        /* selected runs; of them failed */
     size_t repair, replace, none;  /* runs by outcome */
+    size_t pass, machine, rework;  /* runs by their latest inspection's verdict (the
+                                    * others were not inspected) */
     double repair_fraction;     /* repair / (repair + replace); NaN when both are 0 */
     double avg_missing_volume_mm3;  /* over all selected runs; 0 when none */
     sr_history_part *parts;     /* by part number */
