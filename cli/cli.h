@@ -334,10 +334,11 @@ bool cli_scan_is_plain(const sr_scan_desc *d);
 void cli_scan_print(const sr_scan_desc *d);
 /* The description as reconstruct's text output prints it (stdout, the strays as
  * dropped), nothing for a plain closed part. */
-void cli_scan_summary(const sr_scan_desc *d);
-/* Describes the input scan and drops its strays from *scan (the caller prints it with
- * cli_scan_summary). *out (released by the caller) is the description before the drop. On
- * failure *scan and *out are untouched. */
-sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_err *err);
+void cli_scan_summary(const sr_scan_desc *d, size_t closed);
+/* Describes the input scan, closes its openings (sr_scan_close_openings: *closed gets
+ * how many) and drops its strays from *scan (the caller prints it with
+ * cli_scan_summary). *out (released by the caller) is the description before. On failure
+ * *out is untouched. */
+sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, size_t *closed, sr_err *err);
 
 #endif

@@ -135,11 +135,11 @@ static int misfit_axial(const sr_recon_result *r)
 
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
                         const sr_params *p, int64_t run_id, const char *why_no_nominal,
-                        const sr_scan_desc *scan)
+                        const sr_scan_desc *scan, size_t openings_closed)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", cli_tx(source));
-    cli_scan_summary(scan);
+    cli_scan_summary(scan, openings_closed);
     printf("  method:     %s", sr_recon_method_name(r->method));
     if (r->method == SR_METHOD_ROBUST)
         printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
@@ -678,8 +678,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     }
     sr_scan_desc scan_desc; /* the input read as a scan; its strays dropped from scan */
     memset(&scan_desc, 0, sizeof scan_desc);
+    size_t openings_closed = 0;
     if (st == SR_OK)
-        st = cli_scan_input(&scan, &scan_desc, &err);
+        st = cli_scan_input(&scan, &scan_desc, &openings_closed, &err);
     if (st != SR_OK) {
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -769,7 +770,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
             rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id,
                             &scan_desc);
         else
-            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc);
+            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc,
+                        openings_closed);
     }
     free(fit_json);
     sr_run_nominal_free(nominal);

@@ -61,7 +61,7 @@ void cli_scan_print(const sr_scan_desc *d)
            d->strays, d->stray_triangles, d->stray_area_mm2);
 }
 
-void cli_scan_summary(const sr_scan_desc *d)
+void cli_scan_summary(const sr_scan_desc *d, size_t closed)
 {
     if (cli_scan_is_plain(d))
         return;
@@ -72,6 +72,9 @@ void cli_scan_summary(const sr_scan_desc *d)
            d->open ? "open, read as a scan" : "closed, in several pieces", loops,
            100.0 * d->open_share);
     printf("              %s\n", comps);
+    if (closed)
+        printf("              closed %zu opening%s by fans from their centroids\n", closed,
+               closed == 1 ? "" : "s");
     if (d->strays)
         printf("              dropped %zu stray%s (%zu triangles, %.4g mm²: small pieces off the "
                "part's surface)\n",
@@ -136,13 +139,15 @@ void json_scan(json_out *j, const sr_scan_desc *d)
     json_object_end(j);
 }
 
-sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_err *err)
+sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, size_t *closed, sr_err *err)
 {
     sr_scan_desc d;
     sr_status st = sr_scan_describe(scan, NULL, &d, err);
     if (st != SR_OK)
         return st;
-    st = sr_scan_drop_strays(scan, &d, err);
+    st = sr_scan_close_openings(scan, &d, 0, closed, err);
+    if (st == SR_OK)
+        st = sr_scan_drop_strays(scan, &d, err);
     if (st != SR_OK) {
         sr_scan_desc_release(&d);
         return st;

@@ -2,7 +2,7 @@
  * test_scan_describe.c: sr_scan_describe and sr_scan_drop_strays (src/mesh/scan_describe.c)
  * on meshes with known answers: a closed box 10 x 20 x 30 (no opening, one component);
  * the box with its top face (10 x 20) left off (one loop of 4 edges, 60 mm, spanning
- * 200 mm², open 200 / 2200 of the surface); the box with a stray triangle 20 mm above it
+ * 200 mm², open 200 / 2200 of the surface; closed by a fan: 6000 mm³ again); the box with a stray triangle 20 mm above it
  * (dropped: 12 triangles and 8 vertices left; kept when "small" is set below its
  * 0.5 mm²), with a small triangle lying on its face
  * (kept: on the surface), with a second box beside it (kept: not small); bad options.
@@ -88,6 +88,17 @@ static void a_box_without_its_top_has_one_loop_round_it(void **state)
     assert_near(d.open_share, 200.0 / 2200.0, 1e-12);
     assert_int_equal(d.component_count, 1);
     assert_int_equal(d.strays, 0);
+    /* closed by a fan of 4 triangles from the top's centre: the box's volume again */
+    size_t closed = 0;
+    assert_int_equal(sr_scan_close_openings(&m, &d, 0, &closed, NULL), SR_OK);
+    assert_int_equal(closed, 1);
+    assert_int_equal(m.tri_count, 14);
+    assert_int_equal(m.vertex_count, 9);
+    assert_true(sr_mesh_is_closed(&m));
+    assert_near(sr_mesh_volume(&m), 6000, 1e-9);
+    assert_near(m.xyz[3 * 8], 5, 1e-12);
+    assert_near(m.xyz[3 * 8 + 1], 10, 1e-12);
+    assert_near(m.xyz[3 * 8 + 2], 30, 1e-12);
     sr_scan_desc_release(&d);
     sr_mesh_release(&m);
 }

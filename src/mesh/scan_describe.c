@@ -41,6 +41,12 @@ static uint32_t uf_find(uint32_t *parent, uint32_t x)
     return x;
 }
 
+/* Triangles past the described ones (added by sr_scan_close_openings) are kept. */
+static bool is_stray(const sr_scan_desc *d, size_t t)
+{
+    return t < d->triangles && d->components[d->tri_component[t]].stray;
+}
+
 static double tri_area(const sr_mesh *m, size_t t)
 {
     double n[3];
@@ -63,7 +69,7 @@ static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out,
         return SR_E_NOMEM;
     n = 0;
     for (size_t t = 0; t < m->tri_count; t++)
-        if (!d->components[d->tri_component[t]].stray)
+        if (!is_stray(d, t))
             for (int k = 0; k < 3; k++) {
                 uint32_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
                 e[n++] = (edge_rec){a < b ? a : b, a < b ? b : a, a, b};
@@ -116,13 +122,15 @@ static sr_status walk_loops(const sr_mesh *m, const uint32_t *b, size_t nb, sr_s
     unsigned char *used = calloc(nb ? nb : 1, 1);
     size_t *order = malloc((nb ? nb : 1) * sizeof *order);
     sr_scan_loop *loops = malloc((nb ? nb : 1) * sizeof *loops);
-    if (!used || !order || !loops) {
+    uint32_t *lv = malloc((nb ? nb : 1) * sizeof *lv);
+    if (!used || !order || !loops || !lv) {
         free(used);
         free(order);
         free(loops);
+        free(lv);
         return SR_E_NOMEM;
     }
-    size_t nloops = 0;
+    size_t nloops = 0, pos = 0;
     for (size_t s = 0; s < nb; s++) {
         if (used[s])
             continue;
@@ -165,14 +173,18 @@ static sr_status walk_loops(const sr_mesh *m, const uint32_t *b, size_t nb, sr_s
             length += sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
                            (q[2] - p[2]) * (q[2] - p[2]));
         }
+        for (size_t i = 0; i < len; i++)
+            lv[pos + i] = b[2 * order[i]];
         loops[nloops++] = (sr_scan_loop){
-            len, length, sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]), closed};
+            len, length, sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]), closed, pos};
+        pos += len;
     }
     free(used);
     free(order);
     qsort(loops, nloops, sizeof *loops, loop_cmp);
     d->loops = loops;
     d->loop_count = nloops;
+    d->loop_verts = lv;
     for (size_t i = 0; i < nloops; i++)
         d->open_area_mm2 += loops[i].span_mm;
     return SR_OK;
@@ -394,6 +406,7 @@ void sr_scan_desc_release(sr_scan_desc *d)
     if (!d)
         return;
     free(d->loops);
+    free(d->loop_verts);
     free(d->components);
     free(d->tri_component);
     memset(d, 0, sizeof *d);
@@ -442,7 +455,7 @@ sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
         return SR_OK;
     size_t keep_t = 0;
     for (size_t t = 0; t < mesh->tri_count; t++)
-        keep_t += !d->components[d->tri_component[t]].stray;
+        keep_t += !is_stray(d, t);
     uint32_t *map = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * sizeof *map);
     if (!map)
         return sr_err_set(err, SR_E_NOMEM, "out of memory dropping the scan's strays");
@@ -450,7 +463,7 @@ sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
         map[v] = UINT32_MAX;
     size_t keep_v = 0;
     for (size_t t = 0; t < mesh->tri_count; t++)
-        if (!d->components[d->tri_component[t]].stray)
+        if (!is_stray(d, t))
             for (int k = 0; k < 3; k++)
                 if (map[mesh->tri[3 * t + k]] == UINT32_MAX)
                     map[mesh->tri[3 * t + k]] = USED; /* numbered below in vertex order */
@@ -468,7 +481,7 @@ sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
             memcpy(out.xyz + 3 * (size_t)map[v], mesh->xyz + 3 * v, 3 * sizeof(double));
     size_t o = 0;
     for (size_t t = 0; t < mesh->tri_count; t++)
-        if (!d->components[d->tri_component[t]].stray) {
+        if (!is_stray(d, t)) {
             for (int k = 0; k < 3; k++)
                 out.tri[3 * o + k] = map[mesh->tri[3 * t + k]];
             o++;

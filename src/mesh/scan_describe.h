@@ -24,6 +24,7 @@ typedef struct sr_scan_loop {
     double length_mm;
     double span_mm; /* area of the opening it bounds, mm^2: a fan from the loop's centroid */
     bool closed;
+    size_t first; /* its vertices: loop_verts[first .. first + edges), in walk order */
 } sr_scan_loop;
 
 /* One connected component (triangles joined through shared vertices). */
@@ -50,6 +51,7 @@ typedef struct sr_scan_desc {
     size_t boundary_edges;    /* edges used by one triangle (strays excluded, as below) */
     size_t nonmanifold_edges; /* edges used by three or more */
     sr_scan_loop *loops;      /* loop_count, longest first; the strays' own not counted */
+    uint32_t *loop_verts;     /* boundary_edges: each loop's vertices (sr_scan_loop.first) */
     size_t loop_count;
     sr_scan_component *components; /* component_count, most triangles first */
     size_t component_count;
@@ -73,8 +75,20 @@ sr_status sr_scan_describe(const sr_mesh *mesh, const sr_scan_opts *opts, sr_sca
 void sr_scan_desc_release(sr_scan_desc *d);
 
 /* Removes from mesh the triangles of every component d (sr_scan_describe of this mesh)
- * flags as stray, and the vertices only they used; the rest keeps its order. Nothing
- * flagged: mesh unchanged. SR_E_NOMEM, mesh unchanged on error. */
+ * flags as stray, and the vertices only they used; the rest keeps its order. Triangles
+ * appended after the description (sr_scan_close_openings) are kept. Nothing flagged: mesh
+ * unchanged. SR_E_NOMEM, mesh unchanged on error. */
 sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err);
+
+/* Closes every closed loop of d (sr_scan_describe of this mesh) whose span is at most
+ * max_span_mm2 (0: every one) with a fan of triangles from a new vertex at the loop's
+ * centroid, turned against the rim so each boundary edge is then used twice, once each
+ * way. For a plane loop the fan lies in its plane: the winding number of the closed
+ * surface is that of the part, whatever the loop's shape (a concave rim's fan folds over
+ * itself and cancels; a bore's rim inside the base is turned the other way and cancels
+ * its share of the base's fan). *closed (may be NULL) gets the loops closed. Appends
+ * vertices and triangles only: d's indices stay valid. SR_E_NOMEM, mesh unchanged. */
+sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+                                 size_t *closed, sr_err *err);
 
 #endif
