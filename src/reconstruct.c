@@ -352,7 +352,8 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
                             .pitch_mm = opts->pitch_mm,
                             .min_volume_mm3 = opts->min_volume_mm3,
                             .min_depth_mm = opts->min_depth_mm,
-                            .threads = opts->threads};
+                            .threads = opts->threads,
+                            .noise_mm = r.noise_mm};
         st = sr_image_reconstruct(&aligned, &r.grid, &io, &r.sections, &r.section_count,
                                   &r.image, err);
         if (st != SR_OK)

@@ -445,7 +445,7 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
     /* glide: a core of weak evidence alone is built only where a fracture bounds it */
     for (size_t s = 1; vr.weak_only && s <= vr.sections; s++)
         if (vr.weak_only[s - 1] && !sr_img_fracture_bounded(aligned, &g, vr.label, (int)s,
-                                                            &opts->symmetry)) {
+                                                            &opts->symmetry, opts->noise_mm)) {
             for (size_t q = 0; q < vr.at_count; q++)
                 if (vr.label[vr.at[q]] == (int)s)
                     vr.label[vr.at[q]] = -1;

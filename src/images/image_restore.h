@@ -42,6 +42,7 @@ typedef struct sr_image_opts {
     double min_volume_mm3;      /* smallest section kept; 0 = 1 mm^3 */
     double min_depth_mm;        /* shallowest section kept; 0 = any */
     int threads;                /* the vote's threads; 0 = all cores (same result) */
+    double noise_mm;            /* the scan's noise (sigma, mm); 0 = a clean mesh */
 } sr_image_opts;
 
 typedef struct sr_image_info {

@@ -63,9 +63,10 @@ sr_status sr_img_hull_make(const sr_voxels *g, const local_box *b, double z_min,
 int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const sr_vote_result *vr, int s);
 
 /* Glide: 1 when the scan's surface facing section s (of weak evidence alone) is mostly
- * fracture, so the section is built; 1 too when the images cannot be had. */
+ * fracture, so the section is built; 1 too when the images cannot be had. noise_mm:
+ * the scan's noise (sigma), which tilts its facets off the frame. */
 int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
-                            const sr_symmetry *sym);
+                            const sr_symmetry *sym, double noise_mm);
 
 /* ---- figures (image_figures.c) ---- */
 

@@ -103,11 +103,18 @@ int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const sr_vote_res
  * the ends broken off (a first tooth). The scan's surface facing the section (its
  * triangles whose outside, a voxel along the normal, lies in it) tells them apart: the
  * design's faces there either lie along the frame (the plain core's face: within
- * FRAME_DEG of x, y or z) or have an image on the scan's surface (the next tooth's
- * flank); a fracture's do neither. True when FRACTURE_SHARE of that area is fracture.
+ * FRAME_DEG of x, y or z, and within what the scan's noise tilts that facet by) or have
+ * an image on the scan's surface (the next tooth's flank); a fracture's do neither.
+ * True when FRACTURE_SHARE of that area is fracture. The tilt: noise of sigma moving a
+ * vertex off the plane turns the normal by sigma over that vertex's height in the
+ * triangle, so by sigma sqrt(sum 1 / h_i^2) over all three; three times that is
+ * allowed, up to FRAME_MAX_DEG (a generated rack's noisy scan, sigma 0.02 mm on facets
+ * of 1.5 mm: the core's end face tilted past 3 degrees read as fracture, and a phantom
+ * tooth of 196 mm^3 was built beyond the end).
  * (Tried first on voxels alone: the core's face at a sawtooth rack's end has no image
  * on the surface, so phantoms were built at both ends.) */
 #define FRAME_DEG 3.0
+#define FRAME_MAX_DEG 30.0
 #define FRACTURE_SHARE 0.5
 static int surface_at(const sr_voxels *g, const double p[3], const double n[3])
 {
@@ -120,14 +127,29 @@ static int surface_at(const sr_voxels *g, const double p[3], const double n[3])
     return vi >= 0 && vo >= 0 && (g->v[vi] & 1) && !(g->v[vo] & 1);
 }
 
+/* The cosine of the angle within which facet (a, b, c) of normal length len (twice
+ * its area) lies along the frame, with noise sigma. */
+static double frame_cos(const double *a, const double *b, const double *c, double len, double sigma)
+{
+    const double *v[3] = {a, b, c};
+    double inv_h2 = 0;
+    for (int i = 0; i < 3; i++) {
+        const double *p = v[(i + 1) % 3], *q = v[(i + 2) % 3];
+        double e2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                    (p[2] - q[2]) * (p[2] - q[2]);
+        inv_h2 += e2 / (len * len); /* height h_i = len / |opposite edge| */
+    }
+    double deg = FRAME_DEG + 3.0 * sigma * sqrt(inv_h2) * 180.0 / M_PI;
+    return cos(fmin(deg, FRAME_MAX_DEG) * M_PI / 180.0);
+}
+
 int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
-                            const sr_symmetry *sym)
+                            const sr_symmetry *sym, double noise_mm)
 {
     sr_image *im = NULL;
     size_t n_im = 0;
     if (sr_images_of(sym, &im, &n_im, NULL) != SR_OK)
         return 1;
-    double cs = cos(FRAME_DEG * M_PI / 180);
     double total = 0, fracture = 0;
     for (size_t t = 0; t < m->tri_count; t++) {
         const double *a = m->xyz + 3 * m->tri[3 * t], *b = m->xyz + 3 * m->tri[3 * t + 1],
@@ -148,6 +170,7 @@ int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *lab
             continue;
         double area = 0.5 * len;
         total += area;
+        double cs = frame_cos(a, b, c, len, noise_mm > 0 ? noise_mm : 0);
         if (fabs(nv[0]) > cs || fabs(nv[1]) > cs || fabs(nv[2]) > cs)
             continue; /* along the frame: the design's */
         int twin = 0;
