@@ -73,6 +73,13 @@ static void inspect_records_the_verdict_and_the_run_follows_it(void **state)
     cli_expect_ok(&r);
     cli_expect_contains(r.out, " rework\n");
     cli_result_free(&r);
+    /* the report shows the latest inspection, with the scan's deviation colours */
+    char html[TMPDIR_PATH_MAX + 16];
+    snprintf(html, sizeof html, "%s/r.html", out);
+    CLI_RUN(&r, "--db", db, "report", "1", "--out", html, "--json");
+    cli_expect_ok(&r);
+    assert_int_equal((int)jq_num(r.out, "$.inspection"), 1);
+    cli_result_free(&r);
 
     /* the restored mesh: a perfect repair passes, and is the run's outcome now */
     CLI_RUN(&r, "-q", "--db", db, "inspect", "1", "--mesh", restored, "--tolerance", "0.05");
@@ -93,6 +100,10 @@ static void inspect_records_the_verdict_and_the_run_follows_it(void **state)
     CLI_RUN(&r, "--db", db, "history", "--summary");
     cli_expect_ok(&r);
     cli_expect_contains(r.out, "inspected: 1 pass, 0 machine, 0 rework");
+    cli_result_free(&r);
+    CLI_RUN(&r, "--db", db, "report", "1", "--out", html);
+    cli_expect_ok(&r);
+    cli_expect_contains(r.out, "inspection 2 (pass) shown with the scan's deviation colours\n");
     cli_result_free(&r);
 
     /* refusals: exit 2 for usage, 1 for what the catalogue or the file refuses */

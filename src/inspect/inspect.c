@@ -434,3 +434,19 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
     *out = r;
     return SR_OK;
 }
+
+sr_status sr_inspect_deviations(const sr_mesh *model, const sr_mesh *scan, double *dev, sr_err *err)
+{
+    sr_surface_query *q = NULL;
+    sr_status st = sr_surface_query_build(model, &q, err);
+    if (st != SR_OK)
+        return st;
+    for (size_t v = 0; v < scan->vertex_count; v++) {
+        double d = 0, sd = 0;
+        if (!sr_surface_query_closest(q, scan->xyz + 3 * v, INFINITY, NULL, &d, &sd))
+            sd = 0;
+        dev[v] = sd;
+    }
+    sr_surface_query_free(q);
+    return SR_OK;
+}

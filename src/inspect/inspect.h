@@ -118,6 +118,14 @@ typedef struct sr_inspect_result {
 sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspect_opts *opts,
                          sr_inspect_result *out, sr_err *err);
 
+/* The signed distance of each vertex of `scan` (already in the model's frame) to the
+ * surface of `model` (positive outside) into dev (scan->vertex_count, the caller's):
+ * the deviations of an inspection recomputed from its stored scan and transform, as
+ * the report colours them (the same figures as sr_inspect_result's deviation for
+ * those vertices). SR_E_INVALID when the model has no triangle with an area; SR_E_NOMEM. */
+sr_status sr_inspect_deviations(const sr_mesh *model, const sr_mesh *scan, double *dev,
+                                sr_err *err);
+
 /* Frees the arrays of a result and zeroes it; accepts NULL. */
 void sr_inspect_release(sr_inspect_result *r);
 
