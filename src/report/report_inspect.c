@@ -3,36 +3,29 @@
  * latest inspection of the run, its verdict and reasons, the scan after repair in 3D
  * coloured by its signed deviation from the restored model (report_view.js draws it),
  * the colour scale as a legend in mm with the tolerance band marked, and the figures of
- * each section. The scale is one list of (deviation, colour) stops, written both into
- * the legend's CSS gradient here and into the data block for the script, so the
- * picture and its legend cannot disagree: deep blue at -range to light blue at
- * -tolerance (material short of the restored surface), green within the tolerance
- * band, yellow at +tolerance to red at +range (stock); beyond the range the end
- * colours.
+ * each section. The scale is inspect.h's list of (deviation, colour) stops (the GLB's
+ * vertex colours use it too), written both into the legend's CSS gradient here and
+ * into the data block for the script, so the picture and its legend cannot disagree.
  */
 #include "report/report_int.h"
 
 #include <math.h>
+#include <stdio.h>
 
-#define NSTOPS 6
+#define NSTOPS SR_INSPECT_SCALE_STOPS
 
-/* The stops in mm, left to right. */
-static void stops(const sr_report_inspection *ins, double at[NSTOPS], const char *col[NSTOPS])
+/* The stops in mm, left to right, and their colours as CSS (inspect.h's scale). */
+static void stops(const sr_report_inspection *ins, double at[NSTOPS], char col[NSTOPS][8])
 {
-    double r = rp_inspection_range(ins), t = ins->tolerance_mm;
-    static const char *const c[NSTOPS] = {"#1c3f9e", "#8fc1f0", "#36a852",
-                                          "#36a852", "#ffd166", "#c0261b"};
-    const double a[NSTOPS] = {-r, -t, -t, t, t, r};
-    for (int i = 0; i < NSTOPS; i++) {
-        at[i] = a[i];
-        col[i] = c[i];
-    }
+    unsigned c[NSTOPS];
+    sr_inspect_scale(ins->tolerance_mm, ins->allowance_mm, at, c);
+    for (int i = 0; i < NSTOPS; i++)
+        snprintf(col[i], sizeof col[i], "#%06x", c[i] & 0xffffffu);
 }
 
 double rp_inspection_range(const sr_report_inspection *ins)
 {
-    double r = fmax(2 * ins->allowance_mm, 5 * ins->tolerance_mm);
-    return r > 0 && isfinite(r) ? r : 1.0;
+    return sr_inspect_scale_range(ins->tolerance_mm, ins->allowance_mm);
 }
 
 static double percent(double v, double r)
@@ -43,7 +36,7 @@ static double percent(double v, double r)
 static void legend(sb *b, const sr_report_inspection *ins)
 {
     double at[NSTOPS], r = rp_inspection_range(ins), t = ins->tolerance_mm;
-    const char *col[NSTOPS];
+    char col[NSTOPS][8];
     stops(ins, at, col);
     sb_put(b, "<div id=\"inspect-scale\" class=\"scale\"><div class=\"scale-bar\" "
               "style=\"background:linear-gradient(to right");
@@ -120,7 +113,7 @@ void rp_put_inspection(sb *b, const sr_report_inspection *ins)
     if (!ins)
         return;
     double at[NSTOPS];
-    const char *col[NSTOPS];
+    char col[NSTOPS][8];
     stops(ins, at, col);
     sb_printf(b, ",\"inspection\":{\"id\":%lld,\"verdict\":", ins->id);
     sb_jstr(b, ins->verdict);

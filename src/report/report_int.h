@@ -53,8 +53,7 @@ void rp_nominal_section(sb *b, const sr_run *r);
 
 /* ---- the inspection (report_inspect.c) ---- */
 
-/* The half-width of the deviation colour scale, mm: the larger of twice the allowance
- * and five tolerances, so the band and the stock both show. */
+/* The half-width of the deviation colour scale, mm (sr_inspect_scale_range). */
 double rp_inspection_range(const sr_report_inspection *ins);
 /* The "Inspection" section (3D canvas, colour scale legend, per-section table);
  * nothing when ins is NULL. */
