@@ -7,8 +7,10 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "bridge/mesh_io.h"
 #include "catalog/catalog_inspect.h"
 #include "catalog/catalog_runs.h"
 #include "cli.h"
@@ -18,7 +20,8 @@
 
 static const char usage[] =
     "usage: symrec [--db FILE] inspect RUN --mesh SCAN [--allowance MM] [--tolerance MM]\n"
-    "                                [--units U] [--align | --no-align] [--json]\n"
+    "                                [--units U] [--align | --no-align] [--glb FILE]\n"
+    "                                [--json]\n"
     "\n"
     "Inspects a part after repair against the restoration of run RUN: the scan SCAN is\n"
     "taken onto the run's restored mesh (as it lies when it is in the run's frame, else\n"
@@ -39,6 +42,10 @@ static const char usage[] =
     "  --tolerance MM   deviation within this is on the surface (default 0.1 mm)\n" CLI_UNITS_HELP
     "  --align          always register the scan to the restored mesh\n"
     "  --no-align       take the scan as it lies (in the run's frame)\n"
+    "  --glb FILE       also write the scan, in the run's frame, with its deviation\n"
+    "                   colours as vertex colours (COLOR_0; the report's scale: blue\n"
+    "                   short, green within the tolerance, yellow to red stock) to\n"
+    "                   FILE (.glb or .gltf)\n"
     "  --json           one JSON object: {\"inspection\", \"run\", \"verdict\",\n"
     "                   \"reasons\", \"allowance_mm\", \"tolerance_mm\", \"registered\",\n"
     "                   \"coverage\", \"volumes_exact\", \"outside\", \"sections\"}\n";
@@ -173,15 +180,45 @@ static void print_text(int64_t id, const sr_run *run, const char *scan_path,
     printf("  verdict: %s: %s\n", sr_inspect_verdict_str(r->verdict), r->reasons);
 }
 
+/* The scan in the model's frame with its deviation colours (linear, as glTF's COLOR_0
+ * is) to path. */
+static sr_status write_coloured(const char *path, const sr_inspect_result *r, sr_err *err)
+{
+    size_t n = r->scan.vertex_count;
+    float *rgb = malloc((n ? 3 * n : 1) * sizeof *rgb);
+    if (!rgb)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory");
+    for (size_t v = 0; v < n; v++) {
+        sr_inspect_colour(r->tolerance_mm, r->allowance_mm, r->deviation[v], rgb + 3 * v);
+        for (int k = 0; k < 3; k++) {
+            double c = rgb[3 * v + (size_t)k];
+            rgb[3 * v + (size_t)k] =
+                (float)(c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4));
+        }
+    }
+    sr_scene_mesh m = {"scan after repair", &r->scan, {1.0f, 1.0f, 1.0f, 1.0f}};
+    const float *cols[1] = {rgb};
+    sr_status st = sr_scene_write_coloured(
+        path, &m, cols, 1, "{\"symrec\":\"inspection: signed deviation colours\"}", err);
+    free(rgb);
+    return st;
+}
+
 int cmd_inspect(const cli_ctx *ctx, int argc, char **argv)
 {
+    const char *glb = NULL;
     const char *mesh_path = NULL, *allowance = NULL, *tolerance = NULL, *units = NULL;
     bool json = false, align = false, no_align = false;
     const cli_opt opts[] = {
-        {"--mesh", &mesh_path, NULL},      {"--allowance", &allowance, NULL},
-        {"--tolerance", &tolerance, NULL}, {"--units", &units, NULL},
-        {"--align", NULL, &align},         {"--no-align", NULL, &no_align},
-        {"--json", NULL, &json},           {NULL, NULL, NULL},
+        {"--mesh", &mesh_path, NULL},
+        {"--allowance", &allowance, NULL},
+        {"--tolerance", &tolerance, NULL},
+        {"--units", &units, NULL},
+        {"--align", NULL, &align},
+        {"--no-align", NULL, &no_align},
+        {"--json", NULL, &json},
+        {"--glb", &glb, NULL},
+        {NULL, NULL, NULL},
     };
     const cli_spec spec = {"inspect", usage, opts, 1, 1, "RUN"};
     const char *pos[1];
@@ -236,6 +273,8 @@ int cmd_inspect(const cli_ctx *ctx, int argc, char **argv)
         cli_note("inspecting run %lld against '%s'", (long long)run_id, cli_tx(mesh_path));
         st = sr_inspect_run(&run, &scan, &o, &r, &err);
     }
+    if (st == SR_OK && glb)
+        st = write_coloured(glb, &r, &err);
     if (st == SR_OK)
         st = sr_catalog_inspection_add(cat, run_id, &scan, mesh_path, &r, &id, &err);
     if (st != SR_OK)

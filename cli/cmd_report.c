@@ -1,7 +1,10 @@
 /*
  * cmd_report.c: `symrec report RUN --out FILE.html`: reads run RUN whole (meshes and
  * layers) with its instance, part and the part's material (the density of the build
- * plans), has src/report/report_html.c build the page, and writes
+ * plans) and its latest inspection (the scan after repair taken into the model's frame
+ * by the stored transform, reduced to the view's budget, its deviations recomputed from
+ * the restored mesh: inspect.h's sr_inspect_deviations), has src/report/report_html.c
+ * build the page, and writes
  * it atomically: into a temporary file beside FILE, flushed to disk, then renamed over
  * FILE, so FILE is either the old file or the whole new report, never half of one.
  */
@@ -14,9 +17,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "catalog/catalog_inspect.h"
 #include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "cli.h"
+#include "inspect/inspect.h"
 #include "json_out.h"
 #include "plan/plan.h"
 #include "report/report_html.h"
@@ -34,8 +39,11 @@ static const char usage_report[] =
     "default settings and the density of the part's material; none for a section\n"
     "advised 'replace'), the missing sections with their features (z range mm, angles\n"
     "degrees or side, depth mm, volume mm³, area mm²), the advice with the rules that\n"
-    "fired, and the run's parameters, alignment and timings. It prints to A4 (print it\n"
-    "to PDF from a browser to send it).\n"
+    "fired, and the run's parameters, alignment and timings. When the run was inspected\n"
+    "('symrec inspect'), its latest inspection: the verdict, the scan after repair in\n"
+    "3D coloured by its signed deviation from the restored model (a colour scale in mm\n"
+    "with the tolerance band marked) and the figures of each section. It prints to A4\n"
+    "(print it to PDF from a browser to send it).\n"
     "\n"
     "  --out FILE           the HTML file to write (replaced atomically)\n"
     "  --max-triangles N    display budget of the 3D view, the restored part and its\n"
@@ -43,7 +51,8 @@ static const char usage_report[] =
     "                       (default 60000; larger meshes are decimated for display)\n"
     "  --json               print {\"run\", \"out\", \"bytes\", \"triangles_stored\",\n"
     "                       \"triangles_shown\", \"decimated\", \"plan_sections\",\n"
-    "                       \"plan_layers\", \"replace_sections\"} instead of a sentence\n";
+    "                       \"plan_layers\", \"replace_sections\", \"inspection\"} (the\n"
+    "                       inspection shown, null for none) instead of a sentence\n";
 
 /* Writes data to path through a temporary file in the same folder and a rename. */
 static bool write_atomic(const char *path, const char *data, size_t len)
@@ -90,6 +99,65 @@ static bool write_atomic(const char *path, const char *data, size_t len)
     }
     free(tmp);
     return ok;
+}
+
+/* The run's latest inspection as the report shows it. */
+typedef struct report_ins {
+    bool found;
+    sr_inspection_info info;
+    sr_inspect_section *sections;
+    size_t section_count;
+    sr_mesh scan; /* model frame, display size */
+    double *dev;
+    sr_report_inspection shown;
+} report_ins;
+
+static void report_ins_release(report_ins *ri)
+{
+    free(ri->sections);
+    sr_mesh_release(&ri->scan);
+    free(ri->dev);
+    memset(ri, 0, sizeof *ri);
+}
+
+/* Reads run's latest inspection with its scan (when kept) from cat; a scan that cannot
+ * be read leaves the figures only. */
+static sr_status load_inspection(sr_catalog *cat, const sr_run *run, report_ins *ri, sr_err *err)
+{
+    memset(ri, 0, sizeof *ri);
+    sr_status st = sr_catalog_inspection_latest(cat, run->id, &ri->info, &ri->found, err);
+    if (st == SR_OK && ri->found)
+        st = sr_catalog_inspection_sections(cat, ri->info.id, &ri->sections, &ri->section_count,
+                                            err);
+    sr_err quiet;
+    if (st == SR_OK && ri->found && ri->info.scan_mesh_id && run->restored.tri_count &&
+        sr_catalog_mesh_load(cat, ri->info.scan_mesh_id, &ri->scan, &quiet) != SR_OK)
+        sr_mesh_release(&ri->scan);
+    return st;
+}
+
+/* The scan into the model's frame, reduced to max_tri, and its deviations; without
+ * them (out of memory excepted) the page shows the figures only. */
+static sr_status inspection_view(const sr_run *run, size_t max_tri, report_ins *ri, sr_err *err)
+{
+    if (!ri->scan.tri_count)
+        return SR_OK;
+    sr_mesh small = {0};
+    sr_mesh_transform(&ri->scan, ri->info.transform);
+    sr_status st = sr_report_decimate(&ri->scan, max_tri, &small, err);
+    if (st != SR_OK)
+        return st;
+    sr_mesh_release(&ri->scan);
+    ri->scan = small;
+    ri->dev = malloc((ri->scan.vertex_count ? ri->scan.vertex_count : 1) * sizeof *ri->dev);
+    if (!ri->dev)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory");
+    sr_err quiet;
+    if (sr_inspect_deviations(&run->restored, &ri->scan, ri->dev, &quiet) != SR_OK) {
+        free(ri->dev);
+        ri->dev = NULL;
+    }
+    return SR_OK;
 }
 
 int cmd_report(const cli_ctx *ctx, int argc, char **argv)
@@ -155,8 +223,14 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh scan = {0};
     if (st == SR_OK && sr_catalog_instance_mesh(cat, run.instance_id, &scan, &quiet) != SR_OK)
         sr_mesh_release(&scan);
+    report_ins ri = {0};
+    if (st == SR_OK)
+        st = load_inspection(cat, &run, &ri, &err);
     sr_catalog_close(cat);
+    if (st == SR_OK && ri.found)
+        st = inspection_view(&run, (budget ? (size_t)budget : 60000) / 4, &ri, &err);
     if (st != SR_OK) {
+        report_ins_release(&ri);
         sr_mesh_release(&scan);
         sr_run_release(&run);
         return cli_fail(st, &err);
@@ -168,10 +242,28 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
                          .material = part.material,
                          .plan = &po,
                          .scan = scan.tri_count ? &scan : NULL};
+    if (ri.found) {
+        ri.shown = (sr_report_inspection){.id = ri.info.id,
+                                          .inspected_at = ri.info.inspected_at,
+                                          .verdict = ri.info.verdict,
+                                          .reasons = ri.info.reasons,
+                                          .tolerance_mm = ri.info.tolerance_mm,
+                                          .allowance_mm = ri.info.allowance_mm,
+                                          .sections = ri.sections,
+                                          .section_count = ri.section_count,
+                                          .scan = ri.dev ? &ri.scan : NULL,
+                                          .deviation = ri.dev};
+        ro.inspection = &ri.shown;
+    }
     char *html = NULL;
     size_t len = 0;
     sr_report_info info;
     st = sr_report_html(&run, &ro, &html, &len, &info, &err);
+    int64_t inspection_id = ri.found ? ri.info.id : 0;
+    char verdict[sizeof ri.info.verdict];
+    snprintf(verdict, sizeof verdict, "%s", ri.info.verdict);
+    bool colours = ri.dev != NULL;
+    report_ins_release(&ri);
     sr_mesh_release(&scan);
     sr_run_release(&run);
     if (st != SR_OK)
@@ -202,6 +294,11 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         json_int(&j, (int64_t)info.plan_layers);
         json_key(&j, "replace_sections");
         json_int(&j, (int64_t)info.replace_sections);
+        json_key(&j, "inspection");
+        if (inspection_id)
+            json_int(&j, inspection_id);
+        else
+            json_null(&j);
         json_object_end(&j);
         return json_finish(&j);
     } else {
@@ -216,6 +313,9 @@ int cmd_report(const cli_ctx *ctx, int argc, char **argv)
         if (info.replace_sections)
             printf("no build plan for %zu section%s: the advice is to replace the part\n",
                    info.replace_sections, info.replace_sections == 1 ? "" : "s");
+        if (inspection_id)
+            printf("inspection %lld (%s) shown%s\n", (long long)inspection_id, verdict,
+                   colours ? " with the scan's deviation colours" : ", figures only");
     }
     return CLI_OK;
 }

@@ -209,8 +209,11 @@ done
 # The HTML report in a real headless browser (tests/browser/check_report.js): the demo
 # run's report rendered (no script error, no network request), its WebGL view checked on
 # a screenshot (the part's and the patches' colours), printed to A4 PDF in at most
-# SYMREC_REPORT_MAX_PAGES pages (default 4; the demo's report printed to 8 before it had
-# print rules). Needs node and a Chromium (Debian chromium-headless-shell, installed
+# SYMREC_REPORT_MAX_PAGES pages (default 5: 4 before the inspection's page; the demo's
+# report printed to 8 before it had print rules). The run is inspected first with the
+# damaged scan itself as the part "after repair" (the gouge left: rework), so the page
+# has its inspection section, checked too: the gouge's blue and the rest's green in
+# its view, the colour scale, one table row per section. Needs node and a Chromium (Debian chromium-headless-shell, installed
 # by `make deps` for test, quick and check). SYMREC_REQUIRE_BROWSER=1 (the Makefile's
 # test, quick) makes their absence a failure; otherwise it is skipped with a line.
 if [ -z "$only" ]; then
@@ -231,12 +234,14 @@ if [ -z "$only" ]; then
         rc=0
         { "$SYMREC_BIN" --db "$bdir/c.db" demo >/dev/null 2>&1 &&
           "$SYMREC_BIN" --db "$bdir/c.db" reconstruct 1 --params coarse --no-union >/dev/null 2>&1 &&
+          "$SYMREC_BIN" --db "$bdir/c.db" export instance 1 --out "$bdir/d.stl" >/dev/null 2>&1 &&
+          "$SYMREC_BIN" --db "$bdir/c.db" inspect 1 --mesh "$bdir/d.stl" >/dev/null 2>&1 &&
           "$SYMREC_BIN" --db "$bdir/c.db" report 1 --out "$bdir/r.html" >/dev/null 2>&1 &&
           rows=$("$SYMREC_BIN" --db "$bdir/c.db" run show 1 --json |
                  node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).sections.length))'); } >"$out" 2>&1 || rc=$?
         if [ "$rc" -eq 0 ]; then
             node tests/browser/check_report.js "$bdir/r.html" "$rows" "$browser" \
-                "${SYMREC_REPORT_MAX_PAGES:-4}" >"$out" 2>&1
+                "${SYMREC_REPORT_MAX_PAGES:-5}" "$rows" >"$out" 2>&1
             rc=$?
         fi
         secs=$(( $(date +%s) - start ))

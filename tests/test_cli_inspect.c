@@ -19,6 +19,7 @@
 #include <sys/stat.h>
 #include <cmocka.h>
 
+#include "support/assert_near.h"
 #include "support/cli_case.h"
 #include "support/json_query.h"
 #include "support/test_select.h"
@@ -57,7 +58,10 @@ static void inspect_records_the_verdict_and_the_run_follows_it(void **state)
     cli_result_free(&r);
 
     /* the gouge left as it was: rework, the whole section under-filled */
-    CLI_RUN(&r, "-q", "--db", db, "inspect", "1", "--mesh", PARTS "/damaged.stl", "--json");
+    char glb[TMPDIR_PATH_MAX + 16];
+    snprintf(glb, sizeof glb, "%s/dev.glb", out);
+    CLI_RUN(&r, "-q", "--db", db, "inspect", "1", "--mesh", PARTS "/damaged.stl", "--glb", glb,
+            "--json");
     cli_expect_ok(&r);
     char *v = jq_text(r.out, "$.verdict");
     assert_string_equal(v, "rework");
@@ -69,9 +73,32 @@ static void inspect_records_the_verdict_and_the_run_follows_it(void **state)
     assert_true(fabs(jq_num(r.out, "$.allowance_mm") - 0.8) < 1e-12);
     assert_int_equal((int)jq_num(r.out, "$.inspection"), 1);
     cli_result_free(&r);
+    /* the GLB: the scan with one float RGB colour per vertex as COLOR_0 */
+    FILE *f = fopen(glb, "rb");
+    assert_non_null(f);
+    unsigned char head[20];
+    assert_int_equal(fread(head, 1, 20, f), 20);
+    size_t jlen =
+        head[12] | (size_t)head[13] << 8 | (size_t)head[14] << 16 | (size_t)head[15] << 24;
+    char *gj = calloc(jlen + 1, 1);
+    assert_int_equal(fread(gj, 1, jlen, f), jlen);
+    fclose(f);
+    assert_near(jq_num(gj, "$.meshes[0].primitives[0].attributes.COLOR_0"), 2, 0);
+    assert_near(jq_num(gj, "$.accessors[2].count"), jq_num(gj, "$.accessors[0].count"), 0);
+    v = jq_text(gj, "$.accessors[2].type");
+    assert_string_equal(v, "VEC3");
+    free(v);
+    free(gj);
     CLI_RUN(&r, "--db", db, "history", "--verdict", "rework");
     cli_expect_ok(&r);
     cli_expect_contains(r.out, " rework\n");
+    cli_result_free(&r);
+    /* the report shows the latest inspection, with the scan's deviation colours */
+    char html[TMPDIR_PATH_MAX + 16];
+    snprintf(html, sizeof html, "%s/r.html", out);
+    CLI_RUN(&r, "--db", db, "report", "1", "--out", html, "--json");
+    cli_expect_ok(&r);
+    assert_int_equal((int)jq_num(r.out, "$.inspection"), 1);
     cli_result_free(&r);
 
     /* the restored mesh: a perfect repair passes, and is the run's outcome now */
@@ -93,6 +120,10 @@ static void inspect_records_the_verdict_and_the_run_follows_it(void **state)
     CLI_RUN(&r, "--db", db, "history", "--summary");
     cli_expect_ok(&r);
     cli_expect_contains(r.out, "inspected: 1 pass, 0 machine, 0 rework");
+    cli_result_free(&r);
+    CLI_RUN(&r, "--db", db, "report", "1", "--out", html);
+    cli_expect_ok(&r);
+    cli_expect_contains(r.out, "inspection 2 (pass) shown with the scan's deviation colours\n");
     cli_result_free(&r);
 
     /* refusals: exit 2 for usage, 1 for what the catalogue or the file refuses */

@@ -305,6 +305,30 @@ static void verdict_names_round_trip(void **state)
     assert_int_equal(sr_inspect_verdict_parse(NULL), -1);
 }
 
+/* The deviation colour scale (the report's and the GLB's): range max(2 x 0.5, 5 x 0.1)
+ * = 1 mm; the stops' colours at the stops, green across the band, halfway between
+ * yellow and red at 0.55 mm, the end colours beyond the range. */
+static void deviation_colours_follow_the_scale(void **state)
+{
+    (void)state;
+    assert_near(sr_inspect_scale_range(0.1, 0.5), 1.0, 1e-15);
+    assert_near(sr_inspect_scale_range(0.1, 0), 0.5, 1e-15);
+    float c[3];
+    const struct {
+        double d;
+        double rgb[3];
+    } want[] = {
+        {-5, {0x1c, 0x3f, 0x9e}}, {-1, {0x1c, 0x3f, 0x9e}},  {-0.1, {0x8f, 0xc1, 0xf0}},
+        {0, {0x36, 0xa8, 0x52}},  {0.1, {0x36, 0xa8, 0x52}}, {0.55, {223.5, 123.5, 64.5}},
+        {1, {0xc0, 0x26, 0x1b}},  {9, {0xc0, 0x26, 0x1b}},
+    };
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        sr_inspect_colour(0.1, 0.5, want[i].d, c);
+        for (int k = 0; k < 3; k++)
+            assert_near(c[k], want[i].rgb[k] / 255.0, 1e-6);
+    }
+}
+
 int main(void)
 {
     struct CMUnitTest tests[] = {
@@ -315,6 +339,7 @@ int main(void)
         cmocka_unit_test(a_scan_in_another_frame_is_registered_with_the_same_figures),
         cmocka_unit_test(refusals_name_what_is_wrong),
         cmocka_unit_test(verdict_names_round_trip),
+        cmocka_unit_test(deviation_colours_follow_the_scale),
     };
     size_t n = sr_test_select(tests, sizeof tests / sizeof tests[0]);
     return _cmocka_run_group_tests("test_inspect", tests, n, NULL, NULL);

@@ -24,6 +24,7 @@
 #include "catalog/catalog.h"
 #include "bridge/polygon.h"
 #include "catalog/catalog_runs.h"
+#include "inspect/inspect.h"
 #include "plan/plan.h"
 #include "report/report_html.h"
 #include "mesh/shapes.h"
@@ -1078,6 +1079,84 @@ static void meshes_decode_to_the_shown_meshes_and_the_scan_is_offered(void **sta
     sr_run_release(&r);
 }
 
+/* The inspection section (issue 20): the restored box's copy 0.5 mm along +x as the
+ * scan after repair; its deviations by sr_inspect_deviations are known (+0.5 on the
+ * four corners outside, 0 on the four still on the box's y and z faces), carried in
+ * the data block as given, with the scale (range max(2 x 0.8, 5 x 0.1) = 1.6 mm), the
+ * legend's ticks and band and one table row per section. */
+static void report_shows_the_inspection_with_its_deviations(void **state)
+{
+    fixture *fx = *state;
+    sr_run r;
+    stored_run(fx, &r);
+    sr_mesh scan = {0};
+    assert_int_equal(sr_mesh_copy(&scan, &r.restored), SR_OK);
+    assert_int_equal(scan.vertex_count, 8);
+    const double shift[12] = {1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0};
+    sr_mesh_transform(&scan, shift);
+    double dev[8];
+    sr_err err = {{0}};
+    assert_int_equal(sr_inspect_deviations(&r.restored, &scan, dev, &err), SR_OK);
+    double lo[3], hi[3];
+    sr_mesh_bbox(&r.restored, lo, hi);
+    for (size_t v = 0; v < 8; v++)
+        assert_near(dev[v], scan.xyz[3 * v] > hi[0] ? 0.5 : 0.0, 1e-9);
+    sr_inspect_section sec = {.index = 0, .underfill_mm3 = 12.5, .verdict = SR_INSPECT_REWORK};
+    snprintf(sec.reasons, sizeof sec.reasons, "under-fill <12.5> mm3");
+    sr_report_inspection ins = {.id = 7,
+                                .inspected_at = "2024-03-02T09:00:00Z",
+                                .verdict = "rework",
+                                .reasons = "section 1: rework",
+                                .tolerance_mm = 0.1,
+                                .allowance_mm = 0.8,
+                                .sections = &sec,
+                                .section_count = 1,
+                                .scan = &scan,
+                                .deviation = dev};
+    sr_report_opts o = {.inspection = &ins};
+    char *html = NULL;
+    size_t len;
+    assert_int_equal(sr_report_html(&r, &o, &html, &len, NULL, &err), SR_OK);
+    assert_int_equal(count_of(html, "<tr class=\"inspection\">"), 1);
+    assert_non_null(strstr(html, "<td>rework</td><td class=\"n\">12.5</td>"));
+    assert_non_null(strstr(html, "under-fill &lt;12.5&gt; mm3"));
+    assert_non_null(strstr(html, "<canvas id=\"inspect-view\""));
+    assert_non_null(strstr(html, "<span class=\"tick\" style=\"left:46.88%\">-0.10</span>"));
+    assert_non_null(strstr(html, "<span class=\"tick\" style=\"left:100.00%\">+1.60</span>"));
+    assert_non_null(strstr(html, "id=\"inspect-band\" class=\"scale-band\" "
+                                 "style=\"left:46.88%;width:6.25%\""));
+    char *json = data_block(html);
+    assert_near(jq_num(json, "$.inspection.range_mm"), 1.6, 1e-12);
+    assert_near(jq_num(json, "$.inspection.stops[1][0]"), -0.1, 1e-12);
+    assert_near(jq_num(json, "$.inspection.scan.nv"), 8, 0);
+    size_t n;
+    unsigned char *d = b64_member(json, "$.inspection.deviation", &n);
+    assert_int_equal(n, 8 * 4);
+    for (size_t v = 0; v < 8; v++) {
+        float f;
+        memcpy(&f, d + 4 * v, 4);
+        assert_near(f, dev[v], 1e-7);
+    }
+    free(d);
+    free(json);
+    free(html);
+    /* without the scan: the figures only */
+    ins.scan = NULL;
+    assert_int_equal(sr_report_html(&r, &o, &html, &len, NULL, &err), SR_OK);
+    assert_null(strstr(html, "<canvas id=\"inspect-view\""));
+    assert_int_equal(count_of(html, "<tr class=\"inspection\">"), 1);
+    json = data_block(html);
+    assert_null(jq_text(json, "$.inspection.scan"));
+    free(json);
+    free(html);
+    /* no inspection, no section */
+    html = build(&r, 0, NULL);
+    assert_null(strstr(html, "id=\"inspection\""));
+    free(html);
+    sr_mesh_release(&scan);
+    sr_run_release(&r);
+}
+
 int main(void)
 {
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
@@ -1098,6 +1177,7 @@ int main(void)
         T(report_carries_the_tool_paths_of_every_planned_layer),
         T(report_of_a_replace_run_says_there_is_no_build_plan),
         T(a_section_without_a_plan_says_why),
+        T(report_shows_the_inspection_with_its_deviations),
     };
 #undef T
     return cmocka_run_group_tests(tests, NULL, NULL);

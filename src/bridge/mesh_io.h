@@ -106,6 +106,14 @@ typedef struct sr_scene_mesh {
 sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
                          const char *extras_json, sr_err *err);
 
+/* sr_scene_write with vertex colours: rgb[i] (NULL, or rgb NULL, = none for mesh i)
+ * holds meshes[i].mesh->vertex_count x 3 components in 0..1, linear as glTF says,
+ * written as the mesh's COLOR_0 (float32 VEC3; the material's base colour multiplies
+ * them, so give such a mesh white). */
+sr_status sr_scene_write_coloured(const char *path, const sr_scene_mesh *meshes,
+                                  const float *const *rgb, size_t count, const char *extras_json,
+                                  sr_err *err);
+
 /* A glTF scene read back: meshes with their names and colours. */
 typedef struct sr_scene {
     size_t count;

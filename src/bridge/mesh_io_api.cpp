@@ -252,6 +252,18 @@ extern "C" sr_status sr_scene_write(const char *path, const sr_scene_mesh *meshe
     CATCH_ALL(err, "write", path)
 }
 
+extern "C" sr_status sr_scene_write_coloured(const char *path, const sr_scene_mesh *meshes,
+                                             const float *const *rgb, size_t count,
+                                             const char *extras_json, sr_err *err)
+{
+    try {
+        if (!path)
+            return sr_err_set(err, SR_E_INVALID, "no file name given");
+        return scene_write(path, meshes, count, extras_json, err, rgb);
+    }
+    CATCH_ALL(err, "write", path)
+}
+
 extern "C" sr_status sr_scene_read(const char *path, sr_scene *out, sr_err *err)
 {
     try {

@@ -136,7 +136,7 @@ std::string encode_text(const sr_mesh &m, sr_format fmt, bool ascii);
 
 /* Several meshes to a .gltf or .glb file, written atomically (write_glb.cpp). */
 sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
-                      const char *extras_json, sr_err *err);
+                      const char *extras_json, sr_err *err, const float *const *rgb = nullptr);
 
 } // namespace sr_meshio
 

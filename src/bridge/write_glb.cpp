@@ -2,7 +2,8 @@
  * write_glb.cpp: glTF and GLB written through tinygltf 2.7 (see mesh_io.h's
  * sr_scene_write): one node, mesh and material per input mesh, positions as float32 with
  * POSITION min/max, under one root node that takes symrec's mm, Z up, to glTF's metres,
- * Y up; the caller's extras JSON as the asset's extras; the result checked (a GLB's
+ * Y up; vertex colours, when given, as COLOR_0 (float32 VEC3); the caller's extras
+ * JSON as the asset's extras; the result checked (a GLB's
  * chunks by src/io/) before the atomic write.
  */
 #include "bridge/mesh_io_int.hpp"
@@ -74,7 +75,7 @@ void append_bytes(std::vector<unsigned char> &buf, const void *p, size_t n)
 } // namespace
 
 sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t count,
-                      const char *extras_json, sr_err *err)
+                      const char *extras_json, sr_err *err, const float *const *rgb)
 {
     sr_format fmt = sr_format_from_path(path);
     if (fmt != SR_FMT_GLTF && fmt != SR_FMT_GLB)
@@ -109,8 +110,15 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
                              "mesh %zu colour component %d is %g, not in 0..1", i, k,
                              (double)sm.rgba[k]);
         const sr_mesh &m = *sm.mesh;
-        size_t pos_bytes = m.vertex_count * 12, idx_bytes = m.tri_count * 12;
-        if (bin.size() + pos_bytes + idx_bytes > (size_t)INT32_MAX)
+        const float *col = rgb ? rgb[i] : nullptr;
+        size_t pos_bytes = m.vertex_count * 12, idx_bytes = m.tri_count * 12,
+               col_bytes = col ? m.vertex_count * 12 : 0;
+        for (size_t k = 0; col && k < 3 * m.vertex_count; k++)
+            if (!(col[k] >= 0.0f && col[k] <= 1.0f))
+                return wfail(err, SR_E_RANGE, path,
+                             "mesh %zu vertex colour component %zu is %g, not in 0..1", i, k,
+                             (double)col[k]);
+        if (bin.size() + pos_bytes + idx_bytes + col_bytes > (size_t)INT32_MAX)
             return wfail(err, SR_E_RANGE, path,
                          "scene too large for glTF (over %d bytes of geometry)", INT32_MAX);
         /* positions, float32, with min/max as the spec requires */
@@ -165,6 +173,31 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
         int pai = (int)model.accessors.size();
         model.accessors.push_back(pa);
         model.accessors.push_back(ia);
+        int cai = -1;
+        if (col) {
+            /* after the indices, 4-aligned as they are */
+            tinygltf::BufferView cv;
+            cv.buffer = 0;
+            cv.byteOffset = bin.size();
+            cv.byteLength = col_bytes;
+            cv.target = TINYGLTF_TARGET_ARRAY_BUFFER;
+            for (size_t k = 0; k < 3 * m.vertex_count; k++) {
+                uint32_t u;
+                memcpy(&u, &col[k], 4);
+                unsigned char b[4] = {(unsigned char)u, (unsigned char)(u >> 8),
+                                      (unsigned char)(u >> 16), (unsigned char)(u >> 24)};
+                append_bytes(bin, b, 4);
+            }
+            tinygltf::Accessor ca;
+            ca.bufferView = (int)model.bufferViews.size();
+            model.bufferViews.push_back(cv);
+            ca.byteOffset = 0;
+            ca.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+            ca.count = m.vertex_count;
+            ca.type = TINYGLTF_TYPE_VEC3;
+            cai = (int)model.accessors.size();
+            model.accessors.push_back(ca);
+        }
 
         tinygltf::Material mat;
         mat.name = sm.name ? sm.name : "";
@@ -178,6 +211,8 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
 
         tinygltf::Primitive prim;
         prim.attributes["POSITION"] = pai;
+        if (cai >= 0)
+            prim.attributes["COLOR_0"] = cai;
         prim.indices = pai + 1;
         prim.material = (int)i;
         prim.mode = TINYGLTF_MODE_TRIANGLES;

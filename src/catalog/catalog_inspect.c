@@ -6,6 +6,7 @@
 #include "catalog/catalog_inspect.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/version.h"
@@ -148,7 +149,8 @@ sr_status sr_catalog_inspection_latest(sr_catalog *cat, int64_t run_id, sr_inspe
         cat,
         "SELECT v.id, v.run_id, coalesce(v.scan_mesh_id, 0), v.verdict, v.reasons,"
         " v.allowance_mm, v.tolerance_mm, v.registered, v.coverage, v.inspected_at,"
-        " (SELECT count(*) FROM inspection_sections s WHERE s.inspection_id = v.id)"
+        " (SELECT count(*) FROM inspection_sections s WHERE s.inspection_id = v.id),"
+        " v.transform"
         " FROM inspections v WHERE v.run_id = ?1 ORDER BY v.inspected_at DESC, v.id DESC"
         " LIMIT 1",
         &stmt, err);
@@ -170,6 +172,12 @@ sr_status sr_catalog_inspection_latest(sr_catalog *cat, int64_t run_id, sr_inspe
         out->coverage = sqlite3_column_double(stmt, 8);
         sr_cat_column_text(stmt, 9, out->inspected_at, sizeof out->inspected_at);
         out->section_count = (size_t)sqlite3_column_int64(stmt, 10);
+        const unsigned char *xf = sqlite3_column_blob(stmt, 11);
+        if (xf && sqlite3_column_bytes(stmt, 11) == 96)
+            for (int i = 0; i < 12; i++)
+                out->transform[i] = sr_cat_get_f64(xf + 8 * i);
+        else
+            out->transform[0] = out->transform[5] = out->transform[10] = 1;
     }
     if (st != SR_OK) {
         sqlite3_finalize(stmt);
@@ -179,4 +187,71 @@ sr_status sr_catalog_inspection_latest(sr_catalog *cat, int64_t run_id, sr_inspe
     if (st == SR_OK)
         *found = row;
     return st;
+}
+
+sr_status sr_catalog_inspection_sections(sr_catalog *cat, int64_t id, sr_inspect_section **out,
+                                         size_t *count, sr_err *err)
+{
+    *out = NULL;
+    *count = 0;
+    if (cat->schema_version < INSPECT_SCHEMA)
+        return SR_OK;
+    sqlite3_stmt *stmt;
+    sr_status st = sr_cat_prepare(
+        cat,
+        "SELECT section_index, patch_mm3, underfill_mm3, underfill_depth_mm, overbuild_mm3,"
+        " stock_min_mm, stock_max_mm, stock_mean_mm, stock_share, under_share, dev_mean_mm,"
+        " dev_rms_mm, dev_min_mm, dev_max_mm, samples, verdict, reasons"
+        " FROM inspection_sections WHERE inspection_id = ?1 ORDER BY section_index",
+        &stmt, err);
+    if (st != SR_OK)
+        return st;
+    sqlite3_bind_int64(stmt, 1, id);
+    sr_inspect_section *v = NULL;
+    size_t n = 0, cap = 0;
+    bool row = true;
+    while (st == SR_OK) {
+        st = sr_cat_step(cat, stmt, &row, err, "read an inspection's sections");
+        if (st != SR_OK || !row)
+            break;
+        if (n == cap) {
+            size_t nc = cap ? 2 * cap : 8;
+            sr_inspect_section *p = realloc(v, nc * sizeof *p);
+            if (!p) {
+                st = sr_err_set(err, SR_E_NOMEM, "out of memory");
+                break;
+            }
+            v = p;
+            cap = nc;
+        }
+        sr_inspect_section *s = &v[n++];
+        memset(s, 0, sizeof *s);
+        s->index = (size_t)sqlite3_column_int64(stmt, 0);
+        double *f[] = {&s->patch_mm3,     &s->underfill_mm3, &s->underfill_depth_mm,
+                       &s->overbuild_mm3, &s->stock_min_mm,  &s->stock_max_mm,
+                       &s->stock_mean_mm, &s->stock_share,   &s->under_share,
+                       &s->dev_mean_mm,   &s->dev_rms_mm,    &s->dev_min_mm,
+                       &s->dev_max_mm};
+        for (int i = 0; i < 13; i++)
+            *f[i] = sqlite3_column_double(stmt, 1 + i);
+        s->samples = (size_t)sqlite3_column_int64(stmt, 14);
+        char verdict[16];
+        sr_cat_column_text(stmt, 15, verdict, sizeof verdict);
+        int vd = sr_inspect_verdict_parse(verdict);
+        s->verdict = vd < 0 ? SR_INSPECT_REWORK : (sr_inspect_verdict)vd;
+        sr_cat_column_text(stmt, 16, s->reasons, sizeof s->reasons);
+    }
+    if (st != SR_OK) {
+        sqlite3_finalize(stmt);
+        free(v);
+        return st;
+    }
+    st = sr_cat_finish(cat, stmt, err, "read an inspection's sections");
+    if (st != SR_OK) {
+        free(v);
+        return st;
+    }
+    *out = v;
+    *count = n;
+    return SR_OK;
 }

@@ -35,11 +35,18 @@ typedef struct sr_inspection_info {
     double coverage;
     size_t section_count;
     char inspected_at[32];
+    double transform[12]; /* scan -> restored model frame (3x4 row-major) */
 } sr_inspection_info;
 
 /* The latest inspection of run `run_id` into *out and *found true; *found false when
  * the run has none (or the catalogue predates schema 9). The run is not checked. */
 sr_status sr_catalog_inspection_latest(sr_catalog *cat, int64_t run_id, sr_inspection_info *out,
                                        bool *found, sr_err *err);
+
+/* The per-section figures of inspection `id` (sr_inspect_section, reasons included),
+ * by section index, into *out (heap, free(); NULL when none) and *count. SR_E_NOMEM;
+ * an inspection without rows gives none. */
+sr_status sr_catalog_inspection_sections(sr_catalog *cat, int64_t id, sr_inspect_section **out,
+                                         size_t *count, sr_err *err);
 
 #endif

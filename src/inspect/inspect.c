@@ -434,3 +434,65 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
     *out = r;
     return SR_OK;
 }
+
+sr_status sr_inspect_deviations(const sr_mesh *model, const sr_mesh *scan, double *dev, sr_err *err)
+{
+    sr_surface_query *q = NULL;
+    sr_status st = sr_surface_query_build(model, &q, err);
+    if (st != SR_OK)
+        return st;
+    for (size_t v = 0; v < scan->vertex_count; v++) {
+        double d = 0, sd = 0;
+        if (!sr_surface_query_closest(q, scan->xyz + 3 * v, INFINITY, NULL, &d, &sd))
+            sd = 0;
+        dev[v] = sd;
+    }
+    sr_surface_query_free(q);
+    return SR_OK;
+}
+
+double sr_inspect_scale_range(double tolerance_mm, double allowance_mm)
+{
+    double r = fmax(2 * allowance_mm, 5 * tolerance_mm);
+    return r > 0 && isfinite(r) ? r : 1.0;
+}
+
+void sr_inspect_scale(double tolerance_mm, double allowance_mm, double at[SR_INSPECT_SCALE_STOPS],
+                      unsigned rgb[SR_INSPECT_SCALE_STOPS])
+{
+    static const unsigned c[SR_INSPECT_SCALE_STOPS] = {0x1c3f9e, 0x8fc1f0, 0x36a852,
+                                                       0x36a852, 0xffd166, 0xc0261b};
+    double r = sr_inspect_scale_range(tolerance_mm, allowance_mm), t = fmin(tolerance_mm, r);
+    const double a[SR_INSPECT_SCALE_STOPS] = {-r, -t, -t, t, t, r};
+    for (int i = 0; i < SR_INSPECT_SCALE_STOPS; i++) {
+        at[i] = a[i];
+        rgb[i] = c[i];
+    }
+}
+
+void sr_inspect_colour(double tolerance_mm, double allowance_mm, double d, float rgb[3])
+{
+    double at[SR_INSPECT_SCALE_STOPS];
+    unsigned c[SR_INSPECT_SCALE_STOPS];
+    sr_inspect_scale(tolerance_mm, allowance_mm, at, c);
+    int lo = 0, hi = 0;
+    double f = 0;
+    if (!(d > at[0])) {
+        lo = hi = 0;
+    } else if (d >= at[SR_INSPECT_SCALE_STOPS - 1]) {
+        lo = hi = SR_INSPECT_SCALE_STOPS - 1;
+    } else {
+        for (int i = 0; i + 1 < SR_INSPECT_SCALE_STOPS; i++)
+            if (d <= at[i + 1] && at[i + 1] > at[i]) {
+                lo = i;
+                hi = i + 1;
+                f = (d - at[i]) / (at[i + 1] - at[i]);
+                break;
+            }
+    }
+    for (int k = 0; k < 3; k++) {
+        double a = (double)((c[lo] >> (16 - 8 * k)) & 0xff) / 255.0;
+        double b = (double)((c[hi] >> (16 - 8 * k)) & 0xff) / 255.0;
+        rgb[k] = (float)(a + (b - a) * f);
+    }
+}

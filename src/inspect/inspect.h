@@ -118,6 +118,27 @@ typedef struct sr_inspect_result {
 sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspect_opts *opts,
                          sr_inspect_result *out, sr_err *err);
 
+/* The signed distance of each vertex of `scan` (already in the model's frame) to the
+ * surface of `model` (positive outside) into dev (scan->vertex_count, the caller's):
+ * the deviations of an inspection recomputed from its stored scan and transform, as
+ * the report colours them (the same figures as sr_inspect_result's deviation for
+ * those vertices). SR_E_INVALID when the model has no triangle with an area; SR_E_NOMEM. */
+sr_status sr_inspect_deviations(const sr_mesh *model, const sr_mesh *scan, double *dev,
+                                sr_err *err);
+
+/* The colour scale of deviations (the report's legend and view, the GLB's vertex
+ * colours): SR_INSPECT_SCALE_STOPS (deviation mm, 0xRRGGBB sRGB) stops, left to right,
+ * linear between them, the end colours beyond: deep blue at -range to light blue at
+ * -tolerance (material short), green over the tolerance band, yellow at +tolerance to
+ * red at +range (stock). The range is the larger of twice the allowance and five
+ * tolerances (1.0 when that is not positive). */
+#define SR_INSPECT_SCALE_STOPS 6
+double sr_inspect_scale_range(double tolerance_mm, double allowance_mm);
+void sr_inspect_scale(double tolerance_mm, double allowance_mm, double at[SR_INSPECT_SCALE_STOPS],
+                      unsigned rgb[SR_INSPECT_SCALE_STOPS]);
+/* The colour of deviation d on that scale, sRGB components in 0..1. */
+void sr_inspect_colour(double tolerance_mm, double allowance_mm, double d, float rgb[3]);
+
 /* Frees the arrays of a result and zeroes it; accepts NULL. */
 void sr_inspect_release(sr_inspect_result *r);
 

@@ -208,6 +208,18 @@ static void flush_words(words *w)
     w->fill = 0;
 }
 
+/* n values as float32 words, flushed. */
+static void put_f32(words *w, const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        float f = (float)v[i];
+        uint32_t u;
+        memcpy(&u, &f, 4);
+        put_word(w, u);
+    }
+    flush_words(w);
+}
+
 void rp_put_mesh(sb *b, const sr_mesh *m)
 {
     sb_printf(b, "{\"nv\":%zu,\"nt\":%zu,\"v\":\"", m->vertex_count, m->tri_count);
@@ -218,17 +230,24 @@ void rp_put_mesh(sb *b, const sr_mesh *m)
     }
     w->b = b;
     w->fill = 0;
-    for (size_t i = 0; i < 3 * m->vertex_count; i++) {
-        float f = (float)m->xyz[i];
-        uint32_t u;
-        memcpy(&u, &f, 4);
-        put_word(w, u);
-    }
-    flush_words(w);
+    put_f32(w, m->xyz, 3 * m->vertex_count);
     sb_put(b, "\",\"t\":\"");
     for (size_t i = 0; i < 3 * m->tri_count; i++)
         put_word(w, m->tri[i]);
     flush_words(w);
     free(w);
     sb_put(b, "\"}");
+}
+
+void rp_put_floats(sb *b, const double *v, size_t n)
+{
+    words *w = malloc(sizeof *w);
+    if (!w) {
+        b->failed = true;
+        return;
+    }
+    w->b = b;
+    w->fill = 0;
+    put_f32(w, v, n);
+    free(w);
 }

@@ -409,6 +409,7 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     rp_plan_table(&b, run, plans);
     section_table(&b, run);
     rp_nominal_section(&b, run);
+    rp_inspection_section(&b, opts ? opts->inspection : NULL);
     advice_table(&b, run);
     params_tables(&b, run);
 
@@ -479,6 +480,7 @@ sr_status sr_report_html(const sr_run *run, const sr_report_opts *opts, char **o
     }
     sb_put(&b, "]");
     rp_put_plans(&b, run, plans);
+    rp_put_inspection(&b, opts ? opts->inspection : NULL);
     sb_put(&b, "}</script>\n<script id=\"three-js\">\n");
     sb_put(&b, sr_report_three_js);
     sb_put(&b, "\n</script>\n<script>\n");

@@ -35,9 +35,28 @@
 
 #include <stddef.h>
 
+#include "inspect/inspect.h"
 #include "plan/plan.h"
 #include "run/run.h"
 #include "base/status.h"
+
+/* The run's latest inspection (issue 20), for the page's inspection section: the scan
+ * after repair in 3D coloured by its signed deviation from the restored model (a scale
+ * in mm, the tolerance band marked) and the per-section table. */
+typedef struct sr_report_inspection {
+    long long id;
+    const char *inspected_at; /* UTC, ISO 8601 */
+    const char *verdict;      /* "pass", "machine", "rework" */
+    const char *reasons;
+    double tolerance_mm, allowance_mm;
+    const sr_inspect_section *sections;
+    size_t section_count;
+    const sr_mesh *scan;     /* the scan after repair in the restored model's frame, as
+                                 * shown: not decimated here (the caller reduces it first);
+                                 * NULL = only the table */
+    const double *deviation; /* scan->vertex_count signed deviations, mm (positive:
+                                 * stock above the restored surface) */
+} sr_report_inspection;
 
 typedef struct sr_report_opts {
     size_t max_triangles; /* viewer budget, the restored part and the patches
@@ -53,6 +72,7 @@ typedef struct sr_report_opts {
     const sr_mesh *scan;        /* the instance's scan (scan frame), shown in the 3D view
                                  * on demand; NULL = none. It is decimated to a quarter of
                                  * the budget and not counted in sr_report_info. */
+    const sr_report_inspection *inspection; /* NULL = the run was not inspected */
 } sr_report_opts;
 
 /* Figures of what the viewer got, for the caller's messages. */

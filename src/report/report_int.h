@@ -7,6 +7,7 @@
  *   report_plans.c  the build plan of each section, its table and its data
  *   report_cells.c  the feature and advice cells, readable, from the stored JSON
  *   report_nominal.c the "symmetry vs nominal" section (rp_nominal_section)
+ *   report_inspect.c the inspection section and its data (rp_inspection_section)
  *   report_data.c   the data block's meshes and layer outlines, compactly encoded
  *   decimate.c      meshes reduced to the display budget (sr_report_decimate)
  *   report.css, report.js, report_view.js  the stylesheet and the scripts (report.js:
@@ -49,6 +50,18 @@ void sb_jnum(sb *b, double v, const char *fmt);
 /* The section comparing the run's symmetry sections with the nominal's second
  * opinion; nothing when r->nominal is NULL. */
 void rp_nominal_section(sb *b, const sr_run *r);
+
+/* ---- the inspection (report_inspect.c) ---- */
+
+/* The half-width of the deviation colour scale, mm (sr_inspect_scale_range). */
+double rp_inspection_range(const sr_report_inspection *ins);
+/* The "Inspection" section (3D canvas, colour scale legend, per-section table);
+ * nothing when ins is NULL. */
+void rp_inspection_section(sb *b, const sr_report_inspection *ins);
+/* The data block's "inspection" member (",\"inspection\":{...}"): the scale and, when
+ * the scan is given, the mesh and its deviations (base64 float32); nothing when ins is
+ * NULL. */
+void rp_put_inspection(sb *b, const sr_report_inspection *ins);
 
 /* ---- build plans (report_plans.c) ---- */
 
@@ -99,5 +112,7 @@ void rp_put_layers(sb *b, const sr_run *r);
 /* A mesh as {"nv", "nt", "v": base64 of nv x 3 float32 (little-endian), "t": base64 of
  * nt x 3 uint32}. */
 void rp_put_mesh(sb *b, const sr_mesh *m);
+/* n values as base64 of float32, little-endian (no quotes). */
+void rp_put_floats(sb *b, const double *v, size_t n);
 
 #endif

@@ -9,6 +9,11 @@
  * right-drag pans, the wheel zooms; frames are drawn on demand only. Without WebGL the
  * canvas gives way to a note. Sets body's data-view ("webgl", "fallback", "none"),
  * data-gl (the renderer) and data-redraw-ms (the last frame's time). Plain ES5.
+ * The second function draws the inspection's scan after repair (data.inspection) on
+ * its own canvas, each vertex coloured by its signed deviation through the page's
+ * colour stops (the legend's), seen from outside the part on the side where the
+ * deviations beyond the tolerance lie (their centroid), the axis up; drag
+ * rotates, the wheel zooms. Sets body's data-inspect-view ("webgl", "fallback", "none").
  * Compiled into the binary by the Makefile (report_assets.h), this opening comment left
  * out, every line as it is.
  */
@@ -79,4 +84,45 @@ cv.addEventListener('pointermove',function(ev){if(!drag)return;var dx=ev.clientX
 cv.addEventListener('wheel',function(ev){ev.preventDefault();var off=camera.position.clone().sub(target).multiplyScalar(ev.deltaY<0?1/1.1:1.1);camera.position.copy(target).add(off);later();},{passive:false});
 var rs=document.getElementById('reset-view');if(rs)rs.addEventListener('click',function(){home();later();});
 draw();body.setAttribute('data-view','webgl');
+})();
+(function(){'use strict';
+var data=JSON.parse(document.getElementById('report-data').textContent),ins=data.inspection;
+var cv=document.getElementById('inspect-view'),body=document.body;
+if(!ins||!ins.scan||!cv){body.setAttribute('data-inspect-view','none');return;}
+var T=window.THREE,renderer;
+function b64(s){var t=atob(s),u=new Uint8Array(t.length);for(var i=0;i<t.length;i++)u[i]=t.charCodeAt(i);return u.buffer;}
+try{if(!T||!window.WebGLRenderingContext)throw 0;renderer=new T.WebGLRenderer({canvas:cv,antialias:false,preserveDrawingBuffer:true});}
+catch(e){cv.hidden=true;body.setAttribute('data-inspect-view','fallback');return;}
+renderer.setClearColor(0xffffff,1);
+var m=ins.scan,v=new Float32Array(b64(m.v),0,3*m.nv),t=new Uint32Array(b64(m.t),0,3*m.nt),dev=new Float32Array(b64(ins.deviation),0,m.nv);
+var st=ins.stops.map(function(s){return {at:s[0],c:new T.Color(s[1])};}),col=new Float32Array(3*m.nv);
+/* the colour of d: linear between the stops around it, the end colours beyond them */
+function colour(d){if(!(d>st[0].at))return st[0].c;var n=st.length;if(d>=st[n-1].at)return st[n-1].c;
+ for(var i=0;i+1<n;i++)if(d<=st[i+1].at&&st[i+1].at>st[i].at){var f=(d-st[i].at)/(st[i+1].at-st[i].at);return st[i].c.clone().lerp(st[i+1].c,Math.max(0,Math.min(1,f)));}
+ return st[n-1].c;}
+for(var i=0;i<m.nv;i++){var c=colour(dev[i]);col[3*i]=c.r;col[3*i+1]=c.g;col[3*i+2]=c.b;}
+var g=new T.BufferGeometry();g.setAttribute('position',new T.BufferAttribute(v,3));g.setAttribute('color',new T.BufferAttribute(col,3));g.setIndex(new T.BufferAttribute(t,1));
+var mat=new T.MeshPhongMaterial({vertexColors:T.VertexColors!==undefined?T.VertexColors:true,flatShading:true,side:T.DoubleSide,shininess:8});
+var scene=new T.Scene();scene.add(new T.Mesh(g,mat));g.computeBoundingBox();
+var ctr=g.boundingBox.min.clone().add(g.boundingBox.max).multiplyScalar(0.5),rad=Math.max(1e-6,g.boundingBox.max.clone().sub(g.boundingBox.min).length()/2);
+var camera=new T.PerspectiveCamera(35,cv.width/cv.height,rad/100,rad*100);scene.add(camera);
+var sun=new T.DirectionalLight(0xffffff,0.7);sun.position.set(0.3,0.6,1);camera.add(sun);scene.add(new T.AmbientLight(0xffffff,0.5));
+var up=new T.Vector3(0,0,1);if(data.alignment){var A=data.alignment;up.set(A[8],A[9],A[10]);if(!(up.length()>0))up.set(0,0,1);up.normalize();}
+/* seen from outside along centre -> the centroid of the vertices off the band, a little from above */
+var dir=new T.Vector3(1,-1,0.6).normalize(),off=new T.Vector3(),no=0,tol=ins.tolerance_mm;
+for(var i=0;i<m.nv;i++)if(Math.abs(dev[i])>tol){off.x+=v[3*i];off.y+=v[3*i+1];off.z+=v[3*i+2];no++;}
+if(no){off.multiplyScalar(1/no).sub(ctr);if(off.length()>1e-3*rad){dir=off.normalize();if(Math.abs(dir.dot(up))<0.8)dir.addScaledVector(up,0.35).normalize();}}
+if(Math.abs(dir.dot(up))>0.97)dir=Math.abs(up.z)<0.9?new T.Vector3(0,0,1):new T.Vector3(1,0,0);
+camera.up.copy(up);camera.position.copy(ctr).addScaledVector(dir,rad/Math.tan(17.5*Math.PI/180)*1.05);camera.lookAt(ctr);
+var pending=false;function draw(){pending=false;renderer.render(scene,camera);}
+function later(){if(!pending){pending=true;window.requestAnimationFrame(draw);}}
+var drag=null;
+cv.addEventListener('pointerdown',function(ev){drag={x:ev.clientX,y:ev.clientY};cv.setPointerCapture(ev.pointerId);});
+cv.addEventListener('pointerup',function(){drag=null;});
+cv.addEventListener('pointermove',function(ev){if(!drag)return;var dx=ev.clientX-drag.x,dy=ev.clientY-drag.y;drag.x=ev.clientX;drag.y=ev.clientY;
+ var off=camera.position.clone().sub(ctr);off.applyQuaternion(new T.Quaternion().setFromAxisAngle(camera.up,-dx*0.01));
+ var r2=new T.Vector3().crossVectors(off,camera.up).normalize(),o2=off.clone().applyQuaternion(new T.Quaternion().setFromAxisAngle(r2,-dy*0.01));
+ if(Math.abs(o2.clone().normalize().dot(camera.up))<0.995)off=o2;camera.position.copy(ctr).add(off);camera.lookAt(ctr);later();});
+cv.addEventListener('wheel',function(ev){ev.preventDefault();var off=camera.position.clone().sub(ctr).multiplyScalar(ev.deltaY<0?1/1.1:1.1);camera.position.copy(ctr).add(off);later();},{passive:false});
+draw();body.setAttribute('data-inspect-view','webgl');
 })();

@@ -8,11 +8,20 @@
 // have them (as many as the page's data holds), the feature table with the expected
 // rows and no JSON in any table cell, the page without WebGL (its note instead of the
 // canvas, no error), and the page printed to PDF (A4) in at most MAX_PAGES pages
-// (counted as the PDF's /Type /Page objects).
+// (counted as the PDF's /Type /Page objects). With INSPECTION_ROWS, the run's
+// inspection section (issue 20) too: its canvas drawn in WebGL with the deviation
+// colours the data ask for (read back from the canvas: the blue of material short,
+// the green of the tolerance band, the yellow to red of stock, each present when at
+// least 5 % of the scan's vertices call for it), the colour scale's legend (its
+// gradient, five ticks symmetric about 0 with the tolerance among them, the band
+// framed where the ticks put it) and the table with INSPECTION_ROWS rows, each with
+// a verdict; without it the page must have no inspection section.
 //
 //   node tests/browser/check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER] [MAX_PAGES]
+//                                      [INSPECTION_ROWS]
 //
-// SYMREC_REPORT_PDF=FILE keeps the PDF, SYMREC_REPORT_PNG=FILE the screenshot.
+// SYMREC_REPORT_PDF=FILE keeps the PDF, SYMREC_REPORT_PNG=FILE the screenshot,
+// SYMREC_REPORT_INSPECT_PNG=FILE the inspection's canvas.
 //
 // The browser is Debian's chromium-headless-shell (or $SYMREC_BROWSER / BROWSER, any
 // Chromium), driven over the DevTools protocol on a pipe (--remote-debugging-pipe:
@@ -25,10 +34,11 @@ const fs = require('fs');
 const os = require('os');
 const path = require('path');
 
-const [, , reportArg, rowsArg, browserArg, pagesArg] = process.argv;
+const [, , reportArg, rowsArg, browserArg, pagesArg, inspectArg] = process.argv;
+const inspectRows = inspectArg === undefined || inspectArg === '' ? -1 : parseInt(inspectArg, 10);
 const maxPages = pagesArg ? parseInt(pagesArg, 10) : 4;
 if (!reportArg || rowsArg === undefined) {
-  console.error('usage: node check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER] [MAX_PAGES]');
+  console.error('usage: node check_report.js REPORT.html EXPECTED_SECTION_ROWS [BROWSER] [MAX_PAGES] [INSPECTION_ROWS]');
   process.exit(2);
 }
 const candidates = [browserArg, process.env.SYMREC_BROWSER, '/usr/bin/chromium-headless-shell',
@@ -192,6 +202,62 @@ async function main() {
       `hiding the patches did not take their orange away (${JSON.stringify(z)})`);
   }
   check(v.jsonCells === 0, `${v.jsonCells} table cells show JSON`);
+  // the inspection: canvas colours against the data's deviations, legend, table
+  v.inspection = await evaluate(`(function(){
+    var sec = document.getElementById('inspection');
+    if (!sec) return null;
+    var data = JSON.parse(document.getElementById('report-data').textContent).inspection;
+    var cv = document.getElementById('inspect-view'), want = { blue: 0, green: 0, warm: 0 }, got = { blue: 0, green: 0, warm: 0, all: 0 };
+    if (data && data.scan) {
+      var t = atob(data.deviation), u = new Uint8Array(t.length);
+      for (var i = 0; i < t.length; i++) u[i] = t.charCodeAt(i);
+      var dev = new Float32Array(u.buffer, 0, data.scan.nv), tol = data.tolerance_mm;
+      for (var i = 0; i < dev.length; i++) want[dev[i] < -tol ? 'blue' : dev[i] > tol ? 'warm' : 'green'] += 1 / dev.length;
+    }
+    if (cv && !cv.hidden) {
+      var c = document.createElement('canvas'); c.width = cv.width; c.height = cv.height;
+      var g = c.getContext('2d'); g.drawImage(cv, 0, 0); var d = g.getImageData(0, 0, c.width, c.height).data;
+      got.all = d.length / 4;
+      for (var i = 0; i < d.length; i += 4) { var R = d[i], G = d[i+1], B = d[i+2];
+        if (B > R + 30 && B > G - 60 && !(G > B + 20)) got.blue++;
+        else if (G > R + 30 && G > B + 20) got.green++;
+        else if (R > B + 60 && R > 90) got.warm++; }
+    }
+    var ticks = Array.prototype.map.call(document.querySelectorAll('#inspect-scale .tick'), function (e) {
+      return { v: parseFloat(e.textContent), left: parseFloat(e.style.left) }; });
+    var band = document.getElementById('inspect-band'), bar = document.querySelector('#inspect-scale .scale-bar');
+    var rows = Array.prototype.map.call(document.querySelectorAll('#inspection-table tbody tr'),
+      function (r) { return r.cells[1].textContent; });
+    return { view: document.body.getAttribute('data-inspect-view'), canvas: !!cv, want: want, got: got,
+      tol: data ? data.tolerance_mm : null, ticks: ticks,
+      band: band ? { left: parseFloat(band.style.left), width: parseFloat(band.style.width) } : null,
+      gradient: bar ? getComputedStyle(bar).backgroundImage : '', rows: rows,
+      png: cv && !cv.hidden ? cv.toDataURL('image/png').split(',')[1] : '' };
+  })()`);
+  const ins = v.inspection;
+  if (ins && process.env.SYMREC_REPORT_INSPECT_PNG) fs.writeFileSync(process.env.SYMREC_REPORT_INSPECT_PNG, Buffer.from(ins.png, 'base64'));
+  if (ins) delete ins.png;
+  if (inspectRows < 0) {
+    check(ins === null, 'an inspection section on the page of a run without inspection');
+  } else if (!ins) {
+    failures.push('no inspection section on the page');
+  } else {
+    check(ins.canvas && ins.view === 'webgl', `inspection view: canvas ${ins.canvas}, data-inspect-view '${ins.view}'`);
+    ['blue', 'green', 'warm'].forEach((k) => check(ins.want[k] < 0.05 || ins.got[k] > 200,
+      `inspection view: ${(100 * ins.want[k]).toFixed(1)} % of the vertices call for ${k} but ${ins.got[k]} pixels show it`));
+    check(ins.got.blue + ins.got.green + ins.got.warm > 0.03 * ins.got.all,
+      `inspection view: deviation colours on only ${ins.got.blue + ins.got.green + ins.got.warm} of ${ins.got.all} pixels`);
+    check(/linear-gradient/.test(ins.gradient), `colour scale: no gradient ('${ins.gradient.slice(0, 80)}')`);
+    const tv = ins.ticks.map((t) => t.v);
+    check(tv.length === 5 && Math.abs(tv[0] + tv[4]) < 1e-9 && tv[2] === 0 && tv[0] < -ins.tol &&
+      Math.abs(tv[3] - ins.tol) < 0.005 && Math.abs(tv[1] + ins.tol) < 0.005,
+      `colour scale ticks ${JSON.stringify(tv)} (tolerance ${ins.tol} mm)`);
+    check(ins.band && tv.length === 5 && Math.abs(ins.band.left - ins.ticks[1].left) < 0.02 &&
+      Math.abs(ins.band.left + ins.band.width - ins.ticks[3].left) < 0.02,
+      `tolerance band ${JSON.stringify(ins.band)} not between the ticks ${JSON.stringify(ins.ticks)}`);
+    check(ins.rows.length === inspectRows && ins.rows.every((r) => /^(pass|machine|rework)$/.test(r)),
+      `inspection table rows ${JSON.stringify(ins.rows)}, expected ${inspectRows} with verdicts`);
+  }
   // the screenshot decoded by the browser: pixels of the part's grey (#a8b0bc, shaded)
   // and of the patches' orange (#e8601c, shaded) against the white background
   v.pixels = { part: 0, patch: 0, ink: 0, all: 0 };
@@ -265,7 +331,10 @@ function finish(v) {
     `${v.pages} A4 pages printed, ${v.polylines} outline ` +
     `polylines, ${v.rows} feature rows (${v.classes.join(', ')}), ${v.advice} advice rows, ` +
     `tool paths drawn in ${v.planned} plan layers (${v.pathsDrawn} paths)` +
-    (v.replaced ? `, ${v.replaced} section(s) advised replace` : ''));
+    (v.replaced ? `, ${v.replaced} section(s) advised replace` : '') +
+    (v.inspection ? `; inspection drawn (${v.inspection.got.blue} blue, ${v.inspection.got.green} ` +
+      `green, ${v.inspection.got.warm} warm pixels), scale ${v.inspection.ticks.map((t) => t.v).join(' ')} mm, ` +
+      `${v.inspection.rows.length} section rows (${v.inspection.rows.join(', ')})` : ''));
   process.exit(0);
 }
 main().then(finish, (e) => {
