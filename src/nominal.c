@@ -455,7 +455,8 @@ static int by_cell_volume_desc(const void *a, const void *b)
 static sr_status cell_pieces(nominal_cell_pieces *cp, size_t count, double min_vol,
                              sr_nominal_result *r, double **shares, sr_err *err)
 {
-    qsort(cp->pieces, cp->count, sizeof *cp->pieces, by_cell_volume_desc);
+    if (cp->count) /* pieces is NULL without any */
+        qsort(cp->pieces, cp->count, sizeof *cp->pieces, by_cell_volume_desc);
     r->pieces = calloc(cp->count + 1, sizeof *r->pieces);
     *shares = malloc((cp->count + 1) * (count + 1) * sizeof **shares);
     if (!r->pieces || !*shares)
