@@ -176,6 +176,67 @@ static void cover_pass(const sr_voxels *g, const local_box *b, uint8_t *covered,
             }
 }
 
+/* Marks in `covered` (as 2) the section voxels still uncovered that the air reaches
+ * through uncovered section voxels (air: neither the scan's material nor the section,
+ * or beyond the box); the others stay 0. Returns 1 when some uncovered voxel is sealed
+ * (not reached); clears the marks before returning. */
+static int sealed_pocket(const sr_voxels *g, const local_box *b, uint8_t *covered)
+{
+    size_t nx = b->nx, ny = b->ny, nz = b->nz, cells = nx * ny * nz;
+    size_t *queue = malloc(cells * sizeof *queue);
+    if (!queue)
+        return 0;
+    size_t head = 0, tail = 0, open = 0;
+    for (size_t k = 0; k < nz; k++)
+        for (size_t j = 0; j < ny; j++)
+            for (size_t i = 0; i < nx; i++) {
+                size_t q = sr_img_lidx(b, i, j, k);
+                if (b->sec[q] != 1 || covered[q])
+                    continue;
+                open++;
+                int air = i == 0 || j == 0 || k == 0 || i + 1 == nx || j + 1 == ny || k + 1 == nz;
+                const long d[6][3] = {{-1, 0, 0}, {1, 0, 0},  {0, -1, 0},
+                                      {0, 1, 0},  {0, 0, -1}, {0, 0, 1}};
+                for (int e = 0; !air && e < 6; e++) {
+                    size_t ii = (size_t)((long)i + d[e][0]), jj = (size_t)((long)j + d[e][1]),
+                           kk = (size_t)((long)k + d[e][2]);
+                    size_t w = sr_voxel_index(g, b->i0 + ii, b->j0 + jj, b->k0 + kk);
+                    air = b->sec[sr_img_lidx(b, ii, jj, kk)] != 1 && !(g->v[w] & 1);
+                }
+                if (air) {
+                    covered[q] = 2;
+                    queue[tail++] = q;
+                }
+            }
+    while (head < tail) {
+        size_t q = queue[head++];
+        size_t i = q % nx, j = (q / nx) % ny, k = q / (nx * ny);
+        size_t nb[6];
+        int m = 0;
+        if (i > 0)
+            nb[m++] = q - 1;
+        if (i + 1 < nx)
+            nb[m++] = q + 1;
+        if (j > 0)
+            nb[m++] = q - nx;
+        if (j + 1 < ny)
+            nb[m++] = q + nx;
+        if (k > 0)
+            nb[m++] = q - nx * ny;
+        if (k + 1 < nz)
+            nb[m++] = q + nx * ny;
+        for (int e = 0; e < m; e++)
+            if (b->sec[nb[e]] == 1 && !covered[nb[e]]) {
+                covered[nb[e]] = 2;
+                queue[tail++] = nb[e];
+            }
+    }
+    for (size_t q = 0; q < tail; q++)
+        covered[queue[q]] = 0;
+    free(queue);
+    return tail < open;
+}
+
 /* The images whose material covers the section, best first (greedy cover): each
  * scored by the section voxels it newly covers less the band voxels where it
  * disagrees with the scan. Writes up to MAX_IMAGES indices; returns how many. */
@@ -236,6 +297,26 @@ static size_t choose_images(const sr_voxels *g, const local_box *b, const sr_ima
         done_voxels += (size_t)newly;
         if ((double)done_voxels >= (1 - FURTHER_SHARE) * (double)section_voxels)
             break;
+    }
+    /* a pocket the chosen images leave empty inside the section, away from the air (an
+     * image carried a hole of the design into it): it would be a void inside the
+     * restored part, whatever its share; the image that fills most of it is added */
+    while (chosen < MAX_IMAGES && sealed_pocket(g, b, covered)) {
+        memset(cover, 0, n_im * sizeof *cover);
+        cover_pass(g, b, covered, im, n_im, z_lo, z_hi, glide, cover, 0);
+        size_t best = n_im;
+        for (size_t m = 0; m < n_im; m++) {
+            int used = 0;
+            for (size_t u = 0; u < chosen; u++)
+                used |= pick[u] == m;
+            if (!used && cover[m] > 0 && (best == n_im || cover[m] > cover[best]))
+                best = m;
+        }
+        if (best == n_im)
+            break;
+        pick[chosen++] = best;
+        long newly = 0;
+        cover_pass(g, b, covered, &im[best], 1, z_lo, z_hi, glide, &newly, 1);
     }
 done:
     free(covered);
