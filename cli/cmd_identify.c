@@ -22,13 +22,15 @@ static const char usage_identify[] =
     "kept) is closest to the scan's are registered to it (rigid, trimmed: up to a\n"
     "quarter of the part may be missing) and ranked by score. For each: the part\n"
     "number and name, the score (0..1: coverage x (1 - lacking), less for a large RMS),\n"
-    "the coverage (% of the scan's surface within the tolerance of the part), the RMS\n"
+    "the coverage (% of the scan's surface within the tolerance of the part; in\n"
+    "--json also \"inside\": % farther, inside the part's solid: fracture faces), the RMS\n"
     "distance of that surface (mm), how much of the part the scan lacks (% of the\n"
     "part's surface farther than the tolerance from the scan) and the rigid transform\n"
     "from the scan to the part's frame (rotation in degrees, move in mm).\n"
     "\n"
-    "Then the verdict: `match` (the first explains the scan: coverage >= 80 %, lacking\n"
-    "<= 30 %, RMS <= a quarter of the tolerance, and the next other design scores at\n"
+    "Then the verdict: `match` (the first explains the scan: coverage >= 50 % and with\n"
+    "the fracture faces inside the part >= 80 %, lacking <= 30 %, RMS <= a quarter of\n"
+    "the tolerance, and the next other design scores at\n"
     "least 0.05 less), `too close to call` (two designs within 0.05), or `no match`\n"
     "(no part explains the scan: it is of a part not in the catalogue). Parts within\n"
     "0.05 of the first whose intact meshes are the first's (each within the tolerance\n"
@@ -49,8 +51,8 @@ static const char usage_identify[] =
     "             \"too_close\", \"no_match\"), \"match\" (the part number, or null),\n"
     "             \"same_design\" (the other numbers of the matched design),\n"
     "             \"candidates\": [{\"rank\", \"part\", \"name\", \"score\", \"coverage\",\n"
-    "             \"rms_mm\", \"lacking\", \"descriptor_distance\", \"rotation_deg\",\n"
-    "             \"translation_mm\", \"matrix\" (3 x 4 rows, scan -> part)}]}\n"
+    "             \"inside\", \"rms_mm\", \"lacking\", \"descriptor_distance\",\n"
+    "             \"rotation_deg\", \"translation_mm\", \"matrix\" (3 x 4 rows, scan -> part)}]}\n"
     "\n"
     "Exit 0 with an answer, `no match` included; 1 when the scan cannot be read or the\n"
     "catalogue holds no part with a mesh; 2 for a usage error.\n";
@@ -112,6 +114,8 @@ static int print_json(const sr_identify_result *res, const char *scan)
         json_number(&j, c->fit.score);
         json_key(&j, "coverage");
         json_number(&j, c->fit.coverage);
+        json_key(&j, "inside");
+        json_number(&j, c->fit.inside);
         json_key(&j, "rms_mm");
         json_number(&j, c->fit.rms_mm);
         json_key(&j, "lacking");
@@ -176,9 +180,9 @@ int cli_identify_print(const sr_identify_result *res, const char *scan, bool jso
         printf("too close to call: parts '%s' and '%s' score %.3f and %.3f\n", cli_tx(a->number),
                cli_tx(res->cand[k].number), a->fit.score, res->cand[k].fit.score);
     } else
-        printf("no match: no part explains the scan (best: '%s', %.1f %% of the scan on it, "
-               "%.1f %% of it lacking)\n",
-               cli_tx(a->number), 100 * a->fit.coverage, 100 * a->fit.lacking);
+        printf("no match: no part explains the scan (best: '%s', %.1f %% of the scan on it "
+               "and %.1f %% inside it, %.1f %% of it lacking)\n",
+               cli_tx(a->number), 100 * a->fit.coverage, 100 * a->fit.inside, 100 * a->fit.lacking);
     return ok ? CLI_OK : CLI_FAIL;
 }
 

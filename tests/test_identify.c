@@ -27,11 +27,14 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "align/identify.h"
 #include "align/shape_descriptor.h"
+#include "bridge/boolean.h"
 #include "bridge/mesh_io.h"
 #include "catalog/catalog_identify.h"
 #include "catalog/catalog_int.h"
 #include "mesh/mesh.h"
+#include "mesh/shapes.h"
 #include "support/test_select.h"
 #include "support/tmpdir.h"
 
@@ -440,6 +443,51 @@ static void identify_two_designs_within_the_margin_are_too_close(void **state)
     assert_int_equal(sr_catalog_part_remove(f->cat, "u_clamp_wider", 0, NULL, NULL), SR_OK);
 }
 
+/* A shaft (r 10, 100 long) with a deep slit (2 mm wide, 18 deep, 60 long) cut in: the
+ * slit's faces are a quarter of the scan's area, so only three quarters of the scan
+ * lie on the part; the rest lies inside it. It is the part's scan all the same, and a
+ * thicker shaft that could hold the whole scan is not. */
+static void identify_counts_fracture_faces_inside_the_part(void **state)
+{
+    (void)state;
+    sr_mesh shaft, thick, slit, scan;
+    sr_err err;
+    assert_int_equal(sr_shape_cylinder(10, 0, 100, 96, &shaft, &err), SR_OK);
+    assert_int_equal(sr_shape_cylinder(13, -5, 105, 96, &thick, &err), SR_OK);
+    const double lo[3] = {-8, -1, 20}, hi[3] = {11, 1, 80};
+    assert_int_equal(sr_shape_box(lo, hi, &slit, &err), SR_OK);
+    if (sr_boolean_difference(&shaft, &slit, &scan, &err) != SR_OK)
+        fail_msg("%s", err.msg);
+    double m[12];
+    const double t[3] = {30, -20, 15};
+    rigid(50, 1, 2, -1, t, m);
+    sr_mesh_transform(&scan, m);
+    sr_identify_scan *sc = NULL;
+    assert_int_equal(sr_identify_scan_make(&scan, 0, &sc, &err), SR_OK);
+    const sr_mesh *parts[2] = {&shaft, &thick};
+    sr_identify_fit fit[2];
+    assert_int_equal(sr_identify_fit_parts(sc, parts, 2, fit, &err), SR_OK);
+    /* the slit's walls: 2 x 18 x 60, its floor and ends; the scan: the shaft's surface
+     * less the slit's mouth, plus those */
+    double walls = 2 * 18 * 60 + 2 * 60 + 2 * 2 * 18;
+    double share = walls / (sr_mesh_area(&shaft) - 2 * 60 + walls);
+    assert_true(share > 0.24);
+    if (!(fit[0].coverage < 0.8 && fit[0].coverage > 1 - share - 0.05))
+        fail_msg("coverage %.3f (the slit %.3f of the scan)", fit[0].coverage, share);
+    if (!(fit[0].coverage + fit[0].inside > 0.97))
+        fail_msg("coverage %.3f + inside %.3f", fit[0].coverage, fit[0].inside);
+    assert_true(sr_identify_fit_matches(&fit[0]));
+    assert_true(fit[0].lacking < 0.05);
+    /* the thick shaft could hold the scan inside it, but lacks most of itself */
+    assert_false(sr_identify_fit_matches(&fit[1]));
+    assert_true(fit[0].score > fit[1].score + 0.3);
+    sr_identify_scan_free(sc);
+    sr_mesh_release(&shaft);
+    sr_mesh_release(&thick);
+    sr_mesh_release(&slit);
+    sr_mesh_release(&scan);
+}
+
 int main(void)
 {
     struct CMUnitTest tests[] = {
@@ -454,6 +502,7 @@ int main(void)
         cmocka_unit_test(identify_says_no_match_without_the_part),
         cmocka_unit_test(identify_two_identical_parts_are_one_design),
         cmocka_unit_test(identify_two_designs_within_the_margin_are_too_close),
+        cmocka_unit_test(identify_counts_fracture_faces_inside_the_part),
     };
     size_t n = sr_test_select(tests, sizeof tests / sizeof tests[0]);
     return _cmocka_run_group_tests("tests", tests, n, group_setup, group_teardown);

@@ -160,6 +160,7 @@ typedef struct al_register_effort {
     size_t keep;
     int medium_iters, fine_iters;
     double give_up;
+    size_t coarse_keep; /* > 0: after one coarse step, only this many starts go on */
 } al_register_effort;
 
 /* The registration of register.h on prepared surfaces and samples of the moving one

@@ -22,7 +22,7 @@
  * a candidate with under 40 % of the scan within 4 tol after the coarse stage is no
  * match (a match needs 80 % within tol), so it is not refined. Coverage at 0.5 % of
  * the size needs no more. */
-static const al_register_effort EFFORT = {8, 0.05, 3, 2, 10, 15, 0.4};
+static const al_register_effort EFFORT = {8, 0.05, 3, 2, 10, 15, 0.4, 30};
 
 struct sr_identify_scan {
     al_surface surf;
@@ -99,11 +99,14 @@ static void invert(const double m[12], double inv[12])
     }
 }
 
-/* Coverage and RMS of the scan's fine samples on part surface `fix` under fit->mat. */
+/* Coverage, RMS and the share inside of the scan's fine samples on part surface `fix`
+ * under fit->mat. Inside: the closest point's face looks away from the sample (a
+ * fracture face lies well inside the solid, away from its edges), searched within a
+ * quarter of the part's size. */
 static void measure_on_part(al_surface *fix, const al_samples *smp, double tol,
                             sr_identify_fit *fit)
 {
-    size_t in = 0;
+    size_t in = 0, inside = 0;
     double sum2 = 0;
     for (size_t i = 0; i < smp->count; i++) {
         double x[3], q[3], n[3], d;
@@ -111,9 +114,13 @@ static void measure_on_part(al_surface *fix, const al_samples *smp, double tol,
         if (al_surface_closest(fix, x, tol, q, n, &d) && d <= tol) {
             in++;
             sum2 += d * d;
+        } else if (al_surface_closest(fix, x, 0.25 * fix->diag, q, n, &d) &&
+                   n[0] * (x[0] - q[0]) + n[1] * (x[1] - q[1]) + n[2] * (x[2] - q[2]) < 0) {
+            inside++;
         }
     }
     fit->coverage = smp->count ? (double)in / (double)smp->count : 0;
+    fit->inside = smp->count ? (double)inside / (double)smp->count : 0;
     fit->rms_mm = in ? sqrt(sum2 / (double)in) : 0;
 }
 
@@ -196,6 +203,7 @@ sr_status sr_identify_fit_parts(sr_identify_scan *s, const sr_mesh *const *parts
 
 int sr_identify_fit_matches(const sr_identify_fit *fit)
 {
-    return fit->coverage >= SR_IDENTIFY_MIN_COVERAGE && fit->lacking <= SR_IDENTIFY_MAX_LACKING &&
+    return fit->coverage + fit->inside >= SR_IDENTIFY_MIN_COVERAGE &&
+           fit->coverage >= SR_IDENTIFY_MIN_ON && fit->lacking <= SR_IDENTIFY_MAX_LACKING &&
            fit->rms_mm <= SR_IDENTIFY_MAX_RMS_TOL * fit->tol_mm;
 }

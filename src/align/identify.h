@@ -11,6 +11,8 @@
  * transform good to the tolerance are wanted. For each fit:
  *   coverage  share of the scan's samples within tol of the part (fracture faces and
  *             a wrong part lower it);
+ *   inside    share of the scan's samples farther than tol but inside the part's solid
+ *             (fracture faces: the scan of a broken part lies on or in its part);
  *   rms_mm    RMS distance of those samples;
  *   lacking   share of the part's samples farther than tol from the scan: what the
  *             scan lacks of the part (the damage, up to about a quarter; a larger
@@ -31,16 +33,19 @@
 /* A match needs all three bounds, each following from what a right part gives and a
  * wrong one cannot:
  *  - coverage: every sample of the scan's own surface lies within tol of the right
- *    part once registered (tol is many times a scan's noise), so only fracture faces
- *    fall outside, and cutting a quarter of the volume off a part leaves at most about
- *    one cross-section of it: for a compact part one face in six, for a plate or a
- *    shaft much less. A part of another shape or size keeps only patches within tol;
+ *    part once registered (tol is many times a scan's noise), and its fracture faces
+ *    inside the part's solid: together at least SR_IDENTIFY_MIN_COVERAGE. A part of
+ *    another shape or size has the scan pass outside it. The fracture faces are not
+ *    bounded by the volume lost (a flat cut along a shaft loses a sixth of the volume
+ *    and leaves a quarter of the scan's area as fracture), but the part's own surface
+ *    is still most of the scan: at least SR_IDENTIFY_MIN_ON within tol;
  *  - lacking: the damage takes at most about a quarter of the part's surface with a
  *    quarter of its volume; a part larger than the scan's lacks more;
  *  - RMS: on the right part the inliers' distances are noise and registration error,
  *    a small fraction of tol; on a wrong part that merely passes near the scan they
  *    spread over [0, tol], an RMS of about tol / sqrt(3) = 0.58 tol. */
 #define SR_IDENTIFY_MIN_COVERAGE 0.80
+#define SR_IDENTIFY_MIN_ON 0.50
 #define SR_IDENTIFY_MAX_LACKING 0.30
 #define SR_IDENTIFY_MAX_RMS_TOL 0.25
 /* The first is too close to call when the second scores within this of it. */
@@ -61,6 +66,7 @@ double sr_identify_scan_tol(const sr_identify_scan *scan);
 typedef struct sr_identify_fit {
     double mat[12];  /* scan -> part frame: p' = M[:, :3] p + M[:, 3] (3 x 4 row-major) */
     double coverage; /* 0..1 */
+    double inside;   /* 0..1: farther than tol, inside the part (fracture faces) */
     double rms_mm;
     double lacking; /* 0..1 */
     double score;   /* 0..1 */

@@ -82,10 +82,22 @@ static bool score_better(const score *a, const score *b)
 
 /* Robust point-to-plane ICP from *p: iters steps, the Tukey cut-off annealed from c0
  * towards 4.685 x the robust scale of the distances (never below floor). */
+static void icp_run(al_surface *fixed, const al_samples *smp, pose *p, int iters, double c0,
+                    double *cut, double floor, double size, double *scratch);
+
 static void icp(al_surface *fixed, const al_samples *smp, pose *p, int iters, double c0,
                 double floor, double size, double *scratch)
 {
     double c = c0;
+    icp_run(fixed, smp, p, iters, c0, &c, floor, size, scratch);
+}
+
+/* icp from the cut-off *cut (capped at c0), which it leaves at the next step's. After
+ * the run, scratch holds the last step's distances, sorted (capped at its cut-off). */
+static void icp_run(al_surface *fixed, const al_samples *smp, pose *p, int iters, double c0,
+                    double *cut, double floor, double size, double *scratch)
+{
+    double c = *cut;
     for (int it = 0; it < iters; it++) {
         double a[36] = {0}, b[6] = {0}, cen[3] = {0, 0, 0};
         size_t used = 0, found = 0;
@@ -166,6 +178,7 @@ static void icp(al_surface *fixed, const al_samples *smp, pose *p, int iters, do
         if (move < 1e-7 * size && it > 2)
             break;
     }
+    *cut = c;
 }
 
 /* The principal frame of a surface: columns = eigenvectors, ascending. */
@@ -181,7 +194,11 @@ static double det3(const double m[9])
 }
 
 /* The start poses: the identity, then E_F S E_M^T for the proper sign choices S, each
- * turned about the fixed principal axes in `turns` steps a turn. Returns the count. */
+ * turned about the fixed principal axes in `turns` steps a turn. The turns of the c-th
+ * sign choice are offset by a golden-ratio share of a step, so that the starts about
+ * an axis do not all fall at one phase of a part's n-fold pattern (with 45 degree
+ * steps, every start of a 16-tooth spline would sit at the same place between two
+ * teeth, where the ICP cannot tell which way to go). Returns the count. */
 static size_t starts(const al_surface *fix, const al_surface *mov, int turns, pose *out, size_t cap)
 {
     double ef[9], em[9], wf[3], wm[3];
@@ -191,10 +208,13 @@ static size_t starts(const al_surface *fix, const al_surface *mov, int turns, po
     size_t n = 0;
     pose id = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
     out[n++] = id;
+    int choice = 0;
     for (int sgn = 0; sgn < 8; sgn++) {
         double s[3] = {sgn & 1 ? -1 : 1, sgn & 2 ? -1 : 1, sgn & 4 ? -1 : 1};
         if (s[0] * s[1] * s[2] != want)
             continue;
+        double golden = 0.6180339887498949 * choice++;
+        double offset = golden - floor(golden); /* of a step */
         /* R0 = EF diag(s) EM^T */
         double r0[9];
         for (int i = 0; i < 3; i++)
@@ -207,7 +227,7 @@ static size_t starts(const al_surface *fix, const al_surface *mov, int turns, po
         for (int axis = 0; axis < 3; axis++)
             for (int step = axis ? 1 : 0; step < turns && n < cap; step++) {
                 double k[3] = {ef[axis], ef[3 + axis], ef[6 + axis]}, rr[9];
-                al_rot_axis(k, step * (2 * M_PI / turns), rr);
+                al_rot_axis(k, (step + (step ? offset : 0)) * (2 * M_PI / turns), rr);
                 pose p = {{0}, {0}};
                 mat3_mul(rr, r0, p.r);
                 double c[3];
@@ -309,10 +329,42 @@ static void fit_from(al_surface *fix, const al_samples *coarse, const al_samples
     double size = fix->diag;
     double floor = fmax(tol / 4, 1e-6 * size);
     score sc[MAX_STARTS];
-    /* every start, briefly, on a few hundred samples */
+    /* every start, briefly, on a few hundred samples; with many starts, one step each
+     * and the rest for those with the most samples near the surface in that step */
+    double c0 = effort->coarse_cutoff * size, cut[MAX_STARTS];
+    int first = effort->coarse_iters;
+    if (effort->coarse_keep && count > effort->coarse_keep && effort->coarse_iters > 1) {
+        size_t near[MAX_STARTS];
+        for (size_t i = 0; i < count; i++) {
+            cut[i] = c0;
+            icp_run(fix, coarse, &cand[i], 1, c0, &cut[i], floor, size, scratch);
+            near[i] = 0;
+            for (size_t k = 0; k < coarse->count && scratch[k] < 4 * tol; k++)
+                near[i]++; /* scratch: the step's distances, sorted */
+        }
+        for (size_t k = 0; k < effort->coarse_keep; k++) {
+            size_t best = k;
+            for (size_t i = k + 1; i < count; i++)
+                if (near[i] > near[best])
+                    best = i;
+            pose tp = cand[k];
+            cand[k] = cand[best];
+            cand[best] = tp;
+            double tc = cut[k];
+            cut[k] = cut[best];
+            cut[best] = tc;
+            size_t tn = near[k];
+            near[k] = near[best];
+            near[best] = tn;
+        }
+        count = effort->coarse_keep;
+        first = effort->coarse_iters - 1;
+    } else {
+        for (size_t i = 0; i < count; i++)
+            cut[i] = c0;
+    }
     for (size_t i = 0; i < count; i++) {
-        icp(fix, coarse, &cand[i], effort->coarse_iters, effort->coarse_cutoff * size, floor, size,
-            scratch);
+        icp_run(fix, coarse, &cand[i], first, c0, &cut[i], floor, size, scratch);
         sc[i] = score_of(fix, coarse, &cand[i], 4 * tol, scratch);
     }
     /* the best few again on a thousand */
@@ -380,7 +432,7 @@ sr_status sr_register(const sr_mesh *moving, const sr_mesh *fixed, const sr_regi
     sr_status st = ctx_make(&c, moving, fixed, n, err);
     if (st != SR_OK)
         return st;
-    static const al_register_effort effort = {12, 0.25, 12, KEEP, 20, 40, 0};
+    static const al_register_effort effort = {12, 0.25, 12, KEEP, 20, 40, 0, 0};
     double tol = tol_of(opts, &c.fix), mat[12];
     al_register_fit(&c.fix, &c.mov, &c.coarse, &c.medium, &c.fine, tol, &effort, mat, c.scratch);
     return finish(&c, mat, tol, out);
@@ -399,7 +451,7 @@ sr_status sr_register_from(const sr_mesh *moving, const sr_mesh *fixed, const do
     if (st != SR_OK)
         return st;
     /* the starts are near: a short first cut-off keeps each closest-point query cheap */
-    static const al_register_effort effort = {0, 0.03, 12, 2, 20, 40, 0};
+    static const al_register_effort effort = {0, 0.03, 12, 2, 20, 40, 0, 0};
     pose cand[MAX_STARTS];
     for (size_t k = 0; k < count; k++)
         for (int i = 0; i < 3; i++) {

@@ -7,7 +7,7 @@
  *   - $SYMREC_IDENTIFY_GEN: colon-separated folders of partgen output (each part a
  *     folder with intact.stl), e.g. the Makefile's IDENTIFY_GEN_DIRS;
  *   - otherwise build/bench-identify/gen, made once by `partgen --seed 6262 --count
- *     100` (20-40 s a part: about half an hour the first time, then cached).
+ *     100 --no-scan` (intact models only; minutes the first time, then cached).
  * Then every shared part's posed (damaged_posed.stl) and noisy (damaged_scan.stl)
  * scan is identified: right when its own part is first with the verdict `match`,
  * alone or among the numbers of one design (identify names a design filed twice as
@@ -83,10 +83,10 @@ static const char *gen_dirs(char *buf, size_t size)
         return buf;
     if (access("../shared/partgen/partgen", X_OK) != 0)
         return NULL;
-    printf("  making 100 distractor parts: partgen --seed 6262 --count 100 (once; about half "
-           "an hour)\n");
-    if (system("../shared/partgen/partgen --seed 6262 --count 100 --out build/bench-identify/gen"
-               " --jobs 2 > build/bench-identify/gen.log 2>&1") != 0)
+    printf("  making 100 distractor parts: partgen --seed 6262 --count 100 --no-scan (once; "
+           "intact models only, about ten minutes)\n");
+    if (system("../shared/partgen/partgen --seed 6262 --count 100 --no-scan --out "
+               "build/bench-identify/gen --jobs 2 > build/bench-identify/gen.log 2>&1") != 0)
         return NULL;
     return buf;
 }
