@@ -4,7 +4,8 @@
  * scans built from it with known answers: a section built up 0.5 mm (machine, 27.125
  * mm3 of stock), one 0.3 mm short over 2 x 4 mm (rework, 2.4 mm3 under-fill), one left
  * damaged (rework, 64 mm3), a noisy scan of a perfect repair (pass), the built-up scan
- * moved away (registered back, the same figures), and the refusals.
+ * moved away (registered back, the same figures), a --no-union run's separate shells
+ * measured as their union, and the refusals.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -273,6 +274,59 @@ static void a_scan_in_another_frame_is_registered_with_the_same_figures(void **s
     sr_run_release(&run);
 }
 
+/* A --no-union run: the restored mesh is the damaged box and the two chips as separate
+ * shells, whose faces meet on the fracture surfaces. The box left damaged at section 2
+ * lies on those hidden faces: still rework with the whole chip under-filled, 4 mm
+ * deep; a perfect repair still passes with no stock. */
+static void a_no_union_run_is_measured_against_the_union_of_its_shells(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_mesh damaged, tmp;
+    op(SR_BOOLEAN_DIFFERENCE, &run.restored, &run.sections[0].patch, &tmp);
+    op(SR_BOOLEAN_DIFFERENCE, &tmp, &run.sections[1].patch, &damaged);
+    sr_mesh_release(&tmp);
+    sr_mesh perfect;
+    assert_int_equal(sr_mesh_copy(&perfect, &run.restored), SR_OK);
+    sr_mesh_release(&run.restored);
+    assert_int_equal(sr_mesh_copy(&run.restored, &damaged), SR_OK);
+    for (size_t k = 0; k < 2; k++)
+        assert_int_equal(sr_mesh_append(&run.restored, &run.sections[k].patch), SR_OK);
+    sr_mesh scan;
+    op(SR_BOOLEAN_DIFFERENCE, &perfect, &run.sections[1].patch, &scan);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    assert_true(strstr(r.model_note, "3 separate solids") != NULL);
+    assert_true(r.volumes_exact);
+    assert_int_equal(r.sections[0].verdict, SR_INSPECT_PASS);
+    const sr_inspect_section *s = &r.sections[1];
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    assert_near(s->underfill_mm3, 64, 0.05 * 64);
+    assert_near(s->underfill_depth_mm, 4, 1e-9);
+    assert_near(s->overbuild_mm3, 0, 1e-6);
+    /* the report's colours: the same deviations, the deepest 4 mm */
+    double *dev = calloc(scan.vertex_count, sizeof *dev), lo = 0;
+    assert_non_null(dev);
+    sr_err err = {{0}};
+    assert_int_equal(sr_inspect_deviations(&run.restored, &scan, dev, &err), SR_OK);
+    for (size_t v = 0; v < scan.vertex_count; v++)
+        lo = fmin(lo, dev[v]);
+    assert_near(lo, -4, 1e-9);
+    free(dev);
+    sr_inspect_release(&r);
+    inspect(&run, &perfect, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_PASS);
+    assert_near(r.sections[1].underfill_mm3, 0, 1e-6);
+    assert_near(r.sections[1].overbuild_mm3, 0, 1e-6);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&perfect);
+    sr_mesh_release(&damaged);
+    sr_run_release(&run);
+}
+
 static void refusals_name_what_is_wrong(void **state)
 {
     (void)state;
@@ -337,6 +391,7 @@ int main(void)
         cmocka_unit_test(a_section_left_damaged_is_rework_with_the_whole_patch_missing),
         cmocka_unit_test(a_noisy_scan_of_a_perfect_repair_passes),
         cmocka_unit_test(a_scan_in_another_frame_is_registered_with_the_same_figures),
+        cmocka_unit_test(a_no_union_run_is_measured_against_the_union_of_its_shells),
         cmocka_unit_test(refusals_name_what_is_wrong),
         cmocka_unit_test(verdict_names_round_trip),
         cmocka_unit_test(deviation_colours_follow_the_scale),

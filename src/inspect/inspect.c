@@ -49,7 +49,8 @@ struct ins_where {
 
 int ins_section_of(ins_where *w, const double p[3], double *signed_dist)
 {
-    double q[3], d = 0, sd = 0;
+    double q[3], sd = 0;
+    double d;
     if (!sr_surface_query_closest(w->model, p, INFINITY, q, &d, &sd)) {
         if (signed_dist)
             *signed_dist = 0;
@@ -80,17 +81,19 @@ int ins_section_of(ins_where *w, const double p[3], double *signed_dist)
 static void where_release(ins_where *w)
 {
     sr_surface_query_free(w->model);
+
     for (size_t k = 0; k < w->count; k++)
         sr_surface_query_free(w->patch ? w->patch[k] : NULL);
     free(w->patch);
     memset(w, 0, sizeof *w);
 }
 
-static sr_status where_build(const sr_run *run, double tol, ins_where *w, sr_err *err)
+static sr_status where_build(const sr_run *run, const sr_mesh *model, double tol, ins_where *w,
+                             sr_err *err)
 {
     memset(w, 0, sizeof *w);
     double lo[3], hi[3];
-    sr_mesh_bbox(&run->restored, lo, hi);
+    sr_mesh_bbox(model, lo, hi);
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
     w->on_mm = 1e-4 * diag + 1e-6;
@@ -98,7 +101,7 @@ static sr_status where_build(const sr_run *run, double tol, ins_where *w, sr_err
     w->patch = calloc(run->section_count ? run->section_count : 1, sizeof *w->patch);
     if (!w->patch)
         return sr_err_set(err, SR_E_NOMEM, "out of memory");
-    sr_status st = sr_surface_query_build(&run->restored, &w->model, err);
+    sr_status st = sr_surface_query_build(model, &w->model, err);
     for (size_t k = 0; st == SR_OK && k < run->section_count; k++) {
         st = sr_surface_query_build(&run->sections[k].patch, &w->patch[k], err);
         w->count = k + 1;
@@ -108,11 +111,11 @@ static sr_status where_build(const sr_run *run, double tol, ins_where *w, sr_err
     return st;
 }
 
-/* The restored mesh without the triangles that lie on a section's patch (the surface
- * the repair rebuilt), for the registration; the whole mesh when nothing is left. */
-static sr_status trimmed_model(const sr_run *run, ins_where *w, sr_mesh *out)
+/* The restored solid m without the triangles that lie on a section's patch (the
+ * surface the repair rebuilt), for the registration; the whole mesh when nothing is
+ * left. */
+static sr_status trimmed_model(const sr_mesh *m, ins_where *w, sr_mesh *out)
 {
-    const sr_mesh *m = &run->restored;
     sr_status st = sr_mesh_alloc(out, m->vertex_count, m->tri_count);
     if (st != SR_OK)
         return st;
@@ -140,12 +143,12 @@ static sr_status trimmed_model(const sr_run *run, ins_where *w, sr_mesh *out)
 }
 
 /* Takes r->scan onto the model: as it is when it lies on it, else registered. */
-static sr_status place_scan(const sr_run *run, ins_where *w, int mode, sr_inspect_result *r,
+static sr_status place_scan(const sr_mesh *model, ins_where *w, int mode, sr_inspect_result *r,
                             sr_err *err)
 {
     sr_mesh trim;
     sr_mesh_init(&trim);
-    sr_status st = trimmed_model(run, w, &trim);
+    sr_status st = trimmed_model(model, w, &trim);
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory");
     sr_register_opts ro = {0};
@@ -342,6 +345,13 @@ static sr_status measure(ins_where *w, sr_inspect_result *r, size_t samples, acc
     return SR_OK;
 }
 
+static void solids_free(sr_mesh *solids, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        sr_mesh_release(&solids[k]);
+    free(solids);
+}
+
 static void fill_section(sr_inspect_section *s, const sr_run_section *rs, const acc *a)
 {
     s->index = rs->index;
@@ -388,8 +398,23 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
         sr_inspect_release(&r);
         return sr_err_set(err, SR_E_NOMEM, "out of memory");
     }
-    st = where_build(run, r.tolerance_mm, &w, err);
+    sr_mesh *solids = NULL, visible;
+    size_t nsolid = 0;
+    sr_mesh_init(&visible);
+    st = ins_solid_shells(&run->restored, &solids, &nsolid, err);
+    if (st == SR_OK && nsolid) {
+        snprintf(r.model_note, sizeof r.model_note,
+                 "the restored mesh is %zu separate solids (a --no-union run): measured "
+                 "against the surface of their union",
+                 nsolid);
+        st = ins_visible_surface(solids, nsolid, &visible, err);
+    }
+    const sr_mesh *model = nsolid ? &visible : &run->restored;
+    if (st == SR_OK)
+        st = where_build(run, model, r.tolerance_mm, &w, err);
     if (st != SR_OK) {
+        sr_mesh_release(&visible);
+        solids_free(solids, nsolid);
         free(accs);
         sr_inspect_release(&r);
         return st;
@@ -403,7 +428,7 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
     if (st != SR_OK)
         sr_err_set(err, st, "out of memory");
     if (st == SR_OK)
-        st = place_scan(run, &w, o.register_mode, &r, err);
+        st = place_scan(model, &w, o.register_mode, &r, err);
     /* a scan point within the registration's tolerance of a patch lies over it */
     w.near_mm = fmax(w.near_mm, r.reg_tol_mm);
     double outside_max = 0;
@@ -418,7 +443,7 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
         r.outside_max_mm = outside_max;
         r.outside_rms_mm = oa->n ? sqrt(oa->sum2 / (double)oa->n) : 0;
         r.outside_overbuild_mm3 = oa->over_est;
-        st = ins_volumes(run, &w, &r, err);
+        st = ins_volumes(run, nsolid ? solids : &run->restored, nsolid ? nsolid : 1, &w, &r, err);
     }
     if (st == SR_OK) {
         for (size_t k = 0; k < ns; k++)
@@ -426,6 +451,8 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
         overall_verdict(&r);
     }
     where_release(&w);
+    solids_free(solids, nsolid);
+    sr_mesh_release(&visible);
     free(accs);
     if (st != SR_OK) {
         sr_inspect_release(&r);
@@ -438,17 +465,24 @@ sr_status sr_inspect_run(const sr_run *run, const sr_mesh *scan, const sr_inspec
 sr_status sr_inspect_deviations(const sr_mesh *model, const sr_mesh *scan, double *dev, sr_err *err)
 {
     sr_surface_query *q = NULL;
-    sr_status st = sr_surface_query_build(model, &q, err);
-    if (st != SR_OK)
-        return st;
-    for (size_t v = 0; v < scan->vertex_count; v++) {
+    sr_mesh *solids = NULL, visible;
+    size_t n = 0;
+    sr_mesh_init(&visible);
+    sr_status st = ins_solid_shells(model, &solids, &n, err);
+    if (st == SR_OK && n)
+        st = ins_visible_surface(solids, n, &visible, err);
+    if (st == SR_OK)
+        st = sr_surface_query_build(n ? &visible : model, &q, err);
+    for (size_t v = 0; st == SR_OK && v < scan->vertex_count; v++) {
         double d = 0, sd = 0;
         if (!sr_surface_query_closest(q, scan->xyz + 3 * v, INFINITY, NULL, &d, &sd))
             sd = 0;
         dev[v] = sd;
     }
     sr_surface_query_free(q);
-    return SR_OK;
+    solids_free(solids, n);
+    sr_mesh_release(&visible);
+    return st;
 }
 
 double sr_inspect_scale_range(double tolerance_mm, double allowance_mm)
