@@ -48,7 +48,8 @@ static const char usage[] =
     "                   FILE (.glb or .gltf)\n"
     "  --json           one JSON object: {\"inspection\", \"run\", \"verdict\",\n"
     "                   \"reasons\", \"allowance_mm\", \"tolerance_mm\", \"registered\",\n"
-    "                   \"coverage\", \"volumes_exact\", \"outside\", \"sections\"}\n";
+    "                   \"coverage\", \"volumes_exact\", \"volume_note\", \"model_note\",\n"
+    "                   \"outside\", \"sections\"}\n";
 
 /* The largest allowance the run's advice planned with; 0 when none builds. */
 static double advised_allowance(const sr_run *run, char *process, size_t size)
@@ -96,6 +97,8 @@ static void print_json(int64_t id, const sr_run *run, const sr_inspect_result *r
     json_bool(&j, r->volumes_exact);
     json_key(&j, "volume_note");
     json_string(&j, r->volume_note);
+    json_key(&j, "model_note");
+    json_string(&j, r->model_note);
     json_key(&j, "outside");
     json_object_begin(&j);
     json_key(&j, "samples");
@@ -163,6 +166,8 @@ static void print_text(int64_t id, const sr_run *run, const char *scan_path,
            allowance_from, r->tolerance_mm,
            r->volumes_exact ? "exact (booleans)" : "estimated from the samples: ",
            r->volumes_exact ? "" : cli_tx(r->volume_note), "");
+    if (r->model_note[0])
+        printf("  reference: %s\n", cli_tx(r->model_note));
     for (size_t k = 0; k < r->section_count; k++) {
         const sr_inspect_section *s = &r->sections[k];
         printf("  section %zu: %s: %s\n", s->index + 1, sr_inspect_verdict_str(s->verdict),

@@ -4,7 +4,8 @@
  * scans built from it with known answers: a section built up 0.5 mm (machine, 27.125
  * mm3 of stock), one 0.3 mm short over 2 x 4 mm (rework, 2.4 mm3 under-fill), one left
  * damaged (rework, 64 mm3), a noisy scan of a perfect repair (pass), the built-up scan
- * moved away (registered back, the same figures), and the refusals.
+ * moved away (registered back, the same figures), a --no-union run's separate shells
+ * measured as their union, and the refusals.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -15,9 +16,16 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include <stdio.h>
+#include <sys/stat.h>
+
+#include "align/surface_query.h"
 #include "bridge/boolean.h"
+#include "bridge/mesh_io.h"
 #include "inspect/inspect.h"
 #include "mesh/shapes.h"
+#include "reconstruct.h"
+#include "run/run_build.h"
 #include "support/assert_near.h"
 #include "support/random_pose.h"
 #include "support/test_select.h"
@@ -273,6 +281,332 @@ static void a_scan_in_another_frame_is_registered_with_the_same_figures(void **s
     sr_run_release(&run);
 }
 
+/* A --no-union run: the restored mesh is the damaged box and the two chips as separate
+ * shells, whose faces meet on the fracture surfaces. The box left damaged at section 2
+ * lies on those hidden faces: still rework with the whole chip under-filled, 4 mm
+ * deep; a perfect repair still passes with no stock. */
+static void a_no_union_run_is_measured_against_the_union_of_its_shells(void **state)
+{
+    (void)state;
+    sr_run run;
+    make_run(&run);
+    sr_mesh damaged, tmp;
+    op(SR_BOOLEAN_DIFFERENCE, &run.restored, &run.sections[0].patch, &tmp);
+    op(SR_BOOLEAN_DIFFERENCE, &tmp, &run.sections[1].patch, &damaged);
+    sr_mesh_release(&tmp);
+    sr_mesh perfect;
+    assert_int_equal(sr_mesh_copy(&perfect, &run.restored), SR_OK);
+    sr_mesh_release(&run.restored);
+    assert_int_equal(sr_mesh_copy(&run.restored, &damaged), SR_OK);
+    for (size_t k = 0; k < 2; k++)
+        assert_int_equal(sr_mesh_append(&run.restored, &run.sections[k].patch), SR_OK);
+    sr_mesh scan;
+    op(SR_BOOLEAN_DIFFERENCE, &perfect, &run.sections[1].patch, &scan);
+    sr_inspect_result r;
+    inspect(&run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    assert_true(strstr(r.model_note, "3 separate solids") != NULL);
+    assert_true(r.volumes_exact);
+    assert_int_equal(r.sections[0].verdict, SR_INSPECT_PASS);
+    const sr_inspect_section *s = &r.sections[1];
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    assert_near(s->underfill_mm3, 64, 0.05 * 64);
+    assert_near(s->underfill_depth_mm, 4, 1e-9);
+    assert_near(s->overbuild_mm3, 0, 1e-6);
+    /* the report's colours: the same deviations, the deepest 4 mm */
+    double *dev = calloc(scan.vertex_count, sizeof *dev), lo = 0;
+    assert_non_null(dev);
+    sr_err err = {{0}};
+    assert_int_equal(sr_inspect_deviations(&run.restored, &scan, dev, &err), SR_OK);
+    for (size_t v = 0; v < scan.vertex_count; v++)
+        lo = fmin(lo, dev[v]);
+    assert_near(lo, -4, 1e-9);
+    free(dev);
+    sr_inspect_release(&r);
+    inspect(&run, &perfect, SR_INSPECT_REGISTER_AUTO, &r);
+    assert_int_equal(r.verdict, SR_INSPECT_PASS);
+    assert_near(r.sections[1].underfill_mm3, 0, 1e-6);
+    assert_near(r.sections[1].overbuild_mm3, 0, 1e-6);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&perfect);
+    sr_mesh_release(&damaged);
+    sr_run_release(&run);
+}
+
+/* ---- the shared gouged bushing (../shared/parts/bushing_gouged) ----
+ * One reconstruction of its damaged mesh (about a second), kept for the cases below;
+ * the after-repair scans are built from the run's restored model and section patch by
+ * construction: the patch's outer surface S (its triangles on the restored surface)
+ * extruded along its vertex normals, united (built up 0.5 mm) or cut off (0.3 mm
+ * short over the part of S below its middle height); the expected volumes are those
+ * of the meshes constructed (vol(scan) - vol(restored) and back), not the inspection's.
+ * Skipped with a message when the folder is absent. */
+#define BUSHING "../shared/parts/bushing_gouged"
+
+static struct {
+    int tried, ok;
+    sr_run run;
+    sr_mesh damaged;
+} bushing;
+
+static const sr_run *bushing_run(void)
+{
+    if (!bushing.tried) {
+        bushing.tried = 1;
+        struct stat sb;
+        if (stat(BUSHING "/damaged.stl", &sb) != 0)
+            return NULL;
+        sr_err err = {{0}};
+        sr_mesh_init(&bushing.damaged);
+        assert_int_equal(sr_mesh_read(BUSHING "/damaged.stl", &bushing.damaged, &err), SR_OK);
+        sr_recon_opts o;
+        memset(&o, 0, sizeof o);
+        o.symmetry = (sr_symmetry){SR_SYM_AXIAL, 0, 0};
+        o.min_depth_mm = 0.1;
+        o.threads = 1;
+        sr_recon_result res;
+        if (sr_reconstruct(&bushing.damaged, &o, &res, &err) != SR_OK)
+            fail_msg("reconstruct: %s", err.msg);
+        assert_int_equal(res.section_count, 1);
+        assert_true(res.restored_by_union);
+        sr_params p = {"test", 320, 240, 0.95, 0.95, 0.05, 0.1, 1.0, ""};
+        assert_int_equal(sr_run_from_result(&res, 1, &o.symmetry, &p, "image", &bushing.run, &err),
+                         SR_OK);
+        sr_recon_result_release(&res);
+        bushing.ok = 1;
+    }
+    if (!bushing.ok)
+        print_message("skipped: %s is absent\n", BUSHING);
+    return bushing.ok ? &bushing.run : NULL;
+}
+
+static int bushing_release(void **state)
+{
+    (void)state;
+    sr_run_release(&bushing.run);
+    sr_mesh_release(&bushing.damaged);
+    return 0;
+}
+
+/* The section patch scaled about the run's axis (aligned frame: the z axis) so that
+ * its outer surface, at the part's radius R, moves by dr mm: radially by (R + dr) / R,
+ * z unchanged. A linear map: the copy crosses itself no more than the patch does, and
+ * it keeps the patch's footprint (azimuth and height). */
+static void patch_scaled(const sr_run *run, double dr, sr_mesh *out)
+{
+    const sr_mesh *patch = &run->sections[0].patch;
+    double inv[12], s[12] = {0}, m[12];
+    sr_xform_rigid_inverse(inv, run->alignment);
+    double r_max = 0;
+    for (size_t v = 0; v < patch->vertex_count; v++) {
+        double q[3];
+        sr_xform_apply(run->alignment, patch->xyz + 3 * v, q);
+        r_max = fmax(r_max, hypot(q[0], q[1]));
+    }
+    double f = (r_max + dr) / r_max;
+    s[0] = f;
+    s[5] = f;
+    s[10] = 1;
+    sr_xform_mul(m, s, run->alignment);
+    double full[12];
+    sr_xform_mul(full, inv, m);
+    assert_int_equal(sr_mesh_copy(out, patch), SR_OK);
+    sr_mesh_transform(out, full);
+}
+
+/* Gaussian noise of sigma mm on every coordinate (deterministic). */
+static void add_noise(sr_mesh *m, double sigma, uint64_t seed)
+{
+    for (size_t i = 0; i < 3 * m->vertex_count; i += 2) {
+        double u[2];
+        for (int k = 0; k < 2; k++) {
+            seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+            u[k] = ((double)(seed >> 11) + 0.5) / 9007199254740992.0;
+        }
+        double r = sigma * sqrt(-2 * log(u[0]));
+        m->xyz[i] += r * cos(2 * M_PI * u[1]);
+        if (i + 1 < 3 * m->vertex_count)
+            m->xyz[i + 1] += r * sin(2 * M_PI * u[1]);
+    }
+}
+
+static void a_shared_part_built_up_half_a_millimetre_is_to_machine(void **state)
+{
+    (void)state;
+    const sr_run *run = bushing_run();
+    if (!run)
+        skip();
+    sr_mesh b, scan;
+    patch_scaled(run, 0.5, &b);
+    op(SR_BOOLEAN_UNION, &run->restored, &b, &scan);
+    double built = sr_mesh_volume(&scan) - sr_mesh_volume(&run->restored);
+    print_message("built up: %.3f mm3 constructed\n", built);
+    sr_inspect_result r;
+    inspect(run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    const sr_inspect_section *s = &r.sections[0];
+    print_message("  inspected: %s, over-build %.3f mm3, stock %.3f..%.3f mm, outside %.4f\n",
+                  sr_inspect_verdict_str(r.verdict), s->overbuild_mm3, s->stock_min_mm,
+                  s->stock_max_mm, r.outside_share);
+    assert_int_equal(r.verdict, SR_INSPECT_MACHINE);
+    assert_int_equal(s->verdict, SR_INSPECT_MACHINE);
+    assert_true(r.volumes_exact);
+    assert_near(s->overbuild_mm3, built, 0.05 * built);
+    assert_near(s->underfill_mm3, 0, 0.01 * s->patch_mm3);
+    assert_near(s->stock_mean_mm, 0.5, 0.05);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&b);
+}
+
+static void a_shared_part_0_3_mm_short_is_rework_with_its_volume_and_depth(void **state)
+{
+    (void)state;
+    const sr_run *run = bushing_run();
+    if (!run)
+        skip();
+    /* the layer 0.3 mm under the restored surface over the section, below the middle of
+     * its height: (patch moved out 1 mm \ patch moved in 0.3 mm) n a box */
+    double lo[3], hi[3];
+    sr_mesh_bbox(&run->sections[0].patch, lo, hi);
+    sr_mesh big, small, layer, half, c, scan;
+    patch_scaled(run, 1.0, &big);
+    patch_scaled(run, -0.3, &small);
+    op(SR_BOOLEAN_DIFFERENCE, &big, &small, &layer);
+    box(lo[0] - 5, lo[1] - 5, lo[2] - 5, hi[0] + 5, hi[1] + 5, (lo[2] + hi[2]) / 2, &half);
+    op(SR_BOOLEAN_INTERSECTION, &layer, &half, &c);
+    op(SR_BOOLEAN_DIFFERENCE, &run->restored, &c, &scan);
+    sr_mesh_release(&big);
+    sr_mesh_release(&small);
+    sr_mesh_release(&layer);
+    sr_mesh_release(&half);
+    double short_mm3 = sr_mesh_volume(&run->restored) - sr_mesh_volume(&scan);
+    print_message("0.3 mm short: %.3f mm3 constructed\n", short_mm3);
+    sr_inspect_result r;
+    inspect(run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    const sr_inspect_section *s = &r.sections[0];
+    print_message("  inspected: %s, under-fill %.3f mm3, %.4f mm deep%s%s\n",
+                  sr_inspect_verdict_str(r.verdict), s->underfill_mm3, s->underfill_depth_mm,
+                  r.volumes_exact ? "" : "; estimated: ", r.volume_note);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    /* (exact from patch \ scan even when the scan a boolean made crosses itself for the
+     * over-build's) */
+    assert_near(s->underfill_mm3, short_mm3, 0.05 * short_mm3);
+    assert_near(s->underfill_depth_mm, 0.3, 0.02);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+    sr_mesh_release(&c);
+}
+
+/* The damaged mesh's farthest vertex below the run's restored surface, mm. */
+static double deepest_vertex(const sr_run *run)
+{
+    sr_surface_query *q = NULL;
+    assert_int_equal(sr_surface_query_build(&run->restored, &q, NULL), SR_OK);
+    double deepest = 0;
+    for (size_t v = 0; v < bushing.damaged.vertex_count; v++) {
+        double d, sd;
+        if (sr_surface_query_closest(q, bushing.damaged.xyz + 3 * v, INFINITY, NULL, &d, &sd))
+            deepest = fmax(deepest, -sd);
+    }
+    sr_surface_query_free(q);
+    return deepest;
+}
+
+static void a_shared_part_left_damaged_is_rework_with_the_whole_section(void **state)
+{
+    (void)state;
+    const sr_run *run = bushing_run();
+    if (!run)
+        skip();
+    double missing = sr_mesh_volume(&run->restored) - sr_mesh_volume(&bushing.damaged);
+    sr_inspect_result r;
+    inspect(run, &bushing.damaged, SR_INSPECT_REGISTER_AUTO, &r);
+    const sr_inspect_section *s = &r.sections[0];
+    double depth = s->underfill_depth_mm;
+    print_message("left damaged: %.3f mm3 missing; inspected %s, under-fill %.3f mm3, %.3f mm "
+                  "deep\n",
+                  missing, sr_inspect_verdict_str(r.verdict), s->underfill_mm3, depth);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    assert_true(r.volumes_exact);
+    assert_near(s->underfill_mm3, missing, 0.05 * missing);
+    double deepest = deepest_vertex(run);
+    /* (samples between the vertices can lie a little deeper) */
+    assert_true(depth >= deepest - 1e-9 && depth <= deepest + 0.01);
+    sr_inspect_release(&r);
+}
+
+/* The damaged scan with noise (sigma 0.03 mm) in a random pose: registered, the
+ * rotation about the axis (free on an axially symmetric part) not allowed to move the
+ * damage off the section. */
+static void a_noisy_posed_scan_of_an_axial_part_left_damaged_is_rework(void **state)
+{
+    (void)state;
+    const sr_run *run = bushing_run();
+    if (!run)
+        skip();
+    double missing = sr_mesh_volume(&run->restored) - sr_mesh_volume(&bushing.damaged);
+    double deepest = deepest_vertex(run);
+    sr_inspect_result r;
+    const sr_inspect_section *s;
+    const double sigma = 0.03;
+    sr_mesh scan;
+    assert_int_equal(sr_mesh_copy(&scan, &bushing.damaged), SR_OK);
+    add_noise(&scan, sigma, 7);
+    double m[12];
+    test_random_pose(11, m);
+    sr_mesh_transform(&scan, m);
+    inspect(run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    s = &r.sections[0];
+    /* taken back where it was: the registration after the pose within 0.5 degree and
+     * 0.05 mm of the identity (landed turned end for end without the roll's search) */
+    double e[12];
+    sr_xform_mul(e, r.transform, m);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            assert_near(e[4 * i + j], i == j, 0.5 * M_PI / 180);
+        assert_near(e[4 * i + 3], 0, 0.05);
+    }
+    print_message("  noisy, posed: %s, registered %d, under-fill %.3f mm3, %.3f mm deep, "
+                  "outside %.4f\n",
+                  sr_inspect_verdict_str(r.verdict), r.registered, s->underfill_mm3,
+                  s->underfill_depth_mm, r.outside_share);
+    assert_int_equal(r.registered, 1);
+    assert_int_equal(r.verdict, SR_INSPECT_REWORK);
+    assert_int_equal(s->verdict, SR_INSPECT_REWORK);
+    assert_near(s->underfill_mm3, missing, 0.05 * missing);
+    assert_near(s->underfill_depth_mm, deepest, 4 * sigma);
+    assert_true(r.outside_share < 0.01);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+}
+
+static void a_noisy_scan_of_a_shared_part_perfectly_repaired_passes(void **state)
+{
+    (void)state;
+    const sr_run *run = bushing_run();
+    if (!run)
+        skip();
+    const double sigma = 0.03;
+    sr_mesh scan;
+    assert_int_equal(sr_mesh_copy(&scan, &run->restored), SR_OK);
+    add_noise(&scan, sigma, 3);
+    sr_inspect_result r;
+    inspect(run, &scan, SR_INSPECT_REGISTER_AUTO, &r);
+    const sr_inspect_section *s = &r.sections[0];
+    print_message("noisy perfect repair: %s, under-fill %.3f mm3, %.3f mm deep, outside %.4f\n",
+                  sr_inspect_verdict_str(r.verdict), s->underfill_mm3, s->underfill_depth_mm,
+                  r.outside_share);
+    assert_int_equal(r.verdict, SR_INSPECT_PASS);
+    assert_int_equal(s->verdict, SR_INSPECT_PASS);
+    assert_true(s->underfill_mm3 < 0.05 * s->patch_mm3);
+    assert_true(s->underfill_depth_mm < 5 * sigma);
+    sr_inspect_release(&r);
+    sr_mesh_release(&scan);
+}
+
 static void refusals_name_what_is_wrong(void **state)
 {
     (void)state;
@@ -337,10 +671,16 @@ int main(void)
         cmocka_unit_test(a_section_left_damaged_is_rework_with_the_whole_patch_missing),
         cmocka_unit_test(a_noisy_scan_of_a_perfect_repair_passes),
         cmocka_unit_test(a_scan_in_another_frame_is_registered_with_the_same_figures),
+        cmocka_unit_test(a_no_union_run_is_measured_against_the_union_of_its_shells),
+        cmocka_unit_test(a_shared_part_built_up_half_a_millimetre_is_to_machine),
+        cmocka_unit_test(a_shared_part_0_3_mm_short_is_rework_with_its_volume_and_depth),
+        cmocka_unit_test(a_shared_part_left_damaged_is_rework_with_the_whole_section),
+        cmocka_unit_test(a_noisy_posed_scan_of_an_axial_part_left_damaged_is_rework),
+        cmocka_unit_test(a_noisy_scan_of_a_shared_part_perfectly_repaired_passes),
         cmocka_unit_test(refusals_name_what_is_wrong),
         cmocka_unit_test(verdict_names_round_trip),
         cmocka_unit_test(deviation_colours_follow_the_scale),
     };
     size_t n = sr_test_select(tests, sizeof tests / sizeof tests[0]);
-    return _cmocka_run_group_tests("test_inspect", tests, n, NULL, NULL);
+    return _cmocka_run_group_tests("test_inspect", tests, n, NULL, bushing_release);
 }

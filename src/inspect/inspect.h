@@ -93,6 +93,8 @@ typedef struct sr_inspect_result {
     double reg_tol_mm;
     double allowance_mm, tolerance_mm; /* as used */
     int volumes_exact;                 /* 1: booleans; 0: estimated from the samples */
+    char model_note[256];              /* how the restored mesh was taken as one solid
+                                        * ("" when it was one: see inspect_model.c) */
     char volume_note[512];             /* why not exact ("the scan is not closed", a boolean's
                             * refusal); "" when exact */
     sr_inspect_section *sections;

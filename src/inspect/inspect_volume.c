@@ -81,7 +81,8 @@ static sr_status assign_pieces(const sr_mesh *extra, ins_where *w, sr_inspect_re
     return SR_OK;
 }
 
-sr_status ins_volumes(const sr_run *run, ins_where *w, sr_inspect_result *r, sr_err *err)
+sr_status ins_volumes(const sr_run *run, const sr_mesh *solids, size_t solid_count, ins_where *w,
+                      sr_inspect_result *r, sr_err *err)
 {
     r->volumes_exact = 0;
     if (!sr_mesh_is_closed(&r->scan)) {
@@ -109,13 +110,24 @@ sr_status ins_volumes(const sr_run *run, ins_where *w, sr_inspect_result *r, sr_
         under[k] = d.tri_count ? sr_mesh_volume(&d) : 0;
         sr_mesh_release(&d);
     }
-    if (sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, &r->scan, "scan", &run->restored, "restored mesh",
-                           &d, &berr) != SR_OK) {
-        snprintf(r->volume_note, sizeof r->volume_note, "%s", berr.msg);
-        free(under);
-        return SR_OK;
+    /* scan \ restored, one solid after the other */
+    sr_status st = SR_OK;
+    for (size_t k = 0; k < solid_count; k++) {
+        sr_mesh next;
+        sr_mesh_init(&next);
+        if (sr_boolean_compute(SR_BOOLEAN_DIFFERENCE, k ? &d : &r->scan, "scan", &solids[k],
+                               "restored mesh", &next, &berr) != SR_OK) {
+            snprintf(r->volume_note, sizeof r->volume_note, "%s", berr.msg);
+            sr_mesh_release(&d);
+            free(under);
+            return SR_OK;
+        }
+        sr_mesh_release(&d);
+        d = next;
+        if (d.tri_count == 0)
+            break;
     }
-    sr_status st = assign_pieces(&d, w, r);
+    st = assign_pieces(&d, w, r);
     sr_mesh_release(&d);
     if (st != SR_OK) {
         free(under);
