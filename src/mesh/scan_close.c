@@ -28,9 +28,10 @@
  * (cosine): a small hole in a wall beside the base lies within the tolerances of the
  * base's plane, but across it. */
 #define SAME_PLANE_COS 0.95
-/* A loop spanning less (a triangle left out, a sliver along a rim) is fanned: its plane
- * is not defined by so little, and the fan of a tiny loop is as good. mm^2 */
-#define PLANE_MIN_MM2 1.0
+/* A loop spanning less is fanned. 0: none is; a fan of a tiny loop (a triangle left
+ * out along the base's rim) was seen to make the image method miss a plate's damage
+ * (s3301p06), so tiny loops go to the plane too, guarded by the fill's check. mm^2 */
+#define PLANE_MIN_MM2 0.0
 
 /* What the closing appends: vertices and triangles, grown as needed. */
 typedef struct grow {
