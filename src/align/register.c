@@ -322,6 +322,29 @@ sr_status sr_register_check(const sr_mesh *moving, const sr_mesh *fixed,
 #define PRESCORED 4 /* sr_register_from: starts that get the ICP */
 
 /* The fit of al_register_fit from the start poses cand[0..count) (overwritten). */
+/* Moves the `keep` starts with the most samples near the surface (near[i]) to the
+ * front, in that order; cut (or NULL) moves with them. */
+static void keep_most_near(pose *cand, size_t *near, double *cut, size_t count, size_t keep)
+{
+    for (size_t k = 0; k < keep && k < count; k++) {
+        size_t best = k;
+        for (size_t i = k + 1; i < count; i++)
+            if (near[i] > near[best])
+                best = i;
+        pose tp = cand[k];
+        cand[k] = cand[best];
+        cand[best] = tp;
+        size_t tn = near[k];
+        near[k] = near[best];
+        near[best] = tn;
+        if (cut) {
+            double tc = cut[k];
+            cut[k] = cut[best];
+            cut[best] = tc;
+        }
+    }
+}
+
 static void fit_from(al_surface *fix, const al_samples *coarse, const al_samples *medium,
                      const al_samples *fine, double tol, const al_register_effort *effort,
                      pose *cand, size_t count, double mat[12], double *scratch)
@@ -342,21 +365,7 @@ static void fit_from(al_surface *fix, const al_samples *coarse, const al_samples
             for (size_t k = 0; k < coarse->count && scratch[k] < 4 * tol; k++)
                 near[i]++; /* scratch: the step's distances, sorted */
         }
-        for (size_t k = 0; k < effort->coarse_keep; k++) {
-            size_t best = k;
-            for (size_t i = k + 1; i < count; i++)
-                if (near[i] > near[best])
-                    best = i;
-            pose tp = cand[k];
-            cand[k] = cand[best];
-            cand[best] = tp;
-            double tc = cut[k];
-            cut[k] = cut[best];
-            cut[best] = tc;
-            size_t tn = near[k];
-            near[k] = near[best];
-            near[best] = tn;
-        }
+        keep_most_near(cand, near, cut, count, effort->coarse_keep);
         count = effort->coarse_keep;
         first = effort->coarse_iters - 1;
     } else {
@@ -470,18 +479,7 @@ sr_status sr_register_from(const sr_mesh *moving, const sr_mesh *fixed, const do
             for (size_t i = 0; i < c.coarse.count; i++)
                 near[k] += c.scratch[i] < 4 * tol;
         }
-        for (size_t k = 0; k < PRESCORED; k++) { /* the most samples within 4 tol first */
-            size_t best = k;
-            for (size_t i = k + 1; i < count; i++)
-                if (near[i] > near[best])
-                    best = i;
-            pose tp = cand[k];
-            cand[k] = cand[best];
-            cand[best] = tp;
-            size_t tn = near[k];
-            near[k] = near[best];
-            near[best] = tn;
-        }
+        keep_most_near(cand, near, NULL, count, PRESCORED);
         count = PRESCORED;
     }
     fit_from(&c.fix, &c.coarse, &c.medium, &c.fine, tol, &effort, cand, count, mat, c.scratch);
