@@ -261,15 +261,8 @@ valgrind: deps
 # built as a phantom tooth).
 partgen-check: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
-	$(Q)rc=0; sh tests/partgen/check_generated.sh build/release/symrec || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 1202 2 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 271828 9 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 55441 13 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 987654 0,13 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 2718 7,20 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 8128 7 24 || rc=1; \
-	  sh tests/partgen/check_generated.sh build/release/symrec 41207 7 8 || rc=1; \
-	  exit $$rc
+	$(Q)sh tests/partgen/check_generated.sh build/release/symrec 777:3,4,5,6,7,8,13,14:16 \
+	  1202:2:24 271828:9:24 55441:13:24 987654:0,13:24 2718:7,20:24 8128:7:24 41207:7:8
 
 # The inner loop: the debug build's unit tests and the CLI tests, no accuracy matrix,
 # no sanitizer, no Valgrind.

@@ -23,11 +23,11 @@
 # the paper method on all nine parts and the robust method on the posed shaft, bracket
 # and rail (one per kind of symmetry).
 #
-# Without NAMES, it then runs the browser check of the HTML report (node and Debian's
-# chromium-headless-shell, which `make deps` installs for test, quick and check: there
-# it fails when they are missing; elsewhere it is skipped with a message) and the
-# Khronos glTF validator on the GLB that reconstruct writes (skipped without node and
-# npm).
+# Without NAMES, two more jobs run in the same queue: the browser check of the HTML
+# report (tests/browser/run_check.sh; node and Debian's chromium-headless-shell, which
+# `make deps` installs for test, quick and check: there it fails when they are missing;
+# elsewhere it is skipped with a message) and the Khronos glTF validator on the GLB that
+# reconstruct writes (tests/gltf/run_check.sh; skipped without node and npm).
 #
 # Environment: SYMREC_BIN (the CLI under test; default BUILD_DIR/symrec) and
 # SYMREC_WRAP (e.g. "valgrind -q --error-exitcode=99 ...") are passed on to test_cli,
@@ -81,6 +81,24 @@ fi
 # make quick: no accuracy matrix (whole restorations of every shared part)
 [ -n "${SYMREC_QUICK:-}" ] && bins=$(echo "$bins" | grep -v '/test_accuracy$')
 
+# The browser check of the HTML report (tests/browser/run_check.sh) runs as one job of
+# the queue, beside the test binaries, when every binary runs (no NAMES). It needs node
+# and Debian's chromium-headless-shell, which `make deps` installs for test, quick and
+# check; SYMREC_REQUIRE_BROWSER=1 (the Makefile's test, quick) makes their absence a
+# failure; otherwise it is skipped with a line.
+browser=
+if [ -z "$only" ]; then
+    browser=${SYMREC_BROWSER:-}
+    [ -z "$browser" ] && [ -x /usr/bin/chromium-headless-shell ] && browser=/usr/bin/chromium-headless-shell
+    [ -z "$browser" ] && [ -x /usr/bin/chromium ] && browser=/usr/bin/chromium
+    command -v node >/dev/null 2>&1 || browser=
+fi
+SYMREC_BROWSER=$browser
+export SYMREC_BROWSER
+# where the glTF validator's check (tests/gltf/run_check.sh) installs gltf-validator once
+SYMREC_NPM_DIR=${SYMREC_NPM_DIR:-$build/npm}
+export SYMREC_NPM_DIR
+
 logs=$(mktemp -d /tmp/symrec-run-tests-XXXXXX) || exit 2
 trap 'rm -rf "$logs"' EXIT
 trap 'exit 130' INT TERM
@@ -109,6 +127,9 @@ job_list() {
             if [ "$tag" = smoke ]; then echo "$bin $tag"; else echo "$acc_build/tests/test_accuracy $tag"; fi
         done ;;
     esac; done
+    # the browser check (a demo, a reconstruction and an inspection: about a minute)
+    [ -n "$SYMREC_BROWSER" ] && echo "browser_check browser"
+    [ -z "$only" ] && echo "gltf_validator gltf"
     # then the binaries that take about a minute under ASan, before test_cli's shards
     # (a long one started last leaves the other CPU idle at the end)
     for bin in $bins; do case $bin in */test_union_local|*/test_image|*/test_align)
@@ -124,6 +145,19 @@ job_list() {
 }
 job_list | xargs -P "$jobs" -L 1 sh -c '
     logs=$1; bin=$2; tag=$3; name=$(basename "$bin")
+    if [ "$tag" = browser ]; then
+        start=$(date +%s)
+        sh tests/browser/run_check.sh "$logs/browser.out"
+        echo $? >"$logs/browser.rc"
+        echo $(( $(date +%s) - start )) >"$logs/browser.secs"
+        exit 0
+    fi
+    if [ "$tag" = gltf ]; then
+        start=$(date +%s)
+        sh tests/gltf/run_check.sh "$logs/gltf.out"
+        echo $(( $(date +%s) - start )) >"$logs/gltf.secs"
+        exit 0
+    fi
     [ -f "$bin" ] && [ -x "$bin" ] || exit 0
     # the slowest noisy scans, apart from the others
     slow="bushing_gouged_scan_*,spur_gear_broken_tooth_scan_*,u_clamp_broken_arm_scan_*"
@@ -206,22 +240,10 @@ for bin in $bins; do
     done
 done
 
-# The HTML report in a real headless browser (tests/browser/check_report.js): the demo
-# run's report rendered (no script error, no network request), its WebGL view checked on
-# a screenshot (the part's and the patches' colours), printed to A4 PDF in at most
-# SYMREC_REPORT_MAX_PAGES pages (default 5: 4 before the inspection's page; the demo's
-# report printed to 8 before it had print rules). The run is inspected first with the
-# damaged scan itself as the part "after repair" (the gouge left: rework), so the page
-# has its inspection section, checked too: the gouge's blue and the rest's green in
-# its view, the colour scale, one table row per section. Needs node and a Chromium (Debian chromium-headless-shell, installed
-# by `make deps` for test, quick and check). SYMREC_REQUIRE_BROWSER=1 (the Makefile's
-# test, quick) makes their absence a failure; otherwise it is skipped with a line.
+# The browser check's result (its job ran in the queue above).
 if [ -z "$only" ]; then
     out=$logs/browser.out
-    browser=${SYMREC_BROWSER:-}
-    [ -z "$browser" ] && [ -x /usr/bin/chromium-headless-shell ] && browser=/usr/bin/chromium-headless-shell
-    [ -z "$browser" ] && [ -x /usr/bin/chromium ] && browser=/usr/bin/chromium
-    if ! command -v node >/dev/null 2>&1 || [ -z "$browser" ]; then
+    if [ -z "$browser" ]; then
         if [ -n "${SYMREC_REQUIRE_BROWSER:-}" ]; then
             echo "browser_check    0 passed, 1 failed  FAILED: no node or no headless browser (make deps installs nodejs and chromium-headless-shell)"
             total_fail=$((total_fail + 1))
@@ -229,84 +251,27 @@ if [ -z "$only" ]; then
             echo "browser_check  skipped: no node or no headless browser (apt-get install nodejs chromium-headless-shell)"
         fi
     else
-        bdir=$(mktemp -d /tmp/symrec-browser-test-XXXXXX)
-        start=$(date +%s)
-        rc=0
-        { "$SYMREC_BIN" --db "$bdir/c.db" demo >/dev/null 2>&1 &&
-          "$SYMREC_BIN" --db "$bdir/c.db" reconstruct 1 --params coarse --no-union >/dev/null 2>&1 &&
-          "$SYMREC_BIN" --db "$bdir/c.db" export instance 1 --out "$bdir/d.stl" >/dev/null 2>&1 &&
-          "$SYMREC_BIN" --db "$bdir/c.db" inspect 1 --mesh "$bdir/d.stl" >/dev/null 2>&1 &&
-          "$SYMREC_BIN" --db "$bdir/c.db" report 1 --out "$bdir/r.html" >/dev/null 2>&1 &&
-          rows=$("$SYMREC_BIN" --db "$bdir/c.db" run show 1 --json |
-                 node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).sections.length))'); } >"$out" 2>&1 || rc=$?
-        if [ "$rc" -eq 0 ]; then
-            node tests/browser/check_report.js "$bdir/r.html" "$rows" "$browser" \
-                "${SYMREC_REPORT_MAX_PAGES:-5}" "$rows" >"$out" 2>&1
-            rc=$?
-        fi
-        secs=$(( $(date +%s) - start ))
+        rc=$(cat "$logs/browser.rc" 2>/dev/null || echo 127)
+        secs=$(cat "$logs/browser.secs" 2>/dev/null || echo 0)
         if [ "$rc" -eq 0 ]; then
             printf '%-14s %3d passed, %d failed  ok  (%ss)\n' browser_check 1 0 "$secs"
             sed 's/^check_report: ok: [^:]*:[^:]*: /    | /' "$out"
             total_pass=$((total_pass + 1))
         else
             printf '%-14s %3d passed, %d failed  FAILED (exit %d)  (%ss)\n' browser_check 0 1 "$rc" "$secs"
-            sed 's/^/    | /' "$out"
+            sed 's/^/    | /' "$out" 2>/dev/null
             total_fail=$((total_fail + 1))
         fi
-        rm -rf "$bdir"
     fi
 fi
 
-# The GLB that reconstruct writes, through the Khronos glTF validator (npm package
-# gltf-validator, installed once into build/npm from the npm registry): the demo
-# instance's result.glb must have no error, and a truncated copy must be caught (so the
-# check can fail). Skipped, with a line saying so, without node and npm.
+# The glTF validator's result (tests/gltf/run_check.sh, a job of the queue above).
 if [ -z "$only" ]; then
-    npm_dir=${SYMREC_NPM_DIR:-$build/npm}
-    start=$(date +%s)
-    if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+    read -r gpass gfail <"$logs/gltf.out.counts" 2>/dev/null || { gpass=0; gfail=1; }
+    secs=$(cat "$logs/gltf.secs" 2>/dev/null || echo 0)
+    if [ "$gpass" = skip ]; then
         echo "gltf_validator skipped: no node or npm (apt-get install nodejs npm)"
     else
-        rc=0
-        if [ ! -f "$npm_dir/node_modules/gltf-validator/package.json" ]; then
-            mkdir -p "$npm_dir" &&
-            npm install --prefix "$npm_dir" --no-audit --no-fund --silent \
-                gltf-validator@2.0.0-dev.3.10 >"$logs/npm.out" 2>&1 || rc=$?
-        fi
-        gdir=$(mktemp -d /tmp/symrec-gltf-test-XXXXXX)
-        gpass=0
-        gfail=0
-        if [ "$rc" -ne 0 ]; then
-            gfail=1
-            echo "    | npm install gltf-validator failed (exit $rc):" >"$logs/gltf.out"
-            sed 's/^/    | /' "$logs/npm.out" >>"$logs/gltf.out"
-        else
-            : >"$logs/gltf.out"
-            if "$SYMREC_BIN" --db "$gdir/c.db" demo --catalog-only >/dev/null 2>&1 &&
-               "$SYMREC_BIN" --db "$gdir/c.db" reconstruct 1 --params coarse --no-record \
-                   --out "$gdir/run" >/dev/null 2>"$gdir/err" &&
-               node tests/gltf/validate_glb.js "$gdir/run/result.glb" "$npm_dir/node_modules" \
-                   >"$gdir/report" 2>&1; then
-                gpass=$((gpass + 1))
-            else
-                gfail=$((gfail + 1))
-                { echo "    | result.glb:"; sed 's/^/    | /' "$gdir/err" "$gdir/report" 2>/dev/null; } >>"$logs/gltf.out"
-            fi
-            # a GLB cut short must be reported (exit 1: errors found)
-            vrc=0
-            [ -f "$gdir/run/result.glb" ] && head -c 3000 "$gdir/run/result.glb" >"$gdir/cut.glb"
-            node tests/gltf/validate_glb.js "$gdir/cut.glb" "$npm_dir/node_modules" \
-                >"$gdir/cut.report" 2>&1 || vrc=$?
-            if [ "$vrc" -eq 1 ] && grep -q '"errors":[1-9]' "$gdir/cut.report"; then
-                gpass=$((gpass + 1))
-            else
-                gfail=$((gfail + 1))
-                { echo "    | a truncated GLB was not reported (exit $vrc):"; sed 's/^/    | /' "$gdir/cut.report"; } >>"$logs/gltf.out"
-            fi
-        fi
-        rm -rf "$gdir"
-        secs=$(( $(date +%s) - start ))
         if [ "$gfail" -eq 0 ]; then
             printf '%-14s %3d passed, %d failed  ok  (%ss)\n' gltf_validator "$gpass" 0 "$secs"
         else

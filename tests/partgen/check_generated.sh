@@ -1,19 +1,27 @@
 #!/bin/sh
-# check_generated.sh SYMREC [SEED] [INDICES] [COUNT]: accuracy on parts nobody tuned to. Draws a
-# fixed sample of random parts with ../shared/partgen (two per family, none of them
-# `hard`), reconstructs each from its posed and its noisy scan with SYMREC, and scores
-# the files written with ../shared/eval/runparts --strict (patch file volume within 5 %,
-# fill outside the intact part <= 3 %, missed <= 5 %, restored mean <= 0.05 mm and
-# max <= 1 mm). One line per input in the test runner's format; exit 1 if any part is
-# out of bounds. The parts are made once into build/partgen-SEED (a seed gives the same
-# parts byte for byte). Skipped, with a line saying so, without ../shared or OpenSCAD.
-# With SEED, INDICES and COUNT it checks chosen parts of another draw: the Makefile runs
-# the parts of fresh seeds that once failed (a class fixed stays fixed).
+# check_generated.sh SYMREC [SEED:INDICES:COUNT ...]: accuracy on parts nobody tuned to.
+# Draws samples of random parts with ../shared/partgen, reconstructs each from its posed
+# and its noisy scan with SYMREC, and scores the files written with ../shared/eval/runparts
+# --strict (patch file volume within 5 %, fill outside the intact part <= 3 %, missed
+# <= 5 %, restored mean <= 0.05 mm and max <= 1 mm). Without a sample it checks seed 777's
+# parts 3,4,5,6,7,8,13,14 of 16 (two per family, none of them `hard`); the Makefile adds
+# the parts of fresh seeds that once failed (a class fixed stays fixed). The old form
+# `check_generated.sh SYMREC SEED [INDICES] [COUNT]` still checks one sample.
+#
+# Every part is made once into build/partgen-SEED-COUNT (a seed gives the same parts byte
+# for byte). The reconstructions of all samples then run as one queue, two at a time
+# (a reconstruct is mostly one thread and the machine has two; runparts gives each run a
+# folder of its own), the noisy scans first since they take longest, so neither CPU idles
+# while the other finishes a seed. One line per sample and input in the test runner's
+# format, then the failures' lines; exit 1 if any part is out of bounds. Skipped, with a
+# line saying so, without ../shared, OpenSCAD or python3-numpy/scipy.
 set -u
-symrec=${1:?usage: check_generated.sh SYMREC [SEED] [INDICES] [COUNT]}
-seed=${2:-777}
-# of 16 drawn (the draw depends on the count): two per family, none of them hard
-only=${3:-3,4,5,6,7,8,13,14}
+symrec=${1:?usage: check_generated.sh SYMREC [SEED:INDICES:COUNT ...]}
+shift
+case $# in
+    0) set -- "777:3,4,5,6,7,8,13,14:16" ;;
+    *) case $1 in *:*) ;; *) set -- "$1:${2:-3,4,5,6,7,8,13,14}:${3:-16}" ;; esac ;;
+esac
 shared=$(cd "$(dirname "$0")/../../.." && pwd)/shared
 gen=$shared/partgen/partgen
 runparts=$shared/eval/runparts
@@ -22,37 +30,66 @@ if [ ! -x "$gen" ] || [ ! -x "$runparts" ] || ! command -v openscad >/dev/null 2
     echo "partgen_check  skipped: no ../shared/partgen, OpenSCAD or python3-numpy/scipy"
     exit 0
 fi
-count=${4:-16}
-dir=build/partgen-$seed-$count
-mkdir -p "$dir"
-if [ "$(ls "$dir"/*/truth.json 2>/dev/null | wc -l)" -lt "$(echo "$only" | tr ',' '\n' | wc -l)" ]; then
-    "$gen" --seed "$seed" --count "$count" --only "$only" --out "$dir" --jobs 2 >"$dir.log" 2>&1 ||
-        { echo "partgen_check  FAILED: partgen --seed $seed did not draw the sample (see $dir.log)"; exit 1; }
-fi
-names=$(for i in $(echo "$only" | tr ',' ' '); do ls "$dir" | grep "^s${seed}p$(printf %02d "$i")_"; done | paste -sd, -)
-# posed and noisy side by side: a reconstruct is mostly one thread, the machine has two
-# (runparts gives each run a folder of its own)
-for input in damaged_posed.stl damaged_scan.stl; do
-    (
-        start=$(date +%s)
-        "$runparts" "$symrec" "$dir" --strict --only "$names" --input "$input" --timeout 300 \
-            >"$dir.$input.txt" 2>&1
-        echo "$? $(( $(date +%s) - start ))" >"$dir.$input.rc"
-    ) &
-done
-wait
-rc=0
-for input in damaged_posed.stl damaged_scan.stl; do
-    out=$dir.$input.txt
-    read -r r secs <"$dir.$input.rc" || { r=1; secs=0; }
-    pass=$(grep -c ' ok ' "$out")
-    total=$(grep -c '^s[0-9]*p' "$out")
-    if [ "$r" -eq 0 ]; then
-        printf '%-14s %3d passed, %d failed  ok  (%ss)\n' "partgen[$seed ${input%%.stl}]" "$pass" 0 "$secs"
-    else
-        printf '%-14s %3d passed, %d failed  FAILED  (%ss)\n' "partgen[$seed ${input%%.stl}]" "$pass" $((total - pass)) "$secs"
-        grep -v ' ok ' "$out" | sed 's/^/    | /'
-        rc=1
+case $symrec in /*) ;; *) symrec=$(pwd)/$symrec ;; esac
+logs=$(mktemp -d /tmp/symrec-partgen-check-XXXXXX) || exit 2
+trap 'rm -rf "$logs"' EXIT
+trap 'exit 130' INT TERM
+
+# Draw every sample first (partgen runs two OpenSCADs at a time itself); a sample's
+# folder name and part names go to $logs/samples as "SEED DIR NAME,NAME,...".
+for spec in "$@"; do
+    seed=${spec%%:*}
+    rest=${spec#*:}
+    only=${rest%%:*}
+    count=${rest#*:}
+    case "$seed$count" in ''|*[!0-9]*)
+        echo "partgen_check  FAILED: '$spec' is not SEED:INDICES:COUNT"; exit 1 ;;
+    esac
+    dir=build/partgen-$seed-$count
+    mkdir -p "$dir"
+    if [ "$(ls "$dir"/*/truth.json 2>/dev/null | wc -l)" -lt "$(echo "$only" | tr ',' '\n' | wc -l)" ]; then
+        "$gen" --seed "$seed" --count "$count" --only "$only" --out "$dir" --jobs 2 >"$dir.log" 2>&1 ||
+            { echo "partgen_check  FAILED: partgen --seed $seed did not draw the sample (see $dir.log)"; exit 1; }
     fi
+    names=$(for i in $(echo "$only" | tr ',' ' '); do ls "$dir" | grep "^s${seed}p$(printf %02d "$i")_"; done | paste -sd, -)
+    echo "$seed $dir $names" >>"$logs/samples"
 done
+
+# The queue: one job per part and input, the noisy scans first.
+for input in damaged_scan.stl damaged_posed.stl; do
+    while read -r seed dir names; do
+        for name in $(echo "$names" | tr ',' ' '); do echo "$dir $name $input"; done
+    done <"$logs/samples"
+done | xargs -P 2 -L 1 sh -c '
+    logs=$1; symrec=$2; runparts=$3; dir=$4; name=$5; input=$6
+    start=$(date +%s)
+    "$runparts" "$symrec" "$dir" --strict --only "$name" --input "$input" --timeout 300 \
+        >"$logs/$name.$input.txt" 2>&1
+    echo "$? $(( $(date +%s) - start ))" >"$logs/$name.$input.rc"
+' sh "$logs" "$symrec" "$runparts"
+
+rc=0
+while read -r seed dir names; do
+    for input in damaged_posed.stl damaged_scan.stl; do
+        pass=0 fail=0 secs=0 bad=
+        for name in $(echo "$names" | tr ',' ' '); do
+            out=$logs/$name.$input.txt
+            read -r r s <"$logs/$name.$input.rc" 2>/dev/null || { r=1; s=0; }
+            secs=$((secs + s))
+            if [ "$r" -eq 0 ] && grep -q ' ok ' "$out"; then
+                pass=$((pass + 1))
+            else
+                fail=$((fail + 1))
+                bad="$bad $out"
+            fi
+        done
+        if [ "$fail" -eq 0 ]; then
+            printf '%-14s %3d passed, %d failed  ok  (%ss)\n' "partgen[$seed ${input%%.stl}]" "$pass" 0 "$secs"
+        else
+            printf '%-14s %3d passed, %d failed  FAILED  (%ss)\n' "partgen[$seed ${input%%.stl}]" "$pass" "$fail" "$secs"
+            for out in $bad; do grep -v ' ok ' "$out" | sed 's/^/    | /'; done
+            rc=1
+        fi
+    done
+done <"$logs/samples"
 exit $rc
