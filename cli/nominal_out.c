@@ -102,6 +102,9 @@ void cli_nominal_print(const sr_run_nominal *n, const char *why_none)
     printf("              %zu sliver(s) thinner than %.3f mm dropped (%.1f mm³); scan outside "
            "the nominal %.1f mm³ (limit %.1f); %.2f s\n",
            n->slivers, n->sliver_mm, n->sliver_mm3, n->extra_mm3, n->extra_limit_mm3, n->seconds);
+    char how[320];
+    sr_run_nominal_method_text(n, how, sizeof how);
+    printf("              measured %s\n", how);
     if (n->poor)
         printf("  NOMINAL POOR: %s\n", n->note);
     if (n->section_count) {
@@ -173,6 +176,18 @@ void json_run_nominal(json_out *j, const sr_run_nominal *n)
     json_string(j, n->note);
     json_key(j, "seconds");
     json_number(j, n->seconds);
+    json_key(j, "method");
+    if (n->method[0])
+        json_string(j, n->method);
+    else
+        json_null(j);
+    json_key(j, "cell_mm");
+    if (strcmp(n->method, "cells") == 0)
+        json_number(j, n->cell_mm);
+    else
+        json_null(j);
+    json_key(j, "exact_note");
+    json_string(j, n->exact_note);
     json_key(j, "sections");
     json_array_begin(j);
     for (size_t i = 0; i < n->section_count; i++) {

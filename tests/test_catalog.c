@@ -22,6 +22,7 @@
 
 #include "catalog/catalog.h"
 #include "catalog/catalog_int.h"
+#include "catalog/catalog_runs.h"
 #include "catalog/catalog_rules.h"
 #include "run/params_default.h"
 #include "support/assert_near.h"
@@ -583,6 +584,103 @@ static void migration_005_gives_older_meshes_mm(void **state)
     assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM meshes"), 3);
     assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM meshes WHERE source_unit = 'mm'"), 2);
     assert_int_equal(raw_int(fx->db, "PRAGMA user_version"), sr_catalog_schema_latest());
+}
+
+/* A run on instance inst with a nominal record measured by `method` (NULL: no
+ * nominal record); returns its id. */
+static int64_t add_run_with_nominal(sr_catalog *cat, int64_t inst, const char *method,
+                                    double cell_mm, const char *note)
+{
+    sr_run r;
+    memset(&r, 0, sizeof r);
+    r.instance_id = inst;
+    r.symmetry = (sr_symmetry){SR_SYM_AXIAL, 0, 0};
+    r.params = (sr_params){"default", 10, 12, 0.9, 0.8, 0.07, 0.2, 1.5, ""};
+    snprintf(r.method, sizeof r.method, "image");
+    r.fit_quality = -1;
+    r.ok = 1;
+    snprintf(r.started_at, sizeof r.started_at, "2026-12-05T06:00:00Z");
+    sr_run_nominal n;
+    memset(&n, 0, sizeof n);
+    snprintf(n.reference, sizeof n.reference, "symmetry");
+    n.transform[0] = n.transform[5] = n.transform[10] = 1;
+    n.coverage = 0.97;
+    n.nominal_mm3 = 120;
+    snprintf(n.method, sizeof n.method, "%s", method ? method : "");
+    n.cell_mm = cell_mm;
+    snprintf(n.exact_note, sizeof n.exact_note, "%s", note);
+    r.nominal = method ? &n : NULL;
+    int64_t id = 0;
+    sr_err err = {{0}};
+    if (sr_catalog_run_add(cat, &r, &id, &err) != SR_OK)
+        fail_msg("run add: %s", err.msg);
+    return id;
+}
+
+/* Schema 9 to 10 (sql/010_nominal_method.sql): a nominal recorded before keeps its
+ * figures and reads back with its method unknown; one recorded after keeps how it was
+ * measured (cells with their size and why the exact difference was refused, or
+ * exact), and the catalogue refuses a method it does not know. */
+static void migration_010_records_how_the_nominal_was_measured(void **state)
+{
+    fixture *fx = *state;
+    sr_sql_file v9[10];
+    for (int i = 0; i < 9; i++)
+        v9[i] = sr_sql_files[i];
+    v9[9] = (sr_sql_file){NULL, NULL};
+    assert_string_equal(v9[8].name, "009_inspection.sql");
+    sr_catalog *cat = NULL;
+    sr_err err = {{0}};
+    if (sr_cat_open_with(fx->db, SR_CATALOG_CREATE, v9, &cat, &err) != SR_OK)
+        fail_msg("open: %s", err.msg);
+    assert_int_equal(sr_catalog_schema_version(cat), 9);
+    sr_mesh m;
+    make_box(&m, 0.0);
+    add_part(cat, "P-1", "plate", NULL, &m);
+    sr_mesh_release(&m);
+    int64_t inst = add_instance(cat, "P-1", NULL);
+    add_run_with_nominal(cat, inst, NULL, 0, ""); /* the run; its nominal below */
+    sr_catalog_close(cat);
+    /* a version-9 nominal, written as version 9 wrote it */
+    raw_exec(fx->db,
+             "INSERT INTO run_nominal (run_id, reference, transform, coverage, rms_mm, tol_mm,"
+             " nominal_mm3, symmetry_mm3, diff_mm3, diff_pct, sliver_mm, slivers, sliver_mm3,"
+             " min_volume_mm3, scan_outside_mm3, scan_outside_limit_mm3, poor, note, seconds)"
+             " SELECT id, 'symmetry', zeroblob(96), 0.9, 0.01, 0.1, 100, 99, 1, 1, 0.05, 0, 0,"
+             " 1, 0, 5, 0, '', 0.5 FROM runs;");
+
+    assert_int_equal(sr_catalog_open(fx->db, 0, &cat, &err), SR_OK);
+    assert_int_equal(sr_catalog_schema_opened(cat), 9);
+    assert_int_equal(sr_catalog_schema_version(cat), sr_catalog_schema_latest());
+    sr_run old;
+    assert_int_equal(sr_catalog_run_get(cat, 1, 0, &old, &err), SR_OK);
+    assert_non_null(old.nominal);
+    assert_near(old.nominal->nominal_mm3, 100, 0);
+    assert_string_equal(old.nominal->method, "");
+    char how[320];
+    sr_run_nominal_method_text(old.nominal, how, sizeof how);
+    assert_non_null(strstr(how, "not recorded"));
+    sr_run_release(&old);
+
+    int64_t cells = add_run_with_nominal(cat, inst, "cells", 0.25, "'scan' intersects itself");
+    int64_t exact = add_run_with_nominal(cat, inst, "exact", 0, "");
+    sr_run back;
+    assert_int_equal(sr_catalog_run_get(cat, cells, 0, &back, &err), SR_OK);
+    assert_string_equal(back.nominal->method, "cells");
+    assert_near(back.nominal->cell_mm, 0.25, 0);
+    assert_string_equal(back.nominal->exact_note, "'scan' intersects itself");
+    sr_run_nominal_method_text(back.nominal, how, sizeof how);
+    assert_non_null(strstr(how, "by cells of 0.250 mm"));
+    assert_non_null(strstr(how, "refused the scan: 'scan' intersects itself"));
+    sr_run_release(&back);
+    assert_int_equal(sr_catalog_run_get(cat, exact, 0, &back, &err), SR_OK);
+    assert_string_equal(back.nominal->method, "exact");
+    sr_run_release(&back);
+    assert_int_equal(cat_exec_rc(cat, "UPDATE run_nominal SET method = 'fast'"), SQLITE_CONSTRAINT);
+    assert_int_equal(cat_exec_rc(cat, "UPDATE run_nominal SET cell_mm = 0"), SQLITE_CONSTRAINT);
+    sr_catalog_close(cat);
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM run_nominal WHERE method IS NULL"), 1);
+    assert_int_equal(raw_int(fx->db, "SELECT count(*) FROM run_nominal WHERE cell_mm IS NULL"), 2);
 }
 
 static void migration_upgrades_older_catalogue(void **state)
@@ -1836,6 +1934,7 @@ int main(void)
         T(migration_leaving_broken_foreign_key_rolls_back),
         T(migration_upgrades_older_catalogue),
         T(migration_005_gives_older_meshes_mm),
+        T(migration_010_records_how_the_nominal_was_measured),
         T(gap_in_migrations_is_refused),
         T(schema_refuses_inconsistent_rows),
         T(part_with_mesh_round_trips_bit_identical),

@@ -131,6 +131,13 @@ static void reference_nominal_restores_and_records_it(void **state)
     char *poor = jq_text(r.out, "$.nominal.poor");
     assert_string_equal(poor, "0");
     free(poor);
+    /* the patch is the pieces' meshes: measured by the exact difference */
+    char *method = jq_text(r.out, "$.nominal.method");
+    assert_string_equal(method, "exact");
+    free(method);
+    char *whole = jq_text(r.out, "$.nominal"); /* no cells: cell_mm there, null */
+    assert_non_null(strstr(whole, "\"cell_mm\":null"));
+    free(whole);
     /* the symmetry's section beside it, as the check */
     assert_int_equal(jq_len(r.out, "$.sections"), 1);
     assert_int_equal(jq_len(r.out, "$.nominal.sections"), 1);
@@ -155,9 +162,13 @@ static void reference_nominal_restores_and_records_it(void **state)
     char *back = jq_text(r.out, "$.nominal.sections");
     assert_string_equal(back, sections);
     free(back);
+    back = jq_text(r.out, "$.nominal.method");
+    assert_string_equal(back, "exact");
+    free(back);
     result_free(&r);
     run(&r, (const char *[]){bin, "--db", f->db, "run", "show", id, NULL});
     assert_int_equal(r.code, 0);
+    assert_non_null(strstr(r.out, "measured by one exact difference"));
     assert_non_null(strstr(r.out, "symmetry vs nominal"));
     assert_non_null(strstr(r.out, "reference nominal"));
     result_free(&r);
@@ -186,6 +197,12 @@ static void a_wrong_intact_model_is_flagged_and_refused(void **state)
     free(note);
     /* ... with a large disagreement, not a silently small one */
     assert_true(fabs(jq_num(r.out, "$.nominal.diff_pct")) > 50);
+    /* measured by cells (the default when the nominal is only the check), and says so */
+    char *method = jq_text(r.out, "$.nominal.method");
+    assert_string_equal(method, "cells");
+    free(method);
+    double cell = jq_num(r.out, "$.nominal.cell_mm");
+    assert_true(cell > 0 && cell < 5);
     result_free(&r);
     /* and it cannot be the reference */
     run(&r, (const char *[]){bin, "--db", f->db, "reconstruct", "2", FAST, "--no-record",

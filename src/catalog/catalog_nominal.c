@@ -1,6 +1,7 @@
 /*
  * catalog_nominal.c: the nominal's second opinion on a run in the catalogue (tables
- * run_nominal, run_nominal_sections, run_nominal_pieces of sql/008_nominal.sql; the
+ * run_nominal, run_nominal_sections, run_nominal_pieces of sql/008_nominal.sql, with
+ * the measuring method of sql/010_nominal_method.sql; the
  * record is run.h's sr_run_nominal). Written inside sr_catalog_run_add's transaction
  * (catalog_runs.c), read by sr_catalog_run_get (catalog_run_read.c). Blobs as the
  * run's alignment: little-endian doubles (sr_cat_put_f64).
@@ -21,9 +22,10 @@ sr_status sr_cat_nominal_insert(sr_catalog *cat, const sr_run_nominal *n, int64_
         cat,
         "INSERT INTO run_nominal (run_id, reference, transform, coverage, rms_mm, tol_mm,"
         " nominal_mm3, symmetry_mm3, diff_mm3, diff_pct, sliver_mm, slivers, sliver_mm3,"
-        " min_volume_mm3, scan_outside_mm3, scan_outside_limit_mm3, poor, note, seconds)"
+        " min_volume_mm3, scan_outside_mm3, scan_outside_limit_mm3, poor, note, seconds,"
+        " method, cell_mm, exact_note)"
         " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17,"
-        " ?18, ?19)",
+        " ?18, ?19, ?20, ?21, ?22)",
         &stmt, err);
     if (st != SR_OK)
         return st;
@@ -45,6 +47,15 @@ sr_status sr_cat_nominal_insert(sr_catalog *cat, const sr_run_nominal *n, int64_
     sqlite3_bind_int(stmt, 17, n->poor ? 1 : 0);
     sqlite3_bind_text(stmt, 18, n->note, -1, SQLITE_STATIC);
     sqlite3_bind_double(stmt, 19, n->seconds);
+    if (n->method[0])
+        sqlite3_bind_text(stmt, 20, n->method, -1, SQLITE_STATIC);
+    else
+        sqlite3_bind_null(stmt, 20);
+    if (strcmp(n->method, "cells") == 0)
+        sqlite3_bind_double(stmt, 21, n->cell_mm);
+    else
+        sqlite3_bind_null(stmt, 21);
+    sqlite3_bind_text(stmt, 22, n->exact_note, -1, SQLITE_STATIC);
     st = sr_cat_exec(cat, stmt, err, "record a run's nominal");
     for (size_t i = 0; st == SR_OK && i < n->section_count; i++) {
         const sr_run_nominal_section *s = &n->sections[i];
@@ -174,8 +185,8 @@ sr_status sr_cat_nominal_read(sr_catalog *cat, sr_run *r, sr_err *err)
         cat,
         "SELECT reference, transform, coverage, rms_mm, tol_mm, nominal_mm3, symmetry_mm3,"
         " diff_mm3, diff_pct, sliver_mm, slivers, sliver_mm3, min_volume_mm3,"
-        " scan_outside_mm3, scan_outside_limit_mm3, poor, note, seconds"
-        " FROM run_nominal WHERE run_id = ?1",
+        " scan_outside_mm3, scan_outside_limit_mm3, poor, note, seconds, method, cell_mm,"
+        " exact_note FROM run_nominal WHERE run_id = ?1",
         &stmt, err);
     if (st != SR_OK)
         return st;
@@ -209,6 +220,9 @@ sr_status sr_cat_nominal_read(sr_catalog *cat, sr_run *r, sr_err *err)
     n->poor = sqlite3_column_int(stmt, 15);
     sr_cat_column_text(stmt, 16, n->note, sizeof n->note);
     n->seconds = sqlite3_column_double(stmt, 17);
+    sr_cat_column_text(stmt, 18, n->method, sizeof n->method); /* NULL: "" */
+    n->cell_mm = sqlite3_column_double(stmt, 19);
+    sr_cat_column_text(stmt, 20, n->exact_note, sizeof n->exact_note);
     st = sr_cat_finish(cat, stmt, err, "read a run's nominal");
     if (st == SR_OK)
         st = read_rows(cat, r->id, 0, n, err);

@@ -20,6 +20,11 @@ void rp_nominal_section(sb *b, const sr_run *r)
               "disagreement %+.1f mm³ (%+.1f %%). The restoration is the %s's.</p>\n",
               100.0 * n->coverage, n->tol_mm, n->rms_mm, n->nominal_mm3, n->symmetry_mm3,
               n->diff_mm3, n->diff_pct, n->reference[0] == 'n' ? "nominal" : "symmetry");
+    char how[320];
+    sr_run_nominal_method_text(n, how, sizeof how);
+    sb_put(b, "<p>The nominal's missing material was measured ");
+    sb_html(b, how);
+    sb_put(b, ".</p>\n");
     if (n->poor) {
         sb_put(b, "<p class=\"warn\"><strong>");
         sb_html(b, n->note);

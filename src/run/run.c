@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,6 +56,21 @@ sr_status sr_params_check(const sr_params *p, sr_err *err)
         (st = check_minimum("min_volume_mm3", p->min_volume_mm3, err)) != SR_OK)
         return st;
     return SR_OK;
+}
+
+void sr_run_nominal_method_text(const sr_run_nominal *n, char *out, size_t size)
+{
+    if (strcmp(n->method, "cells") == 0 && n->exact_note[0])
+        snprintf(out, size,
+                 "by cells of %.3f mm (exact volume per cell); the exact difference refused "
+                 "the scan: %s",
+                 n->cell_mm, n->exact_note);
+    else if (strcmp(n->method, "cells") == 0)
+        snprintf(out, size, "by cells of %.3f mm (exact volume per cell)", n->cell_mm);
+    else if (strcmp(n->method, "exact") == 0)
+        snprintf(out, size, "by one exact difference (registered intact - scan)");
+    else
+        snprintf(out, size, "by a method not recorded (run from before schema version 10)");
 }
 
 void sr_run_nominal_free(sr_run_nominal *n)

@@ -95,6 +95,12 @@ typedef struct sr_run_nominal {
     int poor; /* 1: the nominal does not fit the scan (note) */
     char note[240];
     double seconds;
+    /* how nominal_mm3 was measured: "exact" (one CGAL difference), "cells" (exact
+     * volumes per cell of a grid of cell_mm), "" = not known (recorded before schema
+     * version 10); exact_note: why the exact difference was refused ("" = it was not) */
+    char method[8];
+    double cell_mm;
+    char exact_note[200];
     sr_run_nominal_section *sections;
     size_t section_count;
     sr_run_nominal_piece *pieces;
@@ -103,6 +109,11 @@ typedef struct sr_run_nominal {
 
 /* Frees a nominal record (and its arrays); accepts NULL. */
 void sr_run_nominal_free(sr_run_nominal *n);
+
+/* How the nominal's missing material was measured, as a phrase for the CLI and the
+ * report ("by one exact difference ...", "by cells of 0.250 mm ...; the exact
+ * difference refused the scan: why", or that it was not recorded), into out. */
+void sr_run_nominal_method_text(const sr_run_nominal *n, char *out, size_t size);
 
 typedef struct sr_run {
     int64_t id;                 /* read back; ignored by add */

@@ -45,6 +45,9 @@ sr_status sr_run_nominal_from(const sr_nominal_result *nr, const char *reference
     n->poor = nr->poor;
     snprintf(n->note, sizeof n->note, "%s", nr->note);
     n->seconds = nr->seconds;
+    snprintf(n->method, sizeof n->method, "%s", nr->by_cells ? "cells" : "exact");
+    n->cell_mm = nr->by_cells ? nr->cell_mm : 0;
+    snprintf(n->exact_note, sizeof n->exact_note, "%s", nr->exact_note);
     n->section_count = nr->section_count;
     for (size_t i = 0; i < nr->section_count; i++) {
         const sr_nominal_section *s = &nr->sections[i];
