@@ -93,13 +93,13 @@ TESTS   := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 BENCH   := $(BUILD)/bench/symrec_bench
 
 .PHONY: all deps demo test valgrind check bench clean fixtures tests-built bench-built install \
-        partgen-check quick layers format compdb lint fuzz fuzz-built
+        partgen-check partgen-draw quick layers format compdb lint fuzz fuzz-built
 # keep test objects: they are intermediates of the test binaries, not throwaways
 .SECONDARY:
 all: $(LIB) $(BIN)
 
 deps:
-	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)) \
+	$(Q)missing=""; for p in $(DEB_PACKAGES) $(if $(filter check partgen-check partgen-draw bench quick,$(MAKECMDGOALS)),$(DEB_CHECK_PACKAGES)) \
 	  $(if $(filter check test quick,$(MAKECMDGOALS)),$(DEB_BROWSER_PACKAGES)) \
 	  $(if $(filter lint format,$(MAKECMDGOALS)),$(DEB_LINT_PACKAGES)) \
 	  $(if $(filter fuzz,$(MAKECMDGOALS)),$(DEB_FUZZ_PACKAGES)); do \
@@ -259,10 +259,15 @@ valgrind: deps
 # shift at the scan's lower bound, a noisy strip whose folded slivers the mender filled
 # flat across a chip, a noisy rack's pattern end whose facets noise tilted off the frame
 # built as a phantom tooth).
+PARTGEN_SAMPLES := 777:3,4,5,6,7,8,13,14:16 1202:2:24 271828:9:24 55441:13:24 \
+  987654:0,13:24 2718:7,20:24 8128:7:24 41207:7:8
 partgen-check: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
-	$(Q)sh tests/partgen/check_generated.sh build/release/symrec 777:3,4,5,6,7,8,13,14:16 \
-	  1202:2:24 271828:9:24 55441:13:24 987654:0,13:24 2718:7,20:24 8128:7:24 41207:7:8
+	$(Q)sh tests/partgen/check_generated.sh build/release/symrec $(PARTGEN_SAMPLES)
+
+# Only draws partgen-check's parts (into build/partgen-SEED-COUNT; once).
+partgen-draw: deps
+	$(Q)sh tests/partgen/check_generated.sh --draw-only $(PARTGEN_SAMPLES)
 
 # The inner loop: the debug build's unit tests and the CLI tests, no accuracy matrix,
 # no sanitizer, no Valgrind.
@@ -270,9 +275,12 @@ quick: deps layers
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
 	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_QUICK=1 SYMREC_REQUIRE_BROWSER=1 sh tests/run_tests.sh build/debug
 
-# What CI runs: every stage, its wall time printed at the end.
+# What CI runs: every stage, its wall time printed at the end; partgen-check's parts are
+# drawn in the background at idle priority from the start (OpenSCAD on the CPU the
+# other stages leave idle).
 check: deps
-	$(Q)sh tests/check_stages.sh "$(MAKE) --no-print-directory test" \
+	$(Q)sh tests/check_stages.sh --background "$(MAKE) --no-print-directory partgen-draw" \
+	  "$(MAKE) --no-print-directory test" \
 	  "$(MAKE) --no-print-directory valgrind" "$(MAKE) --no-print-directory partgen-check"
 
 # Installs the release build: $(DESTDIR)$(PREFIX)/bin/symrec, lib/libsymrec.a and the

@@ -7,6 +7,9 @@
 # parts 3,4,5,6,7,8,13,14 of 16 (two per family, none of them `hard`); the Makefile adds
 # the parts of fresh seeds that once failed (a class fixed stays fixed). The old form
 # `check_generated.sh SYMREC SEED [INDICES] [COUNT]` still checks one sample.
+# `check_generated.sh --draw-only SEED:INDICES:COUNT ...` only draws the samples (make
+# check runs it in the background at idle priority from its start, so the drawing uses
+# the CPU the other stages leave idle and partgen-check finds its parts made).
 #
 # Every part is made once into build/partgen-SEED-COUNT (a seed gives the same parts byte
 # for byte). The reconstructions of all samples then run as one queue, two at a time
@@ -16,8 +19,10 @@
 # format, then the failures' lines; exit 1 if any part is out of bounds. Skipped, with a
 # line saying so, without ../shared, OpenSCAD or python3-numpy/scipy.
 set -u
-symrec=${1:?usage: check_generated.sh SYMREC [SEED:INDICES:COUNT ...]}
+symrec=${1:?usage: check_generated.sh SYMREC|--draw-only [SEED:INDICES:COUNT ...]}
 shift
+draw_only=false
+[ "$symrec" = --draw-only ] && draw_only=true
 case $# in
     0) set -- "777:3,4,5,6,7,8,13,14:16" ;;
     *) case $1 in *:*) ;; *) set -- "$1:${2:-3,4,5,6,7,8,13,14}:${3:-16}" ;; esac ;;
@@ -30,7 +35,7 @@ if [ ! -x "$gen" ] || [ ! -x "$runparts" ] || ! command -v openscad >/dev/null 2
     echo "partgen_check  skipped: no ../shared/partgen, OpenSCAD or python3-numpy/scipy"
     exit 0
 fi
-case $symrec in /*) ;; *) symrec=$(pwd)/$symrec ;; esac
+case $symrec in /* | --draw-only) ;; *) symrec=$(pwd)/$symrec ;; esac
 logs=$(mktemp -d /tmp/symrec-partgen-check-XXXXXX) || exit 2
 trap 'rm -rf "$logs"' EXIT
 trap 'exit 130' INT TERM
@@ -54,6 +59,7 @@ for spec in "$@"; do
     names=$(for i in $(echo "$only" | tr ',' ' '); do ls "$dir" | grep "^s${seed}p$(printf %02d "$i")_"; done | paste -sd, -)
     echo "$seed $dir $names" >>"$logs/samples"
 done
+$draw_only && exit 0
 
 # The queue: one job per part and input, the noisy scans first.
 for input in damaged_scan.stl damaged_posed.stl; do
