@@ -9,6 +9,7 @@
  * close up.
  */
 #include "bridge/boolean_cgal.hpp"
+#include "bridge/classify_cgal.hpp"
 
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 
@@ -27,93 +28,29 @@
 
 namespace sr_bool {
 
-namespace {
+/* declared in classify_cgal.hpp */
+void neighbourhood_arrays(const sr_mesh *a, const double *xf, const std::vector<uint8_t> &in,
+                          size_t n, std::vector<double> &xyz, std::vector<uint32_t> &tri,
+                          std::vector<uint32_t> &orig)
+{
+    std::vector<uint32_t> local(a->vertex_count, no_vertex);
+    tri.reserve(3 * n);
+    for (size_t t = 0; t < a->tri_count; t++)
+        if (in[t])
+            for (int k = 0; k < 3; k++) {
+                uint32_t v = a->tri[3 * t + k];
+                if (local[v] == no_vertex) {
+                    double p[3];
+                    frame_point(a, v, xf, p);
+                    local[v] = static_cast<uint32_t>(orig.size());
+                    orig.push_back(v);
+                    xyz.insert(xyz.end(), p, p + 3);
+                }
+                tri.push_back(local[v]);
+            }
+}
 
-/* ---- the local union ----------------------------------------------------------------
- * a ∪ b for a large closed a (a scan) and a small closed b (a patch): only a's
- * neighbourhood of b goes through CGAL. N = a's triangles whose bounding box meets b's
- * box grown by the margin, plus, at a vertex where N's triangles would form more than one
- * fan, every triangle of that vertex (a halfedge mesh cannot hold such a vertex). Every
- * triangle of a that b can cut is in N, so no intersection lies on N's border.
- * corefine_and_compute_union runs on N (open) and b in place: CGAL's output builder
- * classifies the patches of an open operand by the orientation around the intersection
- * edges exactly as for a closed one, and the intersection-free patches of N against b
- * (closed) by a point-in-volume test; only b's intersection-free components would be
- * misjudged (kept as outside), so each component of b must meet N's surface. After it,
- * N's border (directed edges, in a's vertex numbers) must be what it was: then the
- * untouched triangles of a and the new N close up into one surface. Whenever a condition
- * fails the whole-mesh union runs instead (info->fallback says why). */
-
-/* A corefinement visitor that asks CGAL's output builder for its classification of the
- * patches (the parts of each surface between intersection edges) instead of a boolean's
- * output: the builder does this when no output is requested and the visitor declares
- * Has_extra_functions (CGAL 5.5, Face_graph_output_builder.h). It is the builder's own
- * exact, orientation-around-the-edge classification, also valid where an operand is
- * open (its boolean output path is not: CGAL 5.5's consistency check for open operands
- * rejects every patch it finds inside). */
-struct Classify_visitor : public PMP::Corefinement::Default_visitor<Mesh> {
-    typedef int Has_extra_functions;
-    Patch_flags *flags; /* [0] first operand, [1] second */
-    const Mesh *first;
-    std::vector<uint32_t> *node_vertex; /* [0], [1]: per intersection node, the
-                                         * operand's vertex at it (no_vertex if none) */
-
-    void record(std::size_t node, Vertex_index v, const Mesh &tm)
-    {
-        std::vector<uint32_t> &m = node_vertex[&tm == first ? 0 : 1];
-        if (m.size() <= node)
-            m.resize(node + 1, no_vertex);
-        m[node] = static_cast<uint32_t>(v.idx());
-    }
-
-    /* a vertex made for a node (an edge or a face of this operand was cut there) */
-    void new_vertex_added(std::size_t node, Vertex_index v, const Mesh &tm)
-    {
-        record(node, v, tm);
-    }
-
-    /* an operand's own vertex at a node: an end of the cutting edge h1, or the vertex
-     * of the other operand the edge passes through */
-    void intersection_point_detected(std::size_t node, int sdim, Mesh::Halfedge_index h1,
-                                     Mesh::Halfedge_index h2, const Mesh &tm1,
-                                     const Mesh &tm2, bool is_target_coplanar,
-                                     bool is_source_coplanar)
-    {
-        if (is_target_coplanar)
-            record(node, tm1.target(h1), tm1);
-        if (is_source_coplanar)
-            record(node, tm1.source(h1), tm1);
-        if (sdim == PMP::Corefinement::ON_VERTEX)
-            record(node, tm2.target(h2), tm2);
-    }
-
-    template <class Fim>
-    void export_flags(Fim fim, const std::vector<std::size_t> &ids,
-                      const boost::dynamic_bitset<> &inside,
-                      const boost::dynamic_bitset<> &coplanar,
-                      const boost::dynamic_bitset<> &coplanar_union,
-                      const boost::dynamic_bitset<> &not_set, Mesh &tm)
-    {
-        Patch_flags &f = flags[&tm == first ? 0 : 1];
-        f.patch.assign(tm.num_faces(), 0);
-        for (Mesh::Face_index fd : tm.faces())
-            f.patch[fd.idx()] = ids[get(fim, fd)];
-        f.inside = inside;
-        f.coplanar = coplanar;
-        f.coplanar_union = coplanar_union;
-        f.not_set = not_set;
-        f.have = true;
-    }
-
-    template <class H>
-    void register_halfedge_pair(H, H, bool, bool, bool, bool, bool = false, bool = false,
-                                bool = false, bool = false)
-    {
-    }
-};
-
-/* The neighbourhood as a halfedge mesh with property "v:orig" (a's vertex number), from
- * its arrays: only vertices some triangle uses. False when a triangle is refused. */
+/* declared in classify_cgal.hpp */
 bool build_neighbourhood(const sr_mesh &loc, const std::vector<uint32_t> &loc_orig, Mesh &sm)
 {
     auto orig = sm.add_property_map<Vertex_index, uint32_t>("v:orig", no_vertex).first;
@@ -135,6 +72,24 @@ bool build_neighbourhood(const sr_mesh &loc, const std::vector<uint32_t> &loc_or
     }
     return true;
 }
+
+namespace
+{
+
+/* ---- the local union ----------------------------------------------------------------
+ * a ∪ b for a large closed a (a scan) and a small closed b (a patch): only a's
+ * neighbourhood of b goes through CGAL. N = a's triangles whose bounding box meets b's
+ * box grown by the margin, plus, at a vertex where N's triangles would form more than one
+ * fan, every triangle of that vertex (a halfedge mesh cannot hold such a vertex). Every
+ * triangle of a that b can cut is in N, so no intersection lies on N's border.
+ * corefine_and_compute_union runs on N (open) and b in place: CGAL's output builder
+ * classifies the patches of an open operand by the orientation around the intersection
+ * edges exactly as for a closed one, and the intersection-free patches of N against b
+ * (closed) by a point-in-volume test; only b's intersection-free components would be
+ * misjudged (kept as outside), so each component of b must meet N's surface. After it,
+ * N's border (directed edges, in a's vertex numbers) must be what it was: then the
+ * untouched triangles of a and the new N close up into one surface. Whenever a condition
+ * fails the whole-mesh union runs instead (info->fallback says why). */
 
 /* The local union proper. SR_OK with *done = false when a condition for it fails
  * (why in `why`): the caller runs the whole-mesh union. */
@@ -194,23 +149,7 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
     sr_mesh loc = {nullptr, nullptr, 0, 0};
     std::vector<double> loc_xyz;
     std::vector<uint32_t> loc_tri, loc_orig;
-    {
-        std::vector<uint32_t> local(a->vertex_count, no_vertex);
-        loc_tri.reserve(3 * n);
-        for (size_t t = 0; t < a->tri_count; t++)
-            if (in[t])
-                for (int k = 0; k < 3; k++) {
-                    uint32_t v = a->tri[3 * t + k];
-                    if (local[v] == no_vertex) {
-                        double p[3];
-                        frame_point(a, v, xf, p);
-                        local[v] = static_cast<uint32_t>(loc_orig.size());
-                        loc_orig.push_back(v);
-                        loc_xyz.insert(loc_xyz.end(), p, p + 3);
-                    }
-                    loc_tri.push_back(local[v]);
-                }
-    }
+    neighbourhood_arrays(a, xf, in, n, loc_xyz, loc_tri, loc_orig);
     loc.xyz = loc_xyz.data();
     loc.vertex_count = loc_orig.size();
     loc.tri = loc_tri.data();

@@ -7,6 +7,7 @@
  * into a's arrays; and b \ a, for the _split form, as a compact mesh.
  */
 #include "bridge/boolean_cgal.hpp"
+#include "bridge/classify_cgal.hpp"
 
 #include <CGAL/Side_of_triangle_mesh.h>
 
@@ -68,30 +69,6 @@ void splice_local(sr_mesh *dst, const std::vector<uint8_t> &in, const Local_resu
     dst->vertex_count = kept;
     dst->tri_count = w;
 }
-
-namespace {
-
-/* Hands each patch of tm with no intersection edge (f.not_set), once, to decide(pid,
- * point) with a point of it (its first face's centroid); decide marks the patch and
- * returns false to give up, which this returns. */
-template <class Decide>
-bool classify_free_patches(const Mesh &tm, const Patch_flags &f, Decide decide)
-{
-    boost::dynamic_bitset<> done(f.not_set.size());
-    for (Mesh::Face_index fd : tm.faces()) {
-        std::size_t pid = f.patch[fd.idx()];
-        if (!f.not_set.test(pid) || done.test(pid))
-            continue;
-        done.set(pid);
-        Mesh::Halfedge_index h = tm.halfedge(fd);
-        if (!decide(pid, CGAL::centroid(tm.point(tm.source(h)), tm.point(tm.target(h)),
-                                        tm.point(tm.target(tm.next(h))))))
-            return false;
-    }
-    return true;
-}
-
-} // namespace
 
 /* Unites the corefined N (sm) and b (mb) from the patch flags: N's patches outside b
  * (and its coplanar patches a union keeps), b's patches outside a, joined at the

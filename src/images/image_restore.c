@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "bridge/boolean.h"
+#include "bridge/clip_local.h"
 #include "bridge/mend.h"
 #include "images/axis_seam.h"
 #include "images/image_vote.h"
@@ -338,25 +339,18 @@ static void grown_box(const sr_mesh *m, double grow, double box[6])
     }
 }
 
-static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char *a_what,
-                                 const sr_mesh *b, const char *b_what, sr_mesh *out,
-                                 size_t *mended, sr_err *err)
+/* The boolean again with either operand mended near the other, after it was refused
+ * (e1: the refusal, which stays the answer when nothing is mended). */
+static sr_status mend_and_retry(sr_boolean_op op, const sr_mesh *a, const char *a_what,
+                                const sr_mesh *b, const char *b_what, sr_mesh *out, size_t *mended,
+                                const sr_err *e1, sr_err *err)
 {
-    sr_err e1 = {{0}}, local = {{0}};
-    if (!err)
-        err = &local;
-    sr_status st = sr_boolean_compute(op, a, a_what, b, b_what, out, &e1);
-    if (st != SR_E_INVALID) {
-        if (st != SR_OK)
-            *err = e1;
-        return st;
-    }
     sr_mesh ma = {0}, mb = {0};
     double box_a[6], box_b[6];
     grown_box(a, 1.0, box_a);
     grown_box(b, 1.0, box_b);
     sr_mend_report ra = {0}, rb = {0};
-    st = sr_mesh_copy(&ma, a);
+    sr_status st = sr_mesh_copy(&ma, a);
     if (st == SR_OK)
         st = sr_mesh_copy(&mb, b);
     if (st == SR_OK) {
@@ -365,7 +359,7 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
         if (sr_mesh_mend_crossings(&mb, box_a, &rb, NULL) != SR_OK)
             rb.removed_tris = 0;
         if (ra.removed_tris + rb.removed_tris == 0) {
-            *err = e1;
+            *err = *e1;
             st = SR_E_INVALID;
         } else {
             st = sr_boolean_compute(op, &ma, a_what, &mb, b_what, out, err);
@@ -376,6 +370,41 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
     sr_mesh_release(&ma);
     sr_mesh_release(&mb);
     return st;
+}
+
+static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char *a_what,
+                                 const sr_mesh *b, const char *b_what, sr_mesh *out, size_t *mended,
+                                 sr_err *err)
+{
+    sr_err e1 = {{0}}, local = {{0}};
+    if (!err)
+        err = &local;
+    sr_status st = sr_boolean_compute(op, a, a_what, b, b_what, out, &e1);
+    if (st != SR_E_INVALID) {
+        if (st != SR_OK)
+            *err = e1;
+        return st;
+    }
+    return mend_and_retry(op, a, a_what, b, b_what, out, mended, &e1, err);
+}
+
+/* An image of the scan clipped to a section's hull: near the hull only
+ * (clip_local.h: the same surface as the whole-mesh intersection, without a
+ * million-triangle scan going through CGAL for each image), mended and tried again as
+ * boolean_mending does when refused. */
+static sr_status clip_mending(const sr_mesh *img, const sr_mesh *hull, sr_mesh *out, size_t *mended,
+                              sr_err *err)
+{
+    sr_err e1 = {{0}};
+    sr_status st =
+        sr_boolean_intersection_local(img, "scan image", hull, "section hull", 0, out, NULL, &e1);
+    if (st != SR_E_INVALID) {
+        if (st != SR_OK)
+            *err = e1;
+        return st;
+    }
+    return mend_and_retry(SR_BOOLEAN_INTERSECTION, img, "scan image", hull, "section hull", out,
+                          mended, &e1, err);
 }
 
 sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh *out,
@@ -447,8 +476,7 @@ static sr_status clip_images(const sr_mesh *aligned, const sr_image *im, const s
         if (det3(im[pick[u]].xf) < 0)
             sr_mesh_flip(&img); /* a reflection turns the faces inside out */
         sr_err berr = {{0}};
-        sr_status bs = boolean_mending(SR_BOOLEAN_INTERSECTION, &img, "scan image", hull,
-                                       "section hull", &piece, &info->mended_tris, &berr);
+        sr_status bs = clip_mending(&img, hull, &piece, &info->mended_tris, &berr);
         sr_mesh_release(&img);
         if (bs != SR_OK || piece.tri_count == 0) {
             sr_mesh_release(&piece);
