@@ -2,7 +2,9 @@
  * test_scan_describe.c: sr_scan_describe and sr_scan_drop_strays (src/mesh/scan_describe.c)
  * on meshes with known answers: a closed box 10 x 20 x 30 (no opening, one component);
  * the box with its top face (10 x 20) left off (one loop of 4 edges, 60 mm, spanning
- * 200 mm², open 200 / 2200 of the surface; closed by a fan: 6000 mm³ again); the box with a stray triangle 20 mm above it
+ * 200 mm², open 200 / 2200 of the surface; closed in its plane: 6000 mm³ again); a
+ * tube and an L-shaped prism without their bases (closed in the plane, the fill's area
+ * the base's); the box with a stray triangle 20 mm above it
  * (dropped: 12 triangles and 8 vertices left; kept when "small" is set below its
  * 0.5 mm²), with a small triangle lying on its face
  * (kept: on the surface), with a second box beside it (kept: not small); bad options.
@@ -88,18 +90,113 @@ static void a_box_without_its_top_has_one_loop_round_it(void **state)
     assert_near(d.open_share, 200.0 / 2200.0, 1e-12);
     assert_int_equal(d.component_count, 1);
     assert_int_equal(d.strays, 0);
-    /* closed by a fan of 4 triangles from the top's centre: the box's volume again */
+    /* closed in its plane by two triangles on the rim's corners: the box's volume again */
     size_t closed = 0;
-    assert_int_equal(sr_scan_close_openings(&m, &d, 0, &closed, NULL), SR_OK);
+    sr_scan_closing how = SR_SCAN_LEFT_OPEN;
+    assert_int_equal(sr_scan_close_openings_how(&m, &d, 0, &closed, &how, NULL), SR_OK);
     assert_int_equal(closed, 1);
-    assert_int_equal(m.tri_count, 14);
-    assert_int_equal(m.vertex_count, 9);
+    assert_int_equal(how, SR_SCAN_IN_PLANE);
+    assert_int_equal(m.tri_count, 12);
+    assert_int_equal(m.vertex_count, 8);
     assert_true(sr_mesh_is_closed(&m));
     assert_near(sr_mesh_volume(&m), 6000, 1e-9);
-    assert_near(m.xyz[3 * 8], 5, 1e-12);
-    assert_near(m.xyz[3 * 8 + 1], 10, 1e-12);
-    assert_near(m.xyz[3 * 8 + 2], 30, 1e-12);
     sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
+/* Removes every triangle whose three vertices lie at z = z0; returns how many. */
+static size_t drop_face_at(sr_mesh *m, double z0)
+{
+    size_t kept = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        bool on = true;
+        for (int k = 0; k < 3; k++)
+            on = on && fabs(m->xyz[3 * m->tri[3 * t + k] + 2] - z0) < 1e-12;
+        if (!on) {
+            memmove(m->tri + 3 * kept, m->tri + 3 * t, 3 * sizeof *m->tri);
+            kept++;
+        }
+    }
+    size_t gone = m->tri_count - kept;
+    m->tri_count = kept;
+    return gone;
+}
+
+/* Area of triangles [from, tri_count) of m. */
+static double area_from(const sr_mesh *m, size_t from)
+{
+    double a = 0;
+    for (size_t t = from; t < m->tri_count; t++) {
+        const double *p = m->xyz + 3 * m->tri[3 * t], *q = m->xyz + 3 * m->tri[3 * t + 1],
+                     *r = m->xyz + 3 * m->tri[3 * t + 2];
+        double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+        double v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+        double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+        a += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    }
+    return a;
+}
+
+static double r_outer(double theta, size_t ring, void *user)
+{
+    (void)theta, (void)ring, (void)user;
+    return 10;
+}
+
+static double r_inner(double theta, size_t ring, void *user)
+{
+    (void)theta, (void)ring, (void)user;
+    return 4;
+}
+
+/* Opens m at z = 0, describes it, closes it and checks: loops loops, all closed in their
+ * plane, no new vertex, closed again with its volume, and the fill's area that of the
+ * base (a fan from a concave rim's centroid folds outside it, a bore's rim fanned on its
+ * own covers the bore twice over: either adds area). */
+static void closes_in_plane(sr_mesh *m, size_t loops, double base_area)
+{
+    double volume = sr_mesh_volume(m);
+    size_t nv = m->vertex_count;
+    assert_true(drop_face_at(m, 0) > 0);
+    size_t open_tris = m->tri_count;
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, loops);
+    size_t closed = 0;
+    sr_scan_closing how[2] = {SR_SCAN_LEFT_OPEN, SR_SCAN_LEFT_OPEN};
+    assert_true(loops <= 2);
+    assert_int_equal(sr_scan_close_openings_how(m, &d, 0, &closed, how, NULL), SR_OK);
+    assert_int_equal(closed, loops);
+    for (size_t i = 0; i < loops; i++)
+        assert_int_equal(how[i], SR_SCAN_IN_PLANE);
+    assert_int_equal(m->vertex_count, nv);
+    assert_true(sr_mesh_is_closed(m));
+    assert_near(sr_mesh_volume(m), volume, 1e-9 * volume);
+    assert_near(area_from(m, open_tris), base_area, 1e-9 * base_area);
+    sr_scan_desc_release(&d);
+}
+
+/* A tube (radii 10 and 4, 48 sides, z 0..12) and an L-shaped prism (20 x 20 less
+ * 12 x 12: 256 mm^2, 10 high), each without the face it stood on. */
+static void a_base_with_a_bore_or_a_concave_rim_is_closed_in_its_plane(void **state)
+{
+    (void)state;
+    const double z[2] = {0, 12};
+    sr_revolve_opts o = {0};
+    o.segments = 48;
+    o.ring_count = 2;
+    o.ring_z = z;
+    o.outer = r_outer;
+    o.inner = r_inner;
+    sr_mesh m;
+    assert_int_equal(sr_shape_revolve(&o, &m, NULL), SR_OK);
+    double polygon = 24 * sin(2 * M_PI / 48); /* 48/2 sin(2pi/48) r^2, per r^2 */
+    closes_in_plane(&m, 2, polygon * (100 - 16));
+    sr_mesh_release(&m);
+    const double l[12] = {0, 0, 20, 0, 20, 8, 8, 8, 8, 20, 0, 20};
+    assert_int_equal(sr_shape_prism(l, 6, 0, 10, &m, NULL), SR_OK);
+    closes_in_plane(&m, 1, 256);
     sr_mesh_release(&m);
 }
 
@@ -196,6 +293,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_closed_box_has_no_opening_and_one_component),
         cmocka_unit_test(a_box_without_its_top_has_one_loop_round_it),
+        cmocka_unit_test(a_base_with_a_bore_or_a_concave_rim_is_closed_in_its_plane),
         cmocka_unit_test(a_stray_triangle_off_the_box_is_dropped),
         cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),
         cmocka_unit_test(bad_options_are_refused),
