@@ -2,14 +2,18 @@
  * scan_close.c: the openings of a scan closed (scan_describe.h, sr_scan_close_openings).
  * A loop whose rim lies in a plane (the face the part stood on, a hole in a flat face) is
  * closed in that plane together with every other rim in it, by the constrained
- * triangulation of the region they bound (bridge/planar_fill.h): an outer rim with the
- * rims of the bores through the base is one face with holes, a concave rim is filled
- * inside only, so the closed surface is the part's own face. Any other loop (a hole in a
+ * triangulation of the region they wind around (bridge/planar_fill.h): an outer rim with
+ * the rims of the bores through the base is one face with holes, a concave rim is filled
+ * inside only, so the closed surface is the part's own face. Where two rims cross in the
+ * plane (a noisy rim folding over itself, two rims touching), the triangulation cuts them
+ * at a point that both rim edges then pass through: the scan's triangle on each such edge
+ * is split there, so the fill meets the scan edge for edge. Any other loop (a hole in a
  * curved face) is closed by a fan: a vertex at its centroid and one triangle per rim
- * edge, walked against the rim. The image method's voxels count crossings along z by
- * the winding rule (images/voxels.h): an open base or a hole lets a column miss a
- * crossing and fills or empties it from there on; closed, every column crosses a closed
- * surface again.
+ * edge, walked against the rim. Last, a vertex the closing left pinched (two rims that
+ * touched) gets one copy per fan (mesh/mesh_pinch.h). The image method's voxels count
+ * crossings along z by the winding rule (images/voxels.h): an open base or a hole lets a
+ * column miss a crossing and fills or empties it from there on; closed, every column
+ * crosses a closed surface again.
  */
 #include "mesh/scan_describe.h"
 
@@ -18,6 +22,7 @@
 #include <string.h>
 
 #include "bridge/planar_fill.h"
+#include "mesh/mesh_pinch.h"
 
 /* A rim is planar when its vertices lie this close to the plane through its centroid
  * with its area normal: root mean square and largest distance, mm (the scan's noise,
@@ -39,7 +44,22 @@ typedef struct grow {
     size_t nv, cap_v;
     uint32_t *tri;
     size_t nt, cap_t;
+    uint32_t *cut; /* rim edges cut by a fill: records a, b, k, then k points from a to b */
+    size_t ncut, cap_cut;
 } grow;
+
+static bool cut_room(grow *g, size_t add)
+{
+    if (g->ncut + add > g->cap_cut) {
+        size_t cap = 2 * (g->ncut + add) + 16;
+        uint32_t *p = realloc(g->cut, cap * sizeof *p);
+        if (!p)
+            return false;
+        g->cut = p;
+        g->cap_cut = cap;
+    }
+    return true;
+}
 
 static bool grow_room(grow *g, size_t add_v, size_t add_t)
 {
@@ -140,36 +160,34 @@ static bool has_key(const uint64_t *keys, size_t n, uint64_t k)
     return bsearch(&k, keys, n, sizeof k, key_cmp) != NULL;
 }
 
-/* Whether the fill (nt triangles over the loops' points, turned against the rims)
- * closes the rims exactly: every rim edge a -> b met once as b -> a and never as
- * a -> b, no edge of the fill used twice the same way, and no other edge of the fill
- * on its border (in mesh vertices: vid of each point; no extra point). Two rim
- * vertices the triangulation merged, or a rim edge it split, fail. */
-static bool fill_fits(const uint32_t *tri, size_t nt, const size_t *start, size_t count,
-                      const uint32_t *vid)
+/* Whether the fill (nt triangles tri, in mesh vertices) closes the rims exactly: every
+ * rim edge a -> b (rim: nrim pairs, the rims' edges cut where the fill cut them) met
+ * once as b -> a and never as a -> b, no edge of the fill used twice the same way, and
+ * no other edge of the fill on its border. Two rim vertices the triangulation merged, a
+ * face it wound around twice, fail. */
+static bool fill_fits(const uint32_t *tri, size_t nt, const uint32_t *rim, size_t nrim)
 {
     uint64_t *keys = malloc((3 * nt + 1) * sizeof *keys);
     if (!keys)
         return false;
     for (size_t t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++)
-            keys[3 * t + k] = (uint64_t)vid[tri[3 * t + k]] << 32 | vid[tri[3 * t + (k + 1) % 3]];
+            keys[3 * t + k] = (uint64_t)tri[3 * t + k] << 32 | tri[3 * t + (k + 1) % 3];
     size_t n = 3 * nt;
     qsort(keys, n, sizeof *keys, key_cmp);
     bool ok = true;
     for (size_t i = 1; ok && i < n; i++)
         ok = keys[i] != keys[i - 1];
-    size_t border = 0, rim = 0;
+    size_t border = 0;
     for (size_t i = 0; ok && i < n; i++)
         if (!has_key(keys, n, keys[i] << 32 | keys[i] >> 32))
             border++;
-    for (size_t c = 0; ok && c < count; c++)
-        for (size_t q = start[c]; ok && q < start[c + 1]; q++, rim++) {
-            uint64_t a = vid[q], b = vid[q + 1 < start[c + 1] ? q + 1 : start[c]];
-            ok = has_key(keys, n, b << 32 | a) && !has_key(keys, n, a << 32 | b);
-        }
+    for (size_t r = 0; ok && r < nrim; r++) {
+        uint64_t a = rim[2 * r], b = rim[2 * r + 1];
+        ok = has_key(keys, n, b << 32 | a) && !has_key(keys, n, a << 32 | b);
+    }
     free(keys);
-    return ok && border == rim;
+    return ok && border == nrim;
 }
 
 /* Closes the loops group[0..count) (all on the plane c, n) by the triangulation of the
@@ -216,69 +234,211 @@ static sr_status plane_fill(const sr_mesh *mesh, const sr_scan_desc *d, const si
         }
     }
     start[count] = p;
-    uint32_t *tri = NULL;
-    double *extra = NULL;
-    size_t nt = 0, nx = 0;
+    sr_planar_fill_out fo = {0};
+    uint32_t *fid = NULL, *rim = NULL, *mtri = NULL;
+    double *acc = NULL;
     sr_err ferr;
-    sr_status st = sr_planar_fill(uv, start, count, &tri, &nt, &extra, &nx, &ferr);
+    sr_status st = sr_planar_fill(uv, start, count, &fo, &ferr);
     if (st == SR_E_NOMEM) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
         goto out;
     }
-    if (st != SR_OK || nt == 0) {
+    if (st != SR_OK || fo.tri_count == 0) {
         st = SR_OK; /* fanned instead */
         goto out;
     }
-    /* orientation: each rim edge a -> b of the scan must be walked b -> a by the fill;
-     * the fill's triangles are all counter-clockwise in (u, v), so one vote decides */
-    long agree = 0;
+    size_t nx = fo.extra_count, nt = fo.tri_count, ncut = fo.split_first[pts];
+    fid = malloc((pts + nx) * sizeof *fid);
+    rim = malloc(2 * (pts + ncut) * sizeof *rim);
+    mtri = malloc(3 * nt * sizeof *mtri);
+    acc = calloc(4 * nx + 1, sizeof *acc); /* per made point: x, y, z summed, count */
+    if (!fid || !rim || !mtri || !acc) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        goto out;
+    }
+    for (size_t x = 0; x < pts + nx; x++)
+        fid[x] = x < pts ? vid[x] : (uint32_t)(base_v + g->nv + (x - pts));
+    for (size_t i = 0; i < 3 * nt; i++)
+        mtri[i] = fid[fo.tri[i]];
+    /* the rims' edges, cut where the fill cut them; a made point lies where the rim edges
+     * through it are, on average (they cross in the plane, not quite in space) */
+    size_t nrim = 0;
     for (size_t i = 0; i < count; i++)
         for (size_t q = start[i]; q < start[i + 1]; q++) {
-            uint32_t a = (uint32_t)q, b = (uint32_t)(q + 1 < start[i + 1] ? q + 1 : start[i]);
-            for (size_t t = 0; t < nt; t++)
-                for (int k = 0; k < 3; k++) {
-                    if (tri[3 * t + k] == a && tri[3 * t + (k + 1) % 3] == b)
-                        agree--;
-                    else if (tri[3 * t + k] == b && tri[3 * t + (k + 1) % 3] == a)
-                        agree++;
-                }
-            if (q - start[i] > 8)
-                break; /* a few edges of each loop suffice */
+            size_t q2 = q + 1 < start[i + 1] ? q + 1 : start[i];
+            uint32_t prev = vid[q];
+            const double *pa = mesh->xyz + 3 * (size_t)vid[q],
+                         *pb = mesh->xyz + 3 * (size_t)vid[q2];
+            double du = uv[2 * q2] - uv[2 * q], dv = uv[2 * q2 + 1] - uv[2 * q + 1];
+            double len2 = du * du + dv * dv;
+            for (size_t s = fo.split_first[q]; s < fo.split_first[q + 1]; s++) {
+                uint32_t x = fo.split[s];
+                rim[2 * nrim] = prev;
+                rim[2 * nrim++ + 1] = fid[x];
+                prev = fid[x];
+                if (x < pts || !(len2 > 0))
+                    continue;
+                const double *xu = fo.extra_uv + 2 * (x - pts);
+                double t = ((xu[0] - uv[2 * q]) * du + (xu[1] - uv[2 * q + 1]) * dv) / len2;
+                t = t < 0 ? 0 : t > 1 ? 1 : t;
+                double *a = acc + 4 * (x - pts);
+                for (int k = 0; k < 3; k++)
+                    a[k] += pa[k] + t * (pb[k] - pa[k]);
+                a[3] += 1;
+            }
+            rim[2 * nrim] = prev;
+            rim[2 * nrim++ + 1] = vid[q2];
         }
-    if (agree < 0)
-        for (size_t t = 0; t < nt; t++) {
-            uint32_t x = tri[3 * t];
-            tri[3 * t] = tri[3 * t + 2];
-            tri[3 * t + 2] = x;
-        }
-    if (agree == 0 || nx > 0 || !fill_fits(tri, nt, start, count, vid))
-        goto out; /* the loops cross in the plane, or fold: fanned instead */
-    if (!grow_room(g, nx, nt)) {
+    if (!fill_fits(mtri, nt, rim, nrim))
+        goto out; /* the loops fold, or overlap: fanned instead */
+    if (!grow_room(g, nx, nt) || !cut_room(g, 3 * pts + ncut)) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
         goto out;
     }
     for (size_t k = 0; k < nx; k++) {
         double *v = g->xyz + 3 * (g->nv + k);
+        const double *a = acc + 4 * k;
         for (int j = 0; j < 3; j++)
-            v[j] = c[j] + extra[2 * k] * e1[j] + extra[2 * k + 1] * e2[j];
+            v[j] = a[3] > 0 ? a[j] / a[3]
+                            : c[j] + fo.extra_uv[2 * k] * e1[j] + fo.extra_uv[2 * k + 1] * e2[j];
     }
-    for (size_t t = 0; t < nt; t++) {
-        uint32_t *o = g->tri + 3 * (g->nt + t);
-        for (int k = 0; k < 3; k++) {
-            uint32_t x = tri[3 * t + k];
-            o[k] = x < pts ? vid[x] : (uint32_t)(base_v + g->nv + (x - pts));
+    memcpy(g->tri + 3 * g->nt, mtri, 3 * nt * sizeof *mtri);
+    for (size_t i = 0; i < count; i++)
+        for (size_t q = start[i]; q < start[i + 1]; q++) {
+            size_t k = fo.split_first[q + 1] - fo.split_first[q];
+            if (k == 0)
+                continue;
+            uint32_t *r = g->cut + g->ncut;
+            r[0] = vid[q];
+            r[1] = vid[q + 1 < start[i + 1] ? q + 1 : start[i]];
+            r[2] = (uint32_t)k;
+            for (size_t j = 0; j < k; j++)
+                r[3 + j] = fid[fo.split[fo.split_first[q] + j]];
+            g->ncut += 3 + k;
         }
-    }
     g->nv += nx;
     g->nt += nt;
     *done = true;
 out:
-    free(tri);
-    free(extra);
+    sr_planar_fill_free(&fo);
+    free(fid);
+    free(rim);
+    free(mtri);
+    free(acc);
     free(uv);
     free(start);
     free(vid);
     return st;
+}
+
+typedef struct cut_key {
+    uint64_t key; /* a << 32 | b */
+    size_t at;    /* its record in grow.cut */
+} cut_key;
+
+static int cut_cmp(const void *pa, const void *pb)
+{
+    uint64_t x = ((const cut_key *)pa)->key, y = ((const cut_key *)pb)->key;
+    return (x > y) - (x < y);
+}
+
+/* The scan's triangles (mesh's, before the closing) on a rim edge a fill cut, split
+ * through the cut points: one cut edge, a fan from the opposite corner; more, a fan from
+ * a new vertex at the triangle's centroid. The first piece replaces the triangle (into
+ * rep: triangle index, then its 3 corners; *nrep of them), the others are appended to g.
+ * false: out of memory. */
+static bool cut_rims(const sr_mesh *mesh, size_t base_v, grow *g, uint32_t **rep, size_t *nrep)
+{
+    size_t nk = 0;
+    for (size_t i = 0; i < g->ncut; i += 3 + g->cut[i + 2])
+        nk++;
+    *rep = NULL;
+    *nrep = 0;
+    if (nk == 0)
+        return true;
+    cut_key *keys = malloc(nk * sizeof *keys);
+    uint32_t *poly = NULL, *out = malloc(4 * nk * sizeof *out);
+    size_t cap_poly = 0, no = 0, cap_out = nk;
+    bool ok = keys && out;
+    nk = 0;
+    for (size_t i = 0; ok && i < g->ncut; i += 3 + g->cut[i + 2])
+        keys[nk++] = (cut_key){(uint64_t)g->cut[i] << 32 | g->cut[i + 1], i};
+    if (ok)
+        qsort(keys, nk, sizeof *keys, cut_cmp);
+    for (size_t t = 0; ok && t < mesh->tri_count; t++) {
+        const uint32_t *v = mesh->tri + 3 * t;
+        const cut_key *hit[3];
+        size_t nh = 0, np = 3, edge = 0;
+        for (int k = 0; k < 3; k++) {
+            cut_key probe = {(uint64_t)v[k] << 32 | v[(k + 1) % 3], 0};
+            hit[k] = bsearch(&probe, keys, nk, sizeof *keys, cut_cmp);
+            if (hit[k]) {
+                nh++;
+                edge = (size_t)k;
+                np += g->cut[hit[k]->at + 2];
+            }
+        }
+        if (nh == 0)
+            continue;
+        if (np > cap_poly) {
+            cap_poly = 2 * np;
+            uint32_t *p2 = realloc(poly, cap_poly * sizeof *poly);
+            if (!p2) {
+                ok = false;
+                break;
+            }
+            poly = p2;
+        }
+        size_t n = 0; /* the triangle's border, corners and cut points, from corner edge */
+        for (int k = 0; k < 3; k++) {
+            size_t e = (edge + (size_t)k) % 3;
+            poly[n++] = v[e];
+            if (hit[e])
+                for (uint32_t j = 0; j < g->cut[hit[e]->at + 2]; j++)
+                    poly[n++] = g->cut[hit[e]->at + 3 + j];
+        }
+        uint32_t apex = v[(edge + 2) % 3];
+        size_t pieces = nh == 1 ? n - 2 : n;
+        if (!grow_room(g, 1, pieces)) {
+            ok = false;
+            break;
+        }
+        if (nh > 1) {
+            double *cen = g->xyz + 3 * g->nv;
+            for (int j = 0; j < 3; j++)
+                cen[j] = (mesh->xyz[3 * (size_t)v[0] + j] + mesh->xyz[3 * (size_t)v[1] + j] +
+                          mesh->xyz[3 * (size_t)v[2] + j]) /
+                         3;
+            apex = (uint32_t)(base_v + g->nv++);
+        }
+        for (size_t i = 0; i < pieces; i++) {
+            uint32_t piece[3] = {poly[i], poly[(i + 1) % n], apex};
+            if (i == 0) {
+                if (no + 1 > cap_out) { /* more triangles than records: grow */
+                    uint32_t *o2 = realloc(out, 4 * 2 * (no + 1) * sizeof *out);
+                    if (!o2) {
+                        ok = false;
+                        break;
+                    }
+                    out = o2;
+                    cap_out = 2 * (no + 1);
+                }
+                out[4 * no] = (uint32_t)t;
+                memcpy(out + 4 * no++ + 1, piece, sizeof piece);
+            } else {
+                memcpy(g->tri + 3 * g->nt++, piece, sizeof piece);
+            }
+        }
+    }
+    free(keys);
+    free(poly);
+    if (!ok) {
+        free(out);
+        return false;
+    }
+    *rep = out;
+    *nrep = no;
+    return true;
 }
 
 sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
@@ -290,8 +450,9 @@ sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double ma
 sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
                                      size_t *closed, sr_scan_closing *how, sr_err *err)
 {
-    size_t nv = mesh->vertex_count, nt = mesh->tri_count, n_closed = 0;
+    size_t nv = mesh->vertex_count, nt = mesh->tri_count, n_closed = 0, nrep = 0;
     grow g = {0};
+    uint32_t *rep = NULL; /* scan triangles cut on a rim: index, then the first piece */
     sr_scan_closing *done = calloc(d->loop_count + 1, sizeof *done); /* how, as it goes */
     size_t *group = malloc((d->loop_count + 1) * sizeof *group);
     sr_status st = SR_OK;
@@ -332,6 +493,8 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, doubl
             n_closed++;
         }
     }
+    if (st == SR_OK && !cut_rims(mesh, nv, &g, &rep, &nrep))
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
     if (st != SR_OK)
         goto out;
     if (nv + g.nv > SR_MESH_MAX_COUNT || nt + g.nt > SR_MESH_MAX_COUNT) {
@@ -353,16 +516,23 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, doubl
         mesh->tri = tri;
         memcpy(xyz + 3 * nv, g.xyz, 3 * g.nv * sizeof *xyz);
         memcpy(tri + 3 * nt, g.tri, 3 * g.nt * sizeof *tri);
+        for (size_t r = 0; r < nrep; r++)
+            memcpy(tri + 3 * (size_t)rep[4 * r], rep + 4 * r + 1, 3 * sizeof *tri);
         mesh->vertex_count = nv + g.nv;
         mesh->tri_count = nt + g.nt;
+        st = sr_mesh_split_pinches(mesh, NULL, err);
+        if (st != SR_OK)
+            goto out;
     }
     if (closed)
         *closed = n_closed;
     if (how)
         memcpy(how, done, d->loop_count * sizeof *how);
 out:
+    free(rep);
     free(g.xyz);
     free(g.tri);
+    free(g.cut);
     free(done);
     free(group);
     return st;

@@ -86,11 +86,15 @@ sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
  * twice, once each way. Longest first, a loop whose rim lies in a plane (within 0.15 mm
  * rms, 0.5 mm at most: the face the part stood on, a hole in a flat face) is closed in
  * that plane together with every other such loop on it, by the constrained triangulation
- * of the region inside an odd number of their rims (bridge/planar_fill.h): the base with
- * the rims of the bores through it is one face with holes, a concave rim is filled inside
- * only; any other loop, or a plane one whose triangulation fails, by a fan from a new
- * vertex at its centroid. *closed (may be NULL) gets the loops closed. Appends vertices
- * and triangles only: d's indices stay valid. SR_E_RANGE, SR_E_NOMEM: mesh unchanged. */
+ * of the region their rims wind around (bridge/planar_fill.h): the base with the rims of
+ * the bores through it is one face with holes, a concave rim is filled inside only, rims
+ * that cross in the plane are cut where they cross (the scan's triangle on a cut rim edge
+ * is split there, in place, the rest appended); any other loop, or a plane one whose
+ * triangulation does not fit its rims, by a fan from a new vertex at its centroid. Then a
+ * vertex left pinched (two rims that touched) gets one copy per fan (mesh/mesh_pinch.h).
+ * *closed (may be NULL) gets the loops closed. Triangle indices keep their components:
+ * d's indices stay valid. SR_E_RANGE, SR_E_NOMEM: mesh unchanged (but for SR_E_NOMEM in
+ * the pinch split, which leaves it closed with its pinches). */
 sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
                                  size_t *closed, sr_err *err);
 
