@@ -13,7 +13,8 @@
  * its plane through one made vertex there (filled 97.25 + 0.75 mm^2: the rest and the
  * fold), closed with no pinch; two pyramids (10 x 10 bases, 8 high) touching at a base
  * corner, without their bases, are closed in the plane, the corner split in two:
- * closed, no pinch, twice 800 / 3 mm^3.
+ * closed, no pinch, twice 800 / 3 mm^3. A triangle of the base kept inside the
+ * opening (an island) is dropped, not filled round: the box closed, 6000 mm^3.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -314,6 +315,39 @@ static void two_pyramids_touching_at_a_corner_close_without_a_pinch(void **state
     sr_mesh_release(&m);
 }
 
+/* The box without its face at z = 0, with an island of it kept (a triangle at z = 0
+ * inside the opening, the other way up: a fold): the island's rim is not a hole in the
+ * fill, the island is flagged stray and dropped, the box is closed with its volume. */
+static void an_island_left_in_the_base_is_dropped_not_filled_round(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    assert_int_equal(drop_face_at(&m, 0), 2);
+    const double a[3] = {0.2, 5, 0}, b[3] = {2.2, 5, 0}, c[3] = {1.2, 8, 0};
+    add_triangle(&m, a, b, c); /* facing up; 0.2 mm off the wall x = 0: not a stray */
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, 2);
+    assert_int_equal(d.component_count, 2);
+    assert_int_equal(d.strays, 0); /* on the surface it was cut from: kept by describe */
+    size_t closed = 0;
+    sr_scan_closing how[2] = {SR_SCAN_LEFT_OPEN, SR_SCAN_LEFT_OPEN};
+    assert_int_equal(sr_scan_close_openings_how(&m, &d, 0, &closed, how, NULL), SR_OK);
+    assert_int_equal(closed, 2);
+    assert_int_equal(how[0], SR_SCAN_IN_PLANE);
+    assert_int_equal(how[1], SR_SCAN_IN_PLANE);
+    assert_int_equal(d.strays, 1);
+    assert_int_equal(d.stray_triangles, 1);
+    assert_near(d.stray_area_mm2, 3, 1e-12);
+    assert_int_equal(sr_scan_drop_strays(&m, &d, NULL), SR_OK);
+    assert_int_equal(m.tri_count, 12); /* 10 walls and top, 2 of the fill */
+    assert_true(sr_mesh_is_closed(&m));
+    assert_near(sr_mesh_volume(&m), 6000, 1e-9);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
 static void a_stray_triangle_off_the_box_is_dropped(void **state)
 {
     (void)state;
@@ -410,6 +444,7 @@ int main(void)
         cmocka_unit_test(a_base_with_a_bore_or_a_concave_rim_is_closed_in_its_plane),
         cmocka_unit_test(rims_crossing_in_their_plane_are_cut_where_they_cross),
         cmocka_unit_test(two_pyramids_touching_at_a_corner_close_without_a_pinch),
+        cmocka_unit_test(an_island_left_in_the_base_is_dropped_not_filled_round),
         cmocka_unit_test(a_stray_triangle_off_the_box_is_dropped),
         cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),
         cmocka_unit_test(bad_options_are_refused),

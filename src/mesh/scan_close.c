@@ -31,8 +31,11 @@
 #define PLANE_MAX_MM 0.5
 /* Another rim joins a plane's group only when its own plane is this close to parallel
  * (cosine): a small hole in a wall beside the base lies within the tolerances of the
- * base's plane, but across it. */
-#define SAME_PLANE_COS 0.95
+ * base's plane, but across it (seen edge on: cosine near 0). A rim round an island
+ * the scan kept in the base (a few noisy triangles tilted past the rest) is a hole in
+ * the base's fill and must join it, though its own plane, over a millimetre, tilts
+ * with the noise: 45 degrees still tells the two apart. */
+#define SAME_PLANE_COS 0.7
 /* A loop spanning less is fanned. 0: none is; a fan of a tiny loop (a triangle left
  * out along the base's rim) was seen to make the image method miss a plate's damage
  * (s3301p06), so tiny loops go to the plane too, guarded by the fill's check. mm^2 */
@@ -441,13 +444,149 @@ static bool cut_rims(const sr_mesh *mesh, size_t base_v, grow *g, uint32_t **rep
     return true;
 }
 
-sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+typedef struct tri_key {
+    uint32_t v[3]; /* corners sorted */
+    uint32_t t;    /* triangle index */
+    int turn;      /* its corners' order: +1 an even permutation of v, -1 odd */
+} tri_key;
+
+static int tri_key_cmp(const void *pa, const void *pb)
+{
+    const tri_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return (a->t > b->t) - (a->t < b->t);
+}
+
+/* Removes every pair of triangles on the same three corners walked opposite ways where
+ * one of them is the closing's (index >= nt): a fill folding back over a scan triangle
+ * standing on the rim (a fold of the rim, wound -1) covers it once each way, a flap of no
+ * volume whose edges would be used four times; both go (their sum is nothing). Only
+ * triangles whose corners are all rim or new vertices (touched) can pair. d's
+ * tri_component and triangles follow the scan's triangles removed. */
+static sr_status cancel_folds(sr_mesh *mesh, sr_scan_desc *d, size_t nt, const bool *touched,
+                              sr_err *err)
+{
+    size_t n = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        const uint32_t *v = mesh->tri + 3 * t;
+        n += touched[v[0]] && touched[v[1]] && touched[v[2]];
+    }
+    tri_key *k = malloc((n + 1) * sizeof *k);
+    bool *gone = calloc(mesh->tri_count + 1, sizeof *gone);
+    if (!k || !gone) {
+        free(k);
+        free(gone);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    }
+    n = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        const uint32_t *v = mesh->tri + 3 * t;
+        if (!(touched[v[0]] && touched[v[1]] && touched[v[2]]))
+            continue;
+        tri_key *e = &k[n++];
+        size_t m = 0; /* the rotation starting at the smallest corner */
+        for (size_t j = 1; j < 3; j++)
+            if (v[j] < v[m])
+                m = j;
+        uint32_t b = v[(m + 1) % 3], c = v[(m + 2) % 3];
+        e->v[0] = v[m];
+        e->v[1] = b < c ? b : c;
+        e->v[2] = b < c ? c : b;
+        e->turn = b < c ? 1 : -1;
+        e->t = (uint32_t)t;
+    }
+    qsort(k, n, sizeof *k, tri_key_cmp);
+    size_t removed = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        while (j < n && memcmp(k[j].v, k[i].v, sizeof k[i].v) == 0)
+            j++;
+        for (size_t x = i; x < j; x++) /* pair a new triangle with an opposite one */
+            for (size_t y = i; y < j && k[x].t >= nt && !gone[k[x].t]; y++)
+                if (y != x && !gone[k[y].t] && k[y].turn == -k[x].turn) {
+                    gone[k[x].t] = gone[k[y].t] = true;
+                    removed += 2;
+                }
+        i = j;
+    }
+    if (removed > 0) {
+        size_t w = 0, wd = 0;
+        for (size_t t = 0; t < mesh->tri_count; t++) {
+            if (gone[t]) {
+                if (t < d->triangles && d->components[d->tri_component[t]].triangles > 0)
+                    d->components[d->tri_component[t]].triangles--;
+                continue;
+            }
+            if (t < d->triangles)
+                d->tri_component[wd++] = d->tri_component[t];
+            memmove(mesh->tri + 3 * w++, mesh->tri + 3 * t, 3 * sizeof *mesh->tri);
+        }
+        d->triangles = wd;
+        mesh->tri_count = w;
+    }
+    free(k);
+    free(gone);
+    return SR_OK;
+}
+
+/* Whether every vertex of component comp of d lies on the plane (c, n) within
+ * PLANE_MAX_MM. */
+static bool component_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, size_t comp,
+                               const double c[3], const double n[3])
+{
+    for (size_t t = 0; t < d->triangles; t++) {
+        if (d->tri_component[t] != comp)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            const double *p = mesh->xyz + 3 * (size_t)mesh->tri[3 * t + k];
+            double h = (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
+            if (fabs(h) > PLANE_MAX_MM)
+                return false;
+        }
+    }
+    return true;
+}
+
+/* Takes out of group (count loops, the first the group's own) every loop round an island:
+ * a component other than the largest lying wholly on the group's plane (c, n), a piece
+ * of the face the scan lost that the scanner kept (a few noisy triangles, often folded).
+ * The fill covers its place; the island is flagged stray (dropped with the strays) and
+ * its loop counted closed in the plane. Returns the loops left. */
+static size_t drop_islands(const sr_mesh *mesh, sr_scan_desc *d, size_t *group, size_t count,
+                           const double c[3], const double n[3], const uint32_t *vcomp,
+                           sr_scan_closing *done, size_t *n_closed)
+{
+    size_t kept = 1;
+    for (size_t k = 1; k < count; k++) {
+        const sr_scan_loop *l = &d->loops[group[k]];
+        uint32_t comp = vcomp[d->loop_verts[l->first]];
+        bool island = comp != 0 && comp != UINT32_MAX && comp < d->component_count &&
+                      (d->components[comp].stray || component_on_plane(mesh, d, comp, c, n));
+        if (!island) {
+            group[kept++] = group[k];
+            continue;
+        }
+        if (!d->components[comp].stray) {
+            d->components[comp].stray = true;
+            d->strays++;
+            d->stray_triangles += d->components[comp].triangles;
+            d->stray_area_mm2 += d->components[comp].area_mm2;
+        }
+        done[group[k]] = SR_SCAN_IN_PLANE;
+        (*n_closed)++;
+    }
+    return kept;
+}
+
+sr_status sr_scan_close_openings(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                  size_t *closed, sr_err *err)
 {
     return sr_scan_close_openings_how(mesh, d, max_span_mm2, closed, NULL, err);
 }
 
-sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                      size_t *closed, sr_scan_closing *how, sr_err *err)
 {
     size_t nv = mesh->vertex_count, nt = mesh->tri_count, n_closed = 0, nrep = 0;
@@ -455,11 +594,17 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, doubl
     uint32_t *rep = NULL; /* scan triangles cut on a rim: index, then the first piece */
     sr_scan_closing *done = calloc(d->loop_count + 1, sizeof *done); /* how, as it goes */
     size_t *group = malloc((d->loop_count + 1) * sizeof *group);
+    uint32_t *vcomp = malloc((nv + 1) * sizeof *vcomp); /* each vertex's component */
     sr_status st = SR_OK;
-    if (!done || !group) {
+    if (!done || !group || !vcomp) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
         goto out;
     }
+    for (size_t v = 0; v < nv; v++)
+        vcomp[v] = UINT32_MAX;
+    for (size_t t = 0; t < d->triangles && t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            vcomp[mesh->tri[3 * t + k]] = (uint32_t)d->tri_component[t];
     for (size_t i = 0; i < d->loop_count && st == SR_OK; i++) {
         const sr_scan_loop *l = &d->loops[i];
         if (done[i] != SR_SCAN_LEFT_OPEN || !eligible(l, max_span_mm2))
@@ -479,6 +624,7 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, doubl
                     on_plane(mesh, d, &d->loops[j], c, n))
                     group[count++] = j;
             }
+            count = drop_islands(mesh, d, group, count, c, n, vcomp, done, &n_closed);
             st = plane_fill(mesh, d, group, count, c, n, nv, &g, &filled, err);
             if (filled) {
                 for (size_t k = 0; k < count; k++)
@@ -520,7 +666,19 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, doubl
             memcpy(tri + 3 * (size_t)rep[4 * r], rep + 4 * r + 1, 3 * sizeof *tri);
         mesh->vertex_count = nv + g.nv;
         mesh->tri_count = nt + g.nt;
-        st = sr_mesh_split_pinches(mesh, NULL, err);
+        bool *touched = calloc(nv + g.nv + 1, sizeof *touched);
+        if (!touched) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            goto out;
+        }
+        for (size_t e = 0; e < d->boundary_edges; e++)
+            touched[d->loop_verts[e]] = true;
+        for (size_t v = nv; v < nv + g.nv; v++)
+            touched[v] = true;
+        st = cancel_folds(mesh, d, nt, touched, err);
+        free(touched);
+        if (st == SR_OK)
+            st = sr_mesh_split_pinches(mesh, NULL, err);
         if (st != SR_OK)
             goto out;
     }
@@ -535,5 +693,6 @@ out:
     free(g.cut);
     free(done);
     free(group);
+    free(vcomp);
     return st;
 }

@@ -95,7 +95,7 @@ sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
  * *closed (may be NULL) gets the loops closed. Triangle indices keep their components:
  * d's indices stay valid. SR_E_RANGE, SR_E_NOMEM: mesh unchanged (but for SR_E_NOMEM in
  * the pinch split, which leaves it closed with its pinches). */
-sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+sr_status sr_scan_close_openings(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                  size_t *closed, sr_err *err);
 
 /* How an opening was closed (sr_scan_close_openings_how). */
@@ -107,7 +107,7 @@ typedef enum sr_scan_closing {
 
 /* sr_scan_close_openings, and how (may be NULL; d->loop_count entries) gets how each
  * loop of d was closed. */
-sr_status sr_scan_close_openings_how(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                      size_t *closed, sr_scan_closing *how, sr_err *err);
 
 #endif
