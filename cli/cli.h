@@ -332,13 +332,16 @@ int cli_identify_print(const struct sr_identify_result *res, const char *scan, b
 bool cli_scan_is_plain(const sr_scan_desc *d);
 /* The description as `check` prints it: lines on stdout. */
 void cli_scan_print(const sr_scan_desc *d);
-/* The description as reconstruct's text output prints it (stdout, the strays as
- * dropped), nothing for a plain closed part. */
-void cli_scan_summary(const sr_scan_desc *d, size_t closed);
-/* Describes the input scan, closes its openings (sr_scan_close_openings: *closed gets
- * how many) and drops its strays from *scan (the caller prints it with
- * cli_scan_summary). *out (released by the caller) is the description before. On failure
- * *out is untouched. */
-sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, size_t *closed, sr_err *err);
+/* The description as reconstruct's text output prints it (stdout, the openings as the
+ * scan gaps closed (rec, may be NULL: how each was closed), the strays as dropped),
+ * nothing for a plain closed part. */
+void cli_scan_summary(const sr_scan_desc *d, const sr_run_scan *rec);
+/* Describes the input scan, closes its openings (sr_scan_close_openings_how) and drops
+ * its strays from *scan (the caller prints it with cli_scan_summary). *out (released by
+ * the caller) is the description before; *rec (sr_run_scan_free; NULL for a closed
+ * input without strays) the run's record of its gaps. On failure both are untouched. */
+sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_run_scan **rec, sr_err *err);
+/* The run record's scan gaps as `run show` prints them (nothing when s is NULL). */
+void cli_run_scan_print(const sr_run_scan *s);
 
 #endif

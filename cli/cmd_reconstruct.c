@@ -139,11 +139,11 @@ static int misfit_axial(const sr_recon_result *r)
 
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
                         const sr_params *p, int64_t run_id, const char *why_no_nominal,
-                        const sr_scan_desc *scan, size_t openings_closed)
+                        const sr_scan_desc *scan)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", cli_tx(source));
-    cli_scan_summary(scan, openings_closed);
+    cli_scan_summary(scan, run->scan);
     printf("  method:     %s", sr_recon_method_name(r->method));
     if (r->method == SR_METHOD_ROBUST)
         printf(" (noise %.3f mm estimated from the fit, slivers under %.3f mm filtered)",
@@ -252,6 +252,8 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
         json_int(&j, instance_id);
     json_key(&j, "scan"); /* the input read as a scan: openings, components, strays dropped */
     json_scan(&j, scan);
+    json_key(&j, "scan_gaps"); /* the openings closed, as recorded: not sections; null = none */
+    json_run_scan(&j, run->scan);
     json_key(&j, "symmetry"); /* as used: an order found by --order auto */
     sr_symmetry used = *sym;
     if (used.kind == SR_SYM_AXIAL)
@@ -518,7 +520,8 @@ static sr_status advice_catalog(const cli_ctx *ctx, sr_catalog **cat, sr_err *er
 static sr_status describe_run(const cli_ctx *ctx, sr_catalog **cat, const sr_recon_result *r,
                               int64_t instance_id, const sr_symmetry *sym, const sr_params *p,
                               const char *started, char *fit_json, bool record,
-                              sr_run_nominal *nominal, sr_run *run, int64_t *run_id, sr_err *err)
+                              sr_run_nominal *nominal, sr_run_scan *scan, sr_run *run,
+                              int64_t *run_id, sr_err *err)
 {
     sr_run made;
     sr_status st =
@@ -526,10 +529,12 @@ static sr_status describe_run(const cli_ctx *ctx, sr_catalog **cat, const sr_rec
     if (st != SR_OK) {
         free(fit_json);
         sr_run_nominal_free(nominal);
+        sr_run_scan_free(scan);
         return st;
     }
     made.symmetry_fit_json = fit_json; /* the run's now */
     made.nominal = nominal;
+    made.scan = scan;
     if (strcmp(started, made.finished_at) <= 0)
         snprintf(made.started_at, sizeof made.started_at, "%s", started);
     int64_t id = 0;
@@ -682,9 +687,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     }
     sr_scan_desc scan_desc; /* the input read as a scan; its strays dropped from scan */
     memset(&scan_desc, 0, sizeof scan_desc);
-    size_t openings_closed = 0;
+    sr_run_scan *scan_rec = NULL; /* its gaps for the run record (the run's once described) */
     if (st == SR_OK)
-        st = cli_scan_input(&scan, &scan_desc, &openings_closed, &err);
+        st = cli_scan_input(&scan, &scan_desc, &scan_rec, &err);
     if (st != SR_OK) {
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -716,6 +721,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
         sr_scan_desc_release(&scan_desc);
+        sr_run_scan_free(scan_rec);
         return CLI_FAIL;
     }
     char *fit_json = NULL;
@@ -724,6 +730,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
         sr_scan_desc_release(&scan_desc);
+        sr_run_scan_free(scan_rec);
         return CLI_FAIL;
     }
     cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
@@ -740,6 +747,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
         sr_scan_desc_release(&scan_desc);
+        sr_run_scan_free(scan_rec);
         return cli_fail(st, &err);
     }
     sr_run_nominal *nominal = NULL;
@@ -763,9 +771,11 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     memset(&run, 0, sizeof run);
     if (rc == CLI_OK) {
         st = describe_run(ctx, &cat, &r, mesh_file ? 0 : id, &ro.symmetry, &params, started,
-                          fit_json, !mesh_file && !no_record, nominal, &run, &run_id, &err);
+                          fit_json, !mesh_file && !no_record, nominal, scan_rec, &run, &run_id,
+                          &err);
         fit_json = NULL; /* the run's, or freed with it */
         nominal = NULL;
+        scan_rec = NULL;
         if (st != SR_OK)
             rc = cli_fail(st, &err);
     }
@@ -774,8 +784,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
             rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id,
                             &scan_desc);
         else
-            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc,
-                        openings_closed);
+            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc);
     }
     free(fit_json);
     sr_run_nominal_free(nominal);
@@ -784,6 +793,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_recon_result_release(&r);
     sr_mesh_release(&scan);
     sr_scan_desc_release(&scan_desc);
+    sr_run_scan_free(scan_rec);
     sr_catalog_close(cat);
     return rc;
 }

@@ -62,7 +62,10 @@ static const char usage_show[] =
     "             advice[] with \"section\" (its number, null = whole part),\n"
     "             \"process\", \"rules\" (names), \"reason\" and \"details\", and\n"
     "             \"nominal\": the part's intact mesh as a second opinion (see\n"
-    "             'symrec reconstruct --help'; null when the run had none)\n";
+    "             'symrec reconstruct --help'; null when the run had none), and\n"
+    "             \"scan_gaps\": the openings of an open scan, closed before the\n"
+    "             reconstruction and kept apart from the sections (null for a closed\n"
+    "             input)\n";
 
 /* ---- JSON text stored by other modules (timings, features, details) ----
  * Read with base/json_scan.h: bounded by the terminating NUL, so a damaged text gives
@@ -484,6 +487,9 @@ static int print_json(const sr_run *r, bool layers, const sr_inspection_info *in
     json_run_advice(j, r);
     json_key(j, "nominal");
     json_run_nominal(j, r->nominal);
+    json_key(j, "scan_gaps"); /* the input's openings, closed before the reconstruction:
+                                * not sections; null = a closed input */
+    json_run_scan(j, r->scan);
     json_key(j, "inspection"); /* the latest (symrec inspect); null = never inspected */
     json_inspection(j, insp);
     if (layers) {
@@ -639,6 +645,7 @@ static bool print_text(const sr_run *r, bool layers, const sr_inspection_info *i
         if (!ok)
             return false;
     }
+    cli_run_scan_print(r->scan);
     cli_nominal_print(r->nominal, "none recorded");
     cli_run_advice_print(r);
     if (insp)

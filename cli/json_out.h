@@ -80,5 +80,7 @@ void json_run_nominal(json_out *j, const sr_run_nominal *n);
 /* An input scan's description as one object (cli/scan_out.c). */
 struct sr_scan_desc;
 void json_scan(json_out *j, const struct sr_scan_desc *d);
+/* The run record's scan gaps (run.h's sr_run_scan) as an object; null when s is NULL. */
+void json_run_scan(json_out *j, const sr_run_scan *s);
 
 #endif

@@ -3,13 +3,18 @@
  * the same for `check` and `reconstruct`: its openings (boundary loops, longest first),
  * its components, the share of the surface that is open, and the strays (small pieces
  * off the part's surface) dropped before use. As text lines on stdout (check's block,
- * reconstruct's summary) and as a JSON object.
+ * reconstruct's summary) and as a JSON object; and the run record's scan gaps (the
+ * openings closed before the reconstruction, kept apart from the sections) as `run
+ * show` prints them, in text and JSON.
  */
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "cli.h"
 #include "json_out.h"
 #include "mesh/scan_describe.h"
+#include "run/run_scan.h"
 
 /* Loops and components listed by name before "... and N more". */
 #define SHOWN 5
@@ -61,7 +66,19 @@ void cli_scan_print(const sr_scan_desc *d)
            d->strays, d->stray_triangles, d->stray_area_mm2);
 }
 
-void cli_scan_summary(const sr_scan_desc *d, size_t closed)
+/* Counts of rec's gaps closed in their plane and by fans. */
+static void closing_counts(const sr_run_scan *rec, size_t *plane, size_t *fan)
+{
+    *plane = *fan = 0;
+    for (size_t i = 0; rec && i < rec->gap_count; i++) {
+        if (strcmp(rec->gaps[i].closed_by, "plane") == 0)
+            (*plane)++;
+        else if (strcmp(rec->gaps[i].closed_by, "fan") == 0)
+            (*fan)++;
+    }
+}
+
+void cli_scan_summary(const sr_scan_desc *d, const sr_run_scan *rec)
 {
     if (cli_scan_is_plain(d))
         return;
@@ -72,13 +89,85 @@ void cli_scan_summary(const sr_scan_desc *d, size_t closed)
            d->open ? "open, read as a scan" : "closed, in several pieces", loops,
            100.0 * d->open_share);
     printf("              %s\n", comps);
-    if (closed)
-        printf("              closed %zu opening%s by fans from their centroids\n", closed,
-               closed == 1 ? "" : "s");
+    size_t plane, fan;
+    closing_counts(rec, &plane, &fan);
+    if (plane + fan)
+        printf("              scan gaps closed, not damage: %zu in their plane, %zu by fans "
+               "from their centroids\n",
+               plane, fan);
     if (d->strays)
         printf("              dropped %zu stray%s (%zu triangles, %.4g mm²: small pieces off the "
                "part's surface)\n",
                d->strays, d->strays == 1 ? "" : "s", d->stray_triangles, d->stray_area_mm2);
+}
+
+void cli_run_scan_print(const sr_run_scan *s)
+{
+    if (!s)
+        return;
+    size_t plane, fan;
+    closing_counts(s, &plane, &fan);
+    printf("  scan gaps:   %zu (%.4g mm², %.2f %% of the surface; closed: %zu in their plane, "
+           "%zu by fans; not damage)\n",
+           s->gap_count, s->open_area_mm2, 100.0 * s->open_share, plane, fan);
+    for (size_t i = 0; i < s->gap_count && i < SHOWN; i++) {
+        const sr_run_scan_gap *g = &s->gaps[i];
+        printf("               %zu edges, %.1f mm rim, %.4g mm² at (%.2f, %.2f, %.2f): %s\n",
+               g->edges, g->length_mm, g->area_mm2, g->centre[0], g->centre[1], g->centre[2],
+               g->closed_by);
+    }
+    if (s->gap_count > SHOWN)
+        printf("               and %zu more\n", s->gap_count - SHOWN);
+    if (s->strays)
+        printf("  strays:      %zu dropped (%zu triangles, %.4g mm²)\n", s->strays,
+               s->stray_triangles, s->stray_area_mm2);
+}
+
+void json_run_scan(json_out *j, const sr_run_scan *s)
+{
+    if (!s) {
+        json_null(j);
+        return;
+    }
+    json_object_begin(j);
+    json_key(j, "triangles");
+    json_int(j, (int64_t)s->triangles);
+    json_key(j, "boundary_edges");
+    json_int(j, (int64_t)s->boundary_edges);
+    json_key(j, "open_area_mm2");
+    json_number(j, s->open_area_mm2);
+    json_key(j, "open_share");
+    json_number(j, s->open_share);
+    json_key(j, "components");
+    json_int(j, (int64_t)s->components);
+    json_key(j, "strays");
+    json_int(j, (int64_t)s->strays);
+    json_key(j, "stray_triangles");
+    json_int(j, (int64_t)s->stray_triangles);
+    json_key(j, "stray_area_mm2");
+    json_number(j, s->stray_area_mm2);
+    json_key(j, "gaps");
+    json_array_begin(j);
+    for (size_t i = 0; i < s->gap_count; i++) {
+        const sr_run_scan_gap *g = &s->gaps[i];
+        json_object_begin(j);
+        json_key(j, "edges");
+        json_int(j, (int64_t)g->edges);
+        json_key(j, "length_mm");
+        json_number(j, g->length_mm);
+        json_key(j, "area_mm2");
+        json_number(j, g->area_mm2);
+        json_key(j, "centre");
+        json_array_begin(j);
+        for (int k = 0; k < 3; k++)
+            json_number(j, g->centre[k]);
+        json_array_end(j);
+        json_key(j, "closed_by");
+        json_string(j, g->closed_by);
+        json_object_end(j);
+    }
+    json_array_end(j);
+    json_object_end(j);
 }
 
 void json_scan(json_out *j, const sr_scan_desc *d)
@@ -139,19 +228,28 @@ void json_scan(json_out *j, const sr_scan_desc *d)
     json_object_end(j);
 }
 
-sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, size_t *closed, sr_err *err)
+sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_run_scan **rec, sr_err *err)
 {
     sr_scan_desc d;
     sr_status st = sr_scan_describe(scan, NULL, &d, err);
     if (st != SR_OK)
         return st;
-    st = sr_scan_close_openings(scan, &d, 0, closed, err);
+    sr_scan_closing *how = calloc(d.loop_count + 1, sizeof *how);
+    if (!how)
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    if (st == SR_OK)
+        st = sr_scan_close_openings_how(scan, &d, 0, NULL, how, err);
     if (st == SR_OK)
         st = sr_scan_drop_strays(scan, &d, err);
+    sr_run_scan *r = NULL;
+    if (st == SR_OK)
+        st = sr_run_scan_from_desc(&d, how, &r, err);
+    free(how);
     if (st != SR_OK) {
         sr_scan_desc_release(&d);
         return st;
     }
     *out = d;
+    *rec = r;
     return SR_OK;
 }

@@ -2,7 +2,8 @@
  * test_runs.c: the record of reconstruction runs (written by src/catalog/catalog_runs.c,
  * read back by catalog_run_read.c) and the building of a run from a reconstruction
  * (src/run/run_build.c): a run with layers, two sections, advice and meshes read back
- * field for field (NaN outline points included); what is read without the layer/mesh
+ * field for field (NaN outline points included); an open scan's gaps and strays read back
+ * apart from the sections; what is read without the layer/mesh
  * flags; listing order, filters and summaries; the count; every refused field leaving no
  * row in any table; a failure inside the transaction (an unknown rule) rolling back the
  * rows already written; not-found errors; release of a zeroed run; and a real
@@ -27,8 +28,10 @@
 #include "catalog/catalog_rules.h"
 #include "catalog/catalog_runs.h"
 #include "reconstruct.h"
-#include "run/run_build.h"
+#include "mesh/scan_describe.h"
 #include "mesh/shapes.h"
+#include "run/run_build.h"
+#include "run/run_scan.h"
 #include "support/assert_near.h"
 #include "base/version.h"
 
@@ -359,6 +362,71 @@ static void run_round_trip_reads_back_every_field(void **state)
              hex, (long long)id);
     assert_int_equal(raw_int(fx->db, sql), 1);
     sr_run_release(&r);
+    sample_release(&s);
+}
+
+/* An open scan's gaps recorded apart from the sections: a 10 x 20 x 30 box without its
+ * top (one gap: 4 edges, 60 mm of rim, 200 mm², centred at (5, 10, 30), closed in its
+ * plane) and a stray triangle 20 mm above it, recorded with the sample's two sections
+ * and read back; the sample without a scan record reads back none. */
+static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
+{
+    fixture *fx = *state;
+    sample s;
+    sample_init(&s, fx);
+    sr_mesh box;
+    const double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 30};
+    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    size_t kept = 0;
+    for (size_t t = 0; t < box.tri_count; t++) {
+        bool top = true;
+        for (int k = 0; k < 3; k++)
+            top = top && box.xyz[3 * box.tri[3 * t + k] + 2] == 30;
+        if (!top) {
+            memmove(box.tri + 3 * kept, box.tri + 3 * t, 3 * sizeof *box.tri);
+            kept++;
+        }
+    }
+    box.tri_count = kept;
+    sr_mesh stray;
+    assert_int_equal(sr_mesh_alloc(&stray, 3, 1), SR_OK);
+    const double sv[9] = {0, 0, 50, 0.5, 0, 50, 0, 0.5, 50};
+    memcpy(stray.xyz, sv, sizeof sv);
+    stray.tri[0] = 0, stray.tri[1] = 1, stray.tri[2] = 2;
+    assert_int_equal(sr_mesh_append(&box, &stray), SR_OK);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&box, NULL, &d, NULL), SR_OK);
+    sr_scan_closing how[1];
+    assert_int_equal(d.loop_count, 1);
+    assert_int_equal(sr_scan_close_openings_how(&box, &d, 0, NULL, how, NULL), SR_OK);
+    assert_int_equal(sr_run_scan_from_desc(&d, how, &s.run.scan, NULL), SR_OK);
+    int64_t id = add_ok(fx, &s.run);
+    sr_run r;
+    assert_int_equal(sr_catalog_run_get(fx->cat, id, 0, &r, NULL), SR_OK);
+    assert_int_equal(r.section_count, 2);
+    assert_non_null(r.scan);
+    assert_int_equal(r.scan->gap_count, 1);
+    assert_int_equal(r.scan->gaps[0].edges, 4);
+    assert_true(r.scan->gaps[0].length_mm == 60 && r.scan->gaps[0].area_mm2 == 200);
+    assert_true(r.scan->gaps[0].centre[0] == 5 && r.scan->gaps[0].centre[1] == 10 &&
+                r.scan->gaps[0].centre[2] == 30);
+    assert_string_equal(r.scan->gaps[0].closed_by, "plane");
+    assert_int_equal(r.scan->triangles, 11);
+    assert_int_equal(r.scan->boundary_edges, 4);
+    assert_int_equal(r.scan->components, 2);
+    assert_int_equal(r.scan->strays, 1);
+    assert_int_equal(r.scan->stray_triangles, 1);
+    assert_true(r.scan->open_area_mm2 == 200);
+    sr_run_release(&r);
+    sr_run_scan_free(s.run.scan);
+    s.run.scan = NULL;
+    id = add_ok(fx, &s.run);
+    assert_int_equal(sr_catalog_run_get(fx->cat, id, 0, &r, NULL), SR_OK);
+    assert_null(r.scan);
+    sr_run_release(&r);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&stray);
+    sr_mesh_release(&box);
     sample_release(&s);
 }
 
@@ -974,6 +1042,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         T(run_round_trip_reads_back_every_field),
         T(run_get_without_flags_reads_no_layers_or_meshes),
+        T(run_scan_gaps_round_trip_apart_from_the_sections),
         T(run_failed_record_round_trips_with_nulls),
         T(run_add_refuses_each_bad_field_and_writes_nothing),
         T(run_add_unknown_instance_is_not_found_and_writes_nothing),

@@ -2,19 +2,30 @@
  * test_scan_describe.c: sr_scan_describe and sr_scan_drop_strays (src/mesh/scan_describe.c)
  * on meshes with known answers: a closed box 10 x 20 x 30 (no opening, one component);
  * the box with its top face (10 x 20) left off (one loop of 4 edges, 60 mm, spanning
- * 200 mm², open 200 / 2200 of the surface; closed by a fan: 6000 mm³ again); the box with a stray triangle 20 mm above it
+ * 200 mm², open 200 / 2200 of the surface; closed in its plane: 6000 mm³ again); a
+ * tube and an L-shaped prism without their bases (closed in the plane, the fill's area
+ * the base's); the box with a stray triangle 20 mm above it
  * (dropped: 12 triangles and 8 vertices left; kept when "small" is set below its
  * 0.5 mm²), with a small triangle lying on its face
  * (kept: on the surface), with a second box beside it (kept: not small); bad options.
+ * Rims that cross in their plane: a 10 x 10 rim with a fold (its edge from (5, 11) to
+ * (6, 9) crosses the edge along y = 10 at (5.5, 10)) under a band and a cap is closed in
+ * its plane through one made vertex there (filled 97.25 + 0.75 mm^2: the rest and the
+ * fold), closed with no pinch; two pyramids (10 x 10 bases, 8 high) touching at a base
+ * corner, without their bases, are closed in the plane, the corner split in two:
+ * closed, no pinch, twice 800 / 3 mm^3. A triangle of the base kept inside the
+ * opening (an island) is dropped, not filled round: the box closed, 6000 mm^3.
  */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
 
+#include "mesh/mesh.h"
 #include "mesh/scan_describe.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
@@ -88,17 +99,251 @@ static void a_box_without_its_top_has_one_loop_round_it(void **state)
     assert_near(d.open_share, 200.0 / 2200.0, 1e-12);
     assert_int_equal(d.component_count, 1);
     assert_int_equal(d.strays, 0);
-    /* closed by a fan of 4 triangles from the top's centre: the box's volume again */
+    /* closed in its plane by two triangles on the rim's corners: the box's volume again */
     size_t closed = 0;
-    assert_int_equal(sr_scan_close_openings(&m, &d, 0, &closed, NULL), SR_OK);
+    sr_scan_closing how = SR_SCAN_LEFT_OPEN;
+    assert_int_equal(sr_scan_close_openings_how(&m, &d, 0, &closed, &how, NULL), SR_OK);
     assert_int_equal(closed, 1);
-    assert_int_equal(m.tri_count, 14);
-    assert_int_equal(m.vertex_count, 9);
+    assert_int_equal(how, SR_SCAN_IN_PLANE);
+    assert_int_equal(m.tri_count, 12);
+    assert_int_equal(m.vertex_count, 8);
     assert_true(sr_mesh_is_closed(&m));
     assert_near(sr_mesh_volume(&m), 6000, 1e-9);
-    assert_near(m.xyz[3 * 8], 5, 1e-12);
-    assert_near(m.xyz[3 * 8 + 1], 10, 1e-12);
-    assert_near(m.xyz[3 * 8 + 2], 30, 1e-12);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
+/* Removes every triangle whose three vertices lie at z = z0; returns how many. */
+static size_t drop_face_at(sr_mesh *m, double z0)
+{
+    size_t kept = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        bool on = true;
+        for (int k = 0; k < 3; k++)
+            on = on && fabs(m->xyz[3 * m->tri[3 * t + k] + 2] - z0) < 1e-12;
+        if (!on) {
+            memmove(m->tri + 3 * kept, m->tri + 3 * t, 3 * sizeof *m->tri);
+            kept++;
+        }
+    }
+    size_t gone = m->tri_count - kept;
+    m->tri_count = kept;
+    return gone;
+}
+
+/* Area of triangles [from, tri_count) of m. */
+static double area_from(const sr_mesh *m, size_t from)
+{
+    double a = 0;
+    for (size_t t = from; t < m->tri_count; t++) {
+        const double *p = m->xyz + 3 * m->tri[3 * t], *q = m->xyz + 3 * m->tri[3 * t + 1],
+                     *r = m->xyz + 3 * m->tri[3 * t + 2];
+        double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+        double v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+        double c[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+        a += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    }
+    return a;
+}
+
+static double r_outer(double theta, size_t ring, void *user)
+{
+    (void)theta, (void)ring, (void)user;
+    return 10;
+}
+
+static double r_inner(double theta, size_t ring, void *user)
+{
+    (void)theta, (void)ring, (void)user;
+    return 4;
+}
+
+/* Opens m at z = 0, describes it, closes it and checks: loops loops, all closed in their
+ * plane, no new vertex, closed again with its volume, and the fill's area that of the
+ * base (a fan from a concave rim's centroid folds outside it, a bore's rim fanned on its
+ * own covers the bore twice over: either adds area). */
+static void closes_in_plane(sr_mesh *m, size_t loops, double base_area)
+{
+    double volume = sr_mesh_volume(m);
+    size_t nv = m->vertex_count;
+    assert_true(drop_face_at(m, 0) > 0);
+    size_t open_tris = m->tri_count;
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, loops);
+    size_t closed = 0;
+    sr_scan_closing how[2] = {SR_SCAN_LEFT_OPEN, SR_SCAN_LEFT_OPEN};
+    assert_true(loops <= 2);
+    assert_int_equal(sr_scan_close_openings_how(m, &d, 0, &closed, how, NULL), SR_OK);
+    assert_int_equal(closed, loops);
+    for (size_t i = 0; i < loops; i++)
+        assert_int_equal(how[i], SR_SCAN_IN_PLANE);
+    assert_int_equal(m->vertex_count, nv);
+    assert_true(sr_mesh_is_closed(m));
+    assert_near(sr_mesh_volume(m), volume, 1e-9 * volume);
+    assert_near(area_from(m, open_tris), base_area, 1e-9 * base_area);
+    sr_scan_desc_release(&d);
+}
+
+/* A tube (radii 10 and 4, 48 sides, z 0..12) and an L-shaped prism (20 x 20 less
+ * 12 x 12: 256 mm^2, 10 high), each without the face it stood on. */
+static void a_base_with_a_bore_or_a_concave_rim_is_closed_in_its_plane(void **state)
+{
+    (void)state;
+    const double z[2] = {0, 12};
+    sr_revolve_opts o = {0};
+    o.segments = 48;
+    o.ring_count = 2;
+    o.ring_z = z;
+    o.outer = r_outer;
+    o.inner = r_inner;
+    sr_mesh m;
+    assert_int_equal(sr_shape_revolve(&o, &m, NULL), SR_OK);
+    double polygon = 24 * sin(2 * M_PI / 48); /* 48/2 sin(2pi/48) r^2, per r^2 */
+    closes_in_plane(&m, 2, polygon * (100 - 16));
+    sr_mesh_release(&m);
+    const double l[12] = {0, 0, 20, 0, 20, 8, 8, 8, 8, 20, 0, 20};
+    assert_int_equal(sr_shape_prism(l, 6, 0, 10, &m, NULL), SR_OK);
+    closes_in_plane(&m, 1, 256);
+    sr_mesh_release(&m);
+}
+
+/* Closes m's one opening (or two) and checks it closed in its plane, closed after with
+ * no pinched vertex; returns the area of the triangles the closing added at z = 0. */
+static double close_flat(sr_mesh *m, size_t loops)
+{
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, loops);
+    size_t closed = 0, before = m->tri_count;
+    sr_scan_closing how[2] = {SR_SCAN_LEFT_OPEN, SR_SCAN_LEFT_OPEN};
+    assert_true(loops <= 2);
+    assert_int_equal(sr_scan_close_openings_how(m, &d, 0, &closed, how, NULL), SR_OK);
+    assert_int_equal(closed, loops);
+    for (size_t i = 0; i < loops; i++)
+        assert_int_equal(how[i], SR_SCAN_IN_PLANE);
+    assert_true(sr_mesh_is_closed(m));
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(m, &e), SR_OK);
+    assert_int_equal(e.nonmanifold_vertices, 0);
+    double flat = 0;
+    for (size_t t = before; t < m->tri_count; t++) {
+        bool low = true;
+        for (int k = 0; k < 3; k++)
+            low = low && m->xyz[3 * m->tri[3 * t + k] + 2] == 0;
+        if (low)
+            flat += area_from(&(sr_mesh){m->xyz, m->tri + 3 * t, m->vertex_count, 1}, 0);
+    }
+    sr_scan_desc_release(&d);
+    return flat;
+}
+
+static void rims_crossing_in_their_plane_are_cut_where_they_cross(void **state)
+{
+    (void)state;
+    /* the rim A B C D E F G at z = 0, counter-clockwise from above; E -> F crosses C -> D;
+     * over it a band to a copy shrunk by half towards (5, 5) at z = 10, capped at (5, 5) */
+    const double rim[7][2] = {{0, 0}, {10, 0}, {10, 10}, {4, 10}, {5, 11}, {6, 9}, {0, 10}};
+    sr_mesh m;
+    assert_int_equal(sr_mesh_alloc(&m, 15, 21), SR_OK);
+    for (int i = 0; i < 7; i++) {
+        double *lo = m.xyz + 3 * i, *hi = m.xyz + 3 * (7 + i);
+        lo[0] = rim[i][0], lo[1] = rim[i][1], lo[2] = 0;
+        hi[0] = 2.5 + rim[i][0] / 2, hi[1] = 2.5 + rim[i][1] / 2, hi[2] = 10;
+    }
+    m.xyz[42] = 5, m.xyz[43] = 5, m.xyz[44] = 10;
+    for (uint32_t i = 0; i < 7; i++) {
+        uint32_t j = (i + 1) % 7, *t = m.tri + 9 * i;
+        const uint32_t band[9] = {i, j, 7 + j, i, 7 + j, 7 + i, 14, 7 + i, 7 + j};
+        memcpy(t, band, sizeof band);
+    }
+    assert_near(close_flat(&m, 1), 97.25 + 0.75, 1e-9);
+    assert_int_equal(m.vertex_count, 16); /* one made where the rims cross, no pinch */
+    const double *x = m.xyz + 3 * 15;
+    assert_near(x[0], 5.5, 1e-12);
+    assert_near(x[1], 10, 1e-12);
+    assert_near(x[2], 0, 0);
+    sr_mesh_release(&m);
+}
+
+/* A pyramid without its base: the square (x0, y0) .. (x0 + 10, y0 + 10) at z = 0, apex
+ * 8 above its centre; base vertex `shared` of the square (counter-clockwise from
+ * (x0, y0)) is vertex `at` of m when at < m's count, else a new one. */
+static void add_pyramid(sr_mesh *m, double x0, double y0, int shared, uint32_t at)
+{
+    const double sq[4][2] = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+    uint32_t nv = (uint32_t)m->vertex_count, id[5], next = nv;
+    double xyz[15];
+    size_t add = 0;
+    for (int i = 0; i < 5; i++) {
+        if (i == shared && at < nv) {
+            id[i] = at;
+            continue;
+        }
+        id[i] = next++;
+        double *p = xyz + 3 * add++;
+        p[0] = x0 + (i < 4 ? sq[i][0] : 5), p[1] = y0 + (i < 4 ? sq[i][1] : 5);
+        p[2] = i < 4 ? 0 : 8;
+    }
+    double *v = realloc(m->xyz, 3 * (nv + add) * sizeof *v);
+    uint32_t *t = realloc(m->tri, 3 * (m->tri_count + 4) * sizeof *t);
+    assert_non_null(v);
+    assert_non_null(t);
+    memcpy(v + 3 * nv, xyz, 3 * add * sizeof *v);
+    for (int i = 0; i < 4; i++) {
+        uint32_t *w = t + 3 * (m->tri_count + (size_t)i);
+        w[0] = id[i], w[1] = id[(i + 1) % 4], w[2] = id[4];
+    }
+    m->xyz = v;
+    m->tri = t;
+    m->vertex_count = nv + add;
+    m->tri_count += 4;
+}
+
+static void two_pyramids_touching_at_a_corner_close_without_a_pinch(void **state)
+{
+    (void)state;
+    sr_mesh m = {0};
+    add_pyramid(&m, 0, 0, -1, 0);
+    add_pyramid(&m, 10, 10, 0, 2); /* its corner (10, 10) is the first one's vertex 2 */
+    assert_int_equal(m.vertex_count, 9);
+    /* two loops (the walk leaves the shared corner by the first edge out of it) */
+    assert_near(close_flat(&m, 2), 200, 1e-9);
+    assert_int_equal(m.vertex_count, 10); /* the corner, once per pyramid */
+    assert_near(sr_mesh_volume(&m), 2 * 800.0 / 3, 1e-9);
+    sr_mesh_release(&m);
+}
+
+/* The box without its face at z = 0, with an island of it kept (a triangle at z = 0
+ * inside the opening, the other way up: a fold): the island's rim is not a hole in the
+ * fill, the island is flagged stray and dropped, the box is closed with its volume. */
+static void an_island_left_in_the_base_is_dropped_not_filled_round(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    assert_int_equal(drop_face_at(&m, 0), 2);
+    const double a[3] = {0.2, 5, 0}, b[3] = {2.2, 5, 0}, c[3] = {1.2, 8, 0};
+    add_triangle(&m, a, b, c); /* facing up; 0.2 mm off the wall x = 0: not a stray */
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, 2);
+    assert_int_equal(d.component_count, 2);
+    assert_int_equal(d.strays, 0); /* on the surface it was cut from: kept by describe */
+    size_t closed = 0;
+    sr_scan_closing how[2] = {SR_SCAN_LEFT_OPEN, SR_SCAN_LEFT_OPEN};
+    assert_int_equal(sr_scan_close_openings_how(&m, &d, 0, &closed, how, NULL), SR_OK);
+    assert_int_equal(closed, 2);
+    assert_int_equal(how[0], SR_SCAN_IN_PLANE);
+    assert_int_equal(how[1], SR_SCAN_IN_PLANE);
+    assert_int_equal(d.strays, 1);
+    assert_int_equal(d.stray_triangles, 1);
+    assert_near(d.stray_area_mm2, 3, 1e-12);
+    assert_int_equal(sr_scan_drop_strays(&m, &d, NULL), SR_OK);
+    assert_int_equal(m.tri_count, 12); /* 10 walls and top, 2 of the fill */
+    assert_true(sr_mesh_is_closed(&m));
+    assert_near(sr_mesh_volume(&m), 6000, 1e-9);
     sr_scan_desc_release(&d);
     sr_mesh_release(&m);
 }
@@ -196,6 +441,10 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_closed_box_has_no_opening_and_one_component),
         cmocka_unit_test(a_box_without_its_top_has_one_loop_round_it),
+        cmocka_unit_test(a_base_with_a_bore_or_a_concave_rim_is_closed_in_its_plane),
+        cmocka_unit_test(rims_crossing_in_their_plane_are_cut_where_they_cross),
+        cmocka_unit_test(two_pyramids_touching_at_a_corner_close_without_a_pinch),
+        cmocka_unit_test(an_island_left_in_the_base_is_dropped_not_filled_round),
         cmocka_unit_test(a_stray_triangle_off_the_box_is_dropped),
         cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),
         cmocka_unit_test(bad_options_are_refused),

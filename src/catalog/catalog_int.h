@@ -159,6 +159,12 @@ void sr_cat_put_f64(unsigned char *p, double v);
 sr_status sr_cat_nominal_insert(sr_catalog *cat, const sr_run_nominal *n, int64_t run_id,
                                 sr_err *err);
 sr_status sr_cat_nominal_read(sr_catalog *cat, sr_run *r, sr_err *err);
+
+/* catalog_scan.c: a run's scan record (sr_run_scan, its gaps; s NULL writes nothing)
+ * inserted for run_id inside the caller's transaction, and read back into r->scan (left
+ * NULL when the run has none). */
+sr_status sr_cat_scan_insert(sr_catalog *cat, const sr_run_scan *s, int64_t run_id, sr_err *err);
+sr_status sr_cat_scan_read(sr_catalog *cat, sr_run *r, sr_err *err);
 /* Reads the double sr_cat_put_f64 wrote at p[0..7]. */
 double sr_cat_get_f64(const unsigned char *p);
 

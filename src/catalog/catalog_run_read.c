@@ -336,6 +336,8 @@ sr_status sr_catalog_run_get(sr_catalog *cat, int64_t id, unsigned what, sr_run 
         st = read_advice(cat, &r, err);
     if (st == SR_OK)
         st = sr_cat_nominal_read(cat, &r, err);
+    if (st == SR_OK)
+        st = sr_cat_scan_read(cat, &r, err);
     if (own) {
         sqlite3_stmt *end;
         sr_status st2 = sr_cat_prepare(cat, "COMMIT", &end, st == SR_OK ? err : NULL);

@@ -547,6 +547,8 @@ sr_status sr_catalog_run_add(sr_catalog *cat, const sr_run *run, int64_t *out_id
     if (st == SR_OK)
         st = sr_cat_nominal_insert(cat, run->nominal, run_id, err);
     if (st == SR_OK)
+        st = sr_cat_scan_insert(cat, run->scan, run_id, err);
+    if (st == SR_OK)
         st = sr_cat_commit(cat, err);
     if (st != SR_OK)
         sr_cat_rollback(cat);

@@ -1,63 +1,698 @@
 /*
- * scan_close.c: the openings of a scan closed by fans (scan_describe.h,
- * sr_scan_close_openings): a vertex at each loop's centroid and one triangle per rim
- * edge, walked against the rim. The image method's voxels count crossings along z by
- * the winding rule (images/voxels.h): an open base or a hole lets a column miss a
- * crossing and fills or empties it from there on; with the fans every column crosses a
- * closed surface again.
+ * scan_close.c: the openings of a scan closed (scan_describe.h, sr_scan_close_openings).
+ * A loop whose rim lies in a plane (the face the part stood on, a hole in a flat face) is
+ * closed in that plane together with every other rim in it, by the constrained
+ * triangulation of the region they wind around (bridge/planar_fill.h): an outer rim with
+ * the rims of the bores through the base is one face with holes, a concave rim is filled
+ * inside only, so the closed surface is the part's own face. Where two rims cross in the
+ * plane (a noisy rim folding over itself, two rims touching), the triangulation cuts them
+ * at a point that both rim edges then pass through: the scan's triangle on each such edge
+ * is split there, so the fill meets the scan edge for edge. Any other loop (a hole in a
+ * curved face) is closed by a fan: a vertex at its centroid and one triangle per rim
+ * edge, walked against the rim. Last, a vertex the closing left pinched (two rims that
+ * touched) gets one copy per fan (mesh/mesh_pinch.h). The image method's voxels count
+ * crossings along z by the winding rule (images/voxels.h): an open base or a hole lets a
+ * column miss a crossing and fills or empties it from there on; closed, every column
+ * crosses a closed surface again.
  */
 #include "mesh/scan_describe.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+#include "bridge/planar_fill.h"
+#include "mesh/mesh_pinch.h"
+
+/* A rim is planar when its vertices lie this close to the plane through its centroid
+ * with its area normal: root mean square and largest distance, mm (the scan's noise,
+ * sigma up to 0.1 mm, stays inside both). */
+#define PLANE_RMS_MM 0.15
+#define PLANE_MAX_MM 0.5
+/* Another rim joins a plane's group only when its own plane is this close to parallel
+ * (cosine): a small hole in a wall beside the base lies within the tolerances of the
+ * base's plane, but across it (seen edge on: cosine near 0). A rim round an island
+ * the scan kept in the base (a few noisy triangles tilted past the rest) is a hole in
+ * the base's fill and must join it, though its own plane, over a millimetre, tilts
+ * with the noise: 45 degrees still tells the two apart. */
+#define SAME_PLANE_COS 0.7
+/* A loop spanning less is fanned. 0: none is; a fan of a tiny loop (a triangle left
+ * out along the base's rim) was seen to make the image method miss a plate's damage
+ * (s3301p06), so tiny loops go to the plane too, guarded by the fill's check. mm^2 */
+#define PLANE_MIN_MM2 0.0
+
+/* What the closing appends: vertices and triangles, grown as needed. */
+typedef struct grow {
+    double *xyz;
+    size_t nv, cap_v;
+    uint32_t *tri;
+    size_t nt, cap_t;
+    uint32_t *cut; /* rim edges cut by a fill: records a, b, k, then k points from a to b */
+    size_t ncut, cap_cut;
+} grow;
+
+static bool cut_room(grow *g, size_t add)
+{
+    if (g->ncut + add > g->cap_cut) {
+        size_t cap = 2 * (g->ncut + add) + 16;
+        uint32_t *p = realloc(g->cut, cap * sizeof *p);
+        if (!p)
+            return false;
+        g->cut = p;
+        g->cap_cut = cap;
+    }
+    return true;
+}
+
+static bool grow_room(grow *g, size_t add_v, size_t add_t)
+{
+    if (g->nv + add_v > g->cap_v) {
+        size_t cap = 2 * (g->nv + add_v) + 16;
+        double *p = realloc(g->xyz, 3 * cap * sizeof *p);
+        if (!p)
+            return false;
+        g->xyz = p;
+        g->cap_v = cap;
+    }
+    if (g->nt + add_t > g->cap_t) {
+        size_t cap = 2 * (g->nt + add_t) + 16;
+        uint32_t *p = realloc(g->tri, 3 * cap * sizeof *p);
+        if (!p)
+            return false;
+        g->tri = p;
+        g->cap_t = cap;
+    }
+    return true;
+}
+
+static bool eligible(const sr_scan_loop *l, double max_span_mm2)
+{
+    return l->closed && l->edges >= 3 && (max_span_mm2 <= 0 || l->span_mm <= max_span_mm2);
+}
+
+/* The fan of loop l: a new vertex (index base_v + its place in g) at the centroid. */
+static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l, size_t base_v,
+                grow *g)
+{
+    if (!grow_room(g, 1, l->edges))
+        return false;
+    const uint32_t *lv = d->loop_verts + l->first;
+    double c[3] = {0, 0, 0};
+    for (size_t e = 0; e < l->edges; e++)
+        for (int k = 0; k < 3; k++)
+            c[k] += mesh->xyz[3 * (size_t)lv[e] + k] / (double)l->edges;
+    uint32_t v = (uint32_t)(base_v + g->nv);
+    memcpy(g->xyz + 3 * g->nv++, c, sizeof c);
+    for (size_t e = 0; e < l->edges; e++) {
+        uint32_t *t = g->tri + 3 * g->nt++;
+        t[0] = lv[(e + 1) % l->edges]; /* the rim walks a -> b: the fan walks b -> a */
+        t[1] = lv[e];
+        t[2] = v;
+    }
+    return true;
+}
+
+/* Centroid c and unit area normal n of loop l; false when the loop has no area. */
+static bool loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
+                       double c[3], double n[3])
+{
+    const uint32_t *lv = d->loop_verts + l->first;
+    c[0] = c[1] = c[2] = n[0] = n[1] = n[2] = 0;
+    for (size_t e = 0; e < l->edges; e++)
+        for (int k = 0; k < 3; k++)
+            c[k] += mesh->xyz[3 * (size_t)lv[e] + k] / (double)l->edges;
+    for (size_t e = 0; e < l->edges; e++) { /* Newell */
+        const double *a = mesh->xyz + 3 * (size_t)lv[e];
+        const double *b = mesh->xyz + 3 * (size_t)lv[(e + 1) % l->edges];
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0))
+        return false;
+    for (int k = 0; k < 3; k++)
+        n[k] /= len;
+    return true;
+}
+
+/* Whether every vertex of loop l lies on the plane (c, n) within the tolerances. */
+static bool on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
+                     const double c[3], const double n[3])
+{
+    const uint32_t *lv = d->loop_verts + l->first;
+    double ss = 0;
+    for (size_t e = 0; e < l->edges; e++) {
+        const double *p = mesh->xyz + 3 * (size_t)lv[e];
+        double h = (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
+        if (fabs(h) > PLANE_MAX_MM)
+            return false;
+        ss += h * h;
+    }
+    return sqrt(ss / (double)l->edges) <= PLANE_RMS_MM;
+}
+
+static int key_cmp(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static bool has_key(const uint64_t *keys, size_t n, uint64_t k)
+{
+    return bsearch(&k, keys, n, sizeof k, key_cmp) != NULL;
+}
+
+/* Whether the fill (nt triangles tri, in mesh vertices) closes the rims exactly: every
+ * rim edge a -> b (rim: nrim pairs, the rims' edges cut where the fill cut them) met
+ * once as b -> a and never as a -> b, no edge of the fill used twice the same way, and
+ * no other edge of the fill on its border. Two rim vertices the triangulation merged, a
+ * face it wound around twice, fail. */
+static bool fill_fits(const uint32_t *tri, size_t nt, const uint32_t *rim, size_t nrim)
+{
+    uint64_t *keys = malloc((3 * nt + 1) * sizeof *keys);
+    if (!keys)
+        return false;
+    for (size_t t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            keys[3 * t + k] = (uint64_t)tri[3 * t + k] << 32 | tri[3 * t + (k + 1) % 3];
+    size_t n = 3 * nt;
+    qsort(keys, n, sizeof *keys, key_cmp);
+    bool ok = true;
+    for (size_t i = 1; ok && i < n; i++)
+        ok = keys[i] != keys[i - 1];
+    size_t border = 0;
+    for (size_t i = 0; ok && i < n; i++)
+        if (!has_key(keys, n, keys[i] << 32 | keys[i] >> 32))
+            border++;
+    for (size_t r = 0; ok && r < nrim; r++) {
+        uint64_t a = rim[2 * r], b = rim[2 * r + 1];
+        ok = has_key(keys, n, b << 32 | a) && !has_key(keys, n, a << 32 | b);
+    }
+    free(keys);
+    return ok && border == nrim;
+}
+
+/* Closes the loops group[0..count) (all on the plane c, n) by the triangulation of the
+ * region they bound. *done false (g unchanged in its counts) when the triangulation
+ * gives nothing usable (then the caller fans them); SR_E_NOMEM. */
+static sr_status plane_fill(const sr_mesh *mesh, const sr_scan_desc *d, const size_t *group,
+                            size_t count, const double c[3], const double n[3], size_t base_v,
+                            grow *g, bool *done, sr_err *err)
+{
+    *done = false;
+    double e1[3], e2[3];
+    double ax[3] = {fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0};
+    e1[0] = ax[1] * n[2] - ax[2] * n[1]; /* e1 = ax x n, e2 = n x e1 */
+    e1[1] = ax[2] * n[0] - ax[0] * n[2];
+    e1[2] = ax[0] * n[1] - ax[1] * n[0];
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int k = 0; k < 3; k++)
+        e1[k] /= l1;
+    e2[0] = n[1] * e1[2] - n[2] * e1[1];
+    e2[1] = n[2] * e1[0] - n[0] * e1[2];
+    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+    size_t pts = 0;
+    for (size_t i = 0; i < count; i++)
+        pts += d->loops[group[i]].edges;
+    double *uv = malloc(2 * pts * sizeof *uv);
+    size_t *start = malloc((count + 1) * sizeof *start);
+    uint32_t *vid = malloc(pts * sizeof *vid);
+    if (!uv || !start || !vid) {
+        free(uv);
+        free(start);
+        free(vid);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    }
+    size_t p = 0;
+    for (size_t i = 0; i < count; i++) {
+        const sr_scan_loop *l = &d->loops[group[i]];
+        start[i] = p;
+        for (size_t e = 0; e < l->edges; e++, p++) {
+            vid[p] = d->loop_verts[l->first + e];
+            const double *q = mesh->xyz + 3 * (size_t)vid[p];
+            double r[3] = {q[0] - c[0], q[1] - c[1], q[2] - c[2]};
+            uv[2 * p] = r[0] * e1[0] + r[1] * e1[1] + r[2] * e1[2];
+            uv[2 * p + 1] = r[0] * e2[0] + r[1] * e2[1] + r[2] * e2[2];
+        }
+    }
+    start[count] = p;
+    sr_planar_fill_out fo = {0};
+    uint32_t *fid = NULL, *rim = NULL, *mtri = NULL;
+    double *acc = NULL;
+    sr_err ferr;
+    sr_status st = sr_planar_fill(uv, start, count, &fo, &ferr);
+    if (st == SR_E_NOMEM) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        goto out;
+    }
+    if (st != SR_OK || fo.tri_count == 0) {
+        st = SR_OK; /* fanned instead */
+        goto out;
+    }
+    size_t nx = fo.extra_count, nt = fo.tri_count, ncut = fo.split_first[pts];
+    fid = malloc((pts + nx) * sizeof *fid);
+    rim = malloc(2 * (pts + ncut) * sizeof *rim);
+    mtri = malloc(3 * nt * sizeof *mtri);
+    acc = calloc(4 * nx + 1, sizeof *acc); /* per made point: x, y, z summed, count */
+    if (!fid || !rim || !mtri || !acc) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        goto out;
+    }
+    for (size_t x = 0; x < pts + nx; x++)
+        fid[x] = x < pts ? vid[x] : (uint32_t)(base_v + g->nv + (x - pts));
+    for (size_t i = 0; i < 3 * nt; i++)
+        mtri[i] = fid[fo.tri[i]];
+    /* the rims' edges, cut where the fill cut them; a made point lies where the rim edges
+     * through it are, on average (they cross in the plane, not quite in space) */
+    size_t nrim = 0;
+    for (size_t i = 0; i < count; i++)
+        for (size_t q = start[i]; q < start[i + 1]; q++) {
+            size_t q2 = q + 1 < start[i + 1] ? q + 1 : start[i];
+            uint32_t prev = vid[q];
+            const double *pa = mesh->xyz + 3 * (size_t)vid[q],
+                         *pb = mesh->xyz + 3 * (size_t)vid[q2];
+            double du = uv[2 * q2] - uv[2 * q], dv = uv[2 * q2 + 1] - uv[2 * q + 1];
+            double len2 = du * du + dv * dv;
+            for (size_t s = fo.split_first[q]; s < fo.split_first[q + 1]; s++) {
+                uint32_t x = fo.split[s];
+                rim[2 * nrim] = prev;
+                rim[2 * nrim++ + 1] = fid[x];
+                prev = fid[x];
+                if (x < pts || !(len2 > 0))
+                    continue;
+                const double *xu = fo.extra_uv + 2 * (x - pts);
+                double t = ((xu[0] - uv[2 * q]) * du + (xu[1] - uv[2 * q + 1]) * dv) / len2;
+                t = t < 0 ? 0 : t > 1 ? 1 : t;
+                double *a = acc + 4 * (x - pts);
+                for (int k = 0; k < 3; k++)
+                    a[k] += pa[k] + t * (pb[k] - pa[k]);
+                a[3] += 1;
+            }
+            rim[2 * nrim] = prev;
+            rim[2 * nrim++ + 1] = vid[q2];
+        }
+    if (!fill_fits(mtri, nt, rim, nrim))
+        goto out; /* the loops fold, or overlap: fanned instead */
+    if (!grow_room(g, nx, nt) || !cut_room(g, 3 * pts + ncut)) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        goto out;
+    }
+    for (size_t k = 0; k < nx; k++) {
+        double *v = g->xyz + 3 * (g->nv + k);
+        const double *a = acc + 4 * k;
+        for (int j = 0; j < 3; j++)
+            v[j] = a[3] > 0 ? a[j] / a[3]
+                            : c[j] + fo.extra_uv[2 * k] * e1[j] + fo.extra_uv[2 * k + 1] * e2[j];
+    }
+    memcpy(g->tri + 3 * g->nt, mtri, 3 * nt * sizeof *mtri);
+    for (size_t i = 0; i < count; i++)
+        for (size_t q = start[i]; q < start[i + 1]; q++) {
+            size_t k = fo.split_first[q + 1] - fo.split_first[q];
+            if (k == 0)
+                continue;
+            uint32_t *r = g->cut + g->ncut;
+            r[0] = vid[q];
+            r[1] = vid[q + 1 < start[i + 1] ? q + 1 : start[i]];
+            r[2] = (uint32_t)k;
+            for (size_t j = 0; j < k; j++)
+                r[3 + j] = fid[fo.split[fo.split_first[q] + j]];
+            g->ncut += 3 + k;
+        }
+    g->nv += nx;
+    g->nt += nt;
+    *done = true;
+out:
+    sr_planar_fill_free(&fo);
+    free(fid);
+    free(rim);
+    free(mtri);
+    free(acc);
+    free(uv);
+    free(start);
+    free(vid);
+    return st;
+}
+
+typedef struct cut_key {
+    uint64_t key; /* a << 32 | b */
+    size_t at;    /* its record in grow.cut */
+} cut_key;
+
+static int cut_cmp(const void *pa, const void *pb)
+{
+    uint64_t x = ((const cut_key *)pa)->key, y = ((const cut_key *)pb)->key;
+    return (x > y) - (x < y);
+}
+
+/* The scan's triangles (mesh's, before the closing) on a rim edge a fill cut, split
+ * through the cut points: one cut edge, a fan from the opposite corner; more, a fan from
+ * a new vertex at the triangle's centroid. The first piece replaces the triangle (into
+ * rep: triangle index, then its 3 corners; *nrep of them), the others are appended to g.
+ * false: out of memory. */
+static bool cut_rims(const sr_mesh *mesh, size_t base_v, grow *g, uint32_t **rep, size_t *nrep)
+{
+    size_t nk = 0;
+    for (size_t i = 0; i < g->ncut; i += 3 + g->cut[i + 2])
+        nk++;
+    *rep = NULL;
+    *nrep = 0;
+    if (nk == 0)
+        return true;
+    cut_key *keys = malloc(nk * sizeof *keys);
+    uint32_t *poly = NULL, *out = malloc(4 * nk * sizeof *out);
+    size_t cap_poly = 0, no = 0, cap_out = nk;
+    bool ok = keys && out;
+    nk = 0;
+    for (size_t i = 0; ok && i < g->ncut; i += 3 + g->cut[i + 2])
+        keys[nk++] = (cut_key){(uint64_t)g->cut[i] << 32 | g->cut[i + 1], i};
+    if (ok)
+        qsort(keys, nk, sizeof *keys, cut_cmp);
+    for (size_t t = 0; ok && t < mesh->tri_count; t++) {
+        const uint32_t *v = mesh->tri + 3 * t;
+        const cut_key *hit[3];
+        size_t nh = 0, np = 3, edge = 0;
+        for (int k = 0; k < 3; k++) {
+            cut_key probe = {(uint64_t)v[k] << 32 | v[(k + 1) % 3], 0};
+            hit[k] = bsearch(&probe, keys, nk, sizeof *keys, cut_cmp);
+            if (hit[k]) {
+                nh++;
+                edge = (size_t)k;
+                np += g->cut[hit[k]->at + 2];
+            }
+        }
+        if (nh == 0)
+            continue;
+        if (np > cap_poly) {
+            cap_poly = 2 * np;
+            uint32_t *p2 = realloc(poly, cap_poly * sizeof *poly);
+            if (!p2) {
+                ok = false;
+                break;
+            }
+            poly = p2;
+        }
+        size_t n = 0; /* the triangle's border, corners and cut points, from corner edge */
+        for (int k = 0; k < 3; k++) {
+            size_t e = (edge + (size_t)k) % 3;
+            poly[n++] = v[e];
+            if (hit[e])
+                for (uint32_t j = 0; j < g->cut[hit[e]->at + 2]; j++)
+                    poly[n++] = g->cut[hit[e]->at + 3 + j];
+        }
+        uint32_t apex = v[(edge + 2) % 3];
+        size_t pieces = nh == 1 ? n - 2 : n;
+        if (!grow_room(g, 1, pieces)) {
+            ok = false;
+            break;
+        }
+        if (nh > 1) {
+            double *cen = g->xyz + 3 * g->nv;
+            for (int j = 0; j < 3; j++)
+                cen[j] = (mesh->xyz[3 * (size_t)v[0] + j] + mesh->xyz[3 * (size_t)v[1] + j] +
+                          mesh->xyz[3 * (size_t)v[2] + j]) /
+                         3;
+            apex = (uint32_t)(base_v + g->nv++);
+        }
+        for (size_t i = 0; i < pieces; i++) {
+            uint32_t piece[3] = {poly[i], poly[(i + 1) % n], apex};
+            if (i == 0) {
+                if (no + 1 > cap_out) { /* more triangles than records: grow */
+                    uint32_t *o2 = realloc(out, 4 * 2 * (no + 1) * sizeof *out);
+                    if (!o2) {
+                        ok = false;
+                        break;
+                    }
+                    out = o2;
+                    cap_out = 2 * (no + 1);
+                }
+                out[4 * no] = (uint32_t)t;
+                memcpy(out + 4 * no++ + 1, piece, sizeof piece);
+            } else {
+                memcpy(g->tri + 3 * g->nt++, piece, sizeof piece);
+            }
+        }
+    }
+    free(keys);
+    free(poly);
+    if (!ok) {
+        free(out);
+        return false;
+    }
+    *rep = out;
+    *nrep = no;
+    return true;
+}
+
+typedef struct tri_key {
+    uint32_t v[3]; /* corners sorted */
+    uint32_t t;    /* triangle index */
+    int turn;      /* its corners' order: +1 an even permutation of v, -1 odd */
+} tri_key;
+
+static int tri_key_cmp(const void *pa, const void *pb)
+{
+    const tri_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return (a->t > b->t) - (a->t < b->t);
+}
+
+/* Removes every pair of triangles on the same three corners walked opposite ways where
+ * one of them is the closing's (index >= nt): a fill folding back over a scan triangle
+ * standing on the rim (a fold of the rim, wound -1) covers it once each way, a flap of no
+ * volume whose edges would be used four times; both go (their sum is nothing). Only
+ * triangles whose corners are all rim or new vertices (touched) can pair. d's
+ * tri_component and triangles follow the scan's triangles removed. */
+static sr_status cancel_folds(sr_mesh *mesh, sr_scan_desc *d, size_t nt, const bool *touched,
+                              sr_err *err)
+{
+    size_t n = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        const uint32_t *v = mesh->tri + 3 * t;
+        n += touched[v[0]] && touched[v[1]] && touched[v[2]];
+    }
+    tri_key *k = malloc((n + 1) * sizeof *k);
+    bool *gone = calloc(mesh->tri_count + 1, sizeof *gone);
+    if (!k || !gone) {
+        free(k);
+        free(gone);
+        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    }
+    n = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        const uint32_t *v = mesh->tri + 3 * t;
+        if (!(touched[v[0]] && touched[v[1]] && touched[v[2]]))
+            continue;
+        tri_key *e = &k[n++];
+        size_t m = 0; /* the rotation starting at the smallest corner */
+        for (size_t j = 1; j < 3; j++)
+            if (v[j] < v[m])
+                m = j;
+        uint32_t b = v[(m + 1) % 3], c = v[(m + 2) % 3];
+        e->v[0] = v[m];
+        e->v[1] = b < c ? b : c;
+        e->v[2] = b < c ? c : b;
+        e->turn = b < c ? 1 : -1;
+        e->t = (uint32_t)t;
+    }
+    qsort(k, n, sizeof *k, tri_key_cmp);
+    size_t removed = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        while (j < n && memcmp(k[j].v, k[i].v, sizeof k[i].v) == 0)
+            j++;
+        for (size_t x = i; x < j; x++) /* pair a new triangle with an opposite one */
+            for (size_t y = i; y < j && k[x].t >= nt && !gone[k[x].t]; y++)
+                if (y != x && !gone[k[y].t] && k[y].turn == -k[x].turn) {
+                    gone[k[x].t] = gone[k[y].t] = true;
+                    removed += 2;
+                }
+        i = j;
+    }
+    if (removed > 0) {
+        size_t w = 0, wd = 0;
+        for (size_t t = 0; t < mesh->tri_count; t++) {
+            if (gone[t]) {
+                if (t < d->triangles && d->components[d->tri_component[t]].triangles > 0)
+                    d->components[d->tri_component[t]].triangles--;
+                continue;
+            }
+            if (t < d->triangles)
+                d->tri_component[wd++] = d->tri_component[t];
+            memmove(mesh->tri + 3 * w++, mesh->tri + 3 * t, 3 * sizeof *mesh->tri);
+        }
+        d->triangles = wd;
+        mesh->tri_count = w;
+    }
+    free(k);
+    free(gone);
+    return SR_OK;
+}
+
+/* Whether every vertex of component comp of d lies on the plane (c, n) within
+ * PLANE_MAX_MM. */
+static bool component_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, size_t comp,
+                               const double c[3], const double n[3])
+{
+    for (size_t t = 0; t < d->triangles; t++) {
+        if (d->tri_component[t] != comp)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            const double *p = mesh->xyz + 3 * (size_t)mesh->tri[3 * t + k];
+            double h = (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
+            if (fabs(h) > PLANE_MAX_MM)
+                return false;
+        }
+    }
+    return true;
+}
+
+/* Takes out of group (count loops, the first the group's own) every loop round an island:
+ * a component other than the largest lying wholly on the group's plane (c, n), a piece
+ * of the face the scan lost that the scanner kept (a few noisy triangles, often folded).
+ * The fill covers its place; the island is flagged stray (dropped with the strays) and
+ * its loop counted closed in the plane. Returns the loops left. */
+static size_t drop_islands(const sr_mesh *mesh, sr_scan_desc *d, size_t *group, size_t count,
+                           const double c[3], const double n[3], const uint32_t *vcomp,
+                           sr_scan_closing *done, size_t *n_closed)
+{
+    size_t kept = 1;
+    for (size_t k = 1; k < count; k++) {
+        const sr_scan_loop *l = &d->loops[group[k]];
+        uint32_t comp = vcomp[d->loop_verts[l->first]];
+        bool island = comp != 0 && comp != UINT32_MAX && comp < d->component_count &&
+                      (d->components[comp].stray || component_on_plane(mesh, d, comp, c, n));
+        if (!island) {
+            group[kept++] = group[k];
+            continue;
+        }
+        if (!d->components[comp].stray) {
+            d->components[comp].stray = true;
+            d->strays++;
+            d->stray_triangles += d->components[comp].triangles;
+            d->stray_area_mm2 += d->components[comp].area_mm2;
+        }
+        done[group[k]] = SR_SCAN_IN_PLANE;
+        (*n_closed)++;
+    }
+    return kept;
+}
+
+sr_status sr_scan_close_openings(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                  size_t *closed, sr_err *err)
 {
-    size_t add_v = 0, add_t = 0;
-    for (size_t i = 0; i < d->loop_count; i++) {
+    return sr_scan_close_openings_how(mesh, d, max_span_mm2, closed, NULL, err);
+}
+
+sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
+                                     size_t *closed, sr_scan_closing *how, sr_err *err)
+{
+    size_t nv = mesh->vertex_count, nt = mesh->tri_count, n_closed = 0, nrep = 0;
+    grow g = {0};
+    uint32_t *rep = NULL; /* scan triangles cut on a rim: index, then the first piece */
+    sr_scan_closing *done = calloc(d->loop_count + 1, sizeof *done); /* how, as it goes */
+    size_t *group = malloc((d->loop_count + 1) * sizeof *group);
+    uint32_t *vcomp = malloc((nv + 1) * sizeof *vcomp); /* each vertex's component */
+    sr_status st = SR_OK;
+    if (!done || !group || !vcomp) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        goto out;
+    }
+    for (size_t v = 0; v < nv; v++)
+        vcomp[v] = UINT32_MAX;
+    for (size_t t = 0; t < d->triangles && t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            vcomp[mesh->tri[3 * t + k]] = (uint32_t)d->tri_component[t];
+    for (size_t i = 0; i < d->loop_count && st == SR_OK; i++) {
         const sr_scan_loop *l = &d->loops[i];
-        if (l->closed && l->edges >= 3 && (max_span_mm2 <= 0 || l->span_mm <= max_span_mm2)) {
-            add_v++;
-            add_t += l->edges;
+        if (done[i] != SR_SCAN_LEFT_OPEN || !eligible(l, max_span_mm2))
+            continue;
+        double c[3], n[3];
+        bool filled = false;
+        if (l->span_mm >= PLANE_MIN_MM2 && loop_plane(mesh, d, l, c, n) &&
+            on_plane(mesh, d, l, c, n)) {
+            size_t count = 0;
+            group[count++] = i;
+            for (size_t j = i + 1; j < d->loop_count; j++) {
+                double cj[3], nj[3];
+                if (done[j] == SR_SCAN_LEFT_OPEN && eligible(&d->loops[j], max_span_mm2) &&
+                    d->loops[j].span_mm >= PLANE_MIN_MM2 &&
+                    loop_plane(mesh, d, &d->loops[j], cj, nj) &&
+                    fabs(nj[0] * n[0] + nj[1] * n[1] + nj[2] * n[2]) >= SAME_PLANE_COS &&
+                    on_plane(mesh, d, &d->loops[j], c, n))
+                    group[count++] = j;
+            }
+            count = drop_islands(mesh, d, group, count, c, n, vcomp, done, &n_closed);
+            st = plane_fill(mesh, d, group, count, c, n, nv, &g, &filled, err);
+            if (filled) {
+                for (size_t k = 0; k < count; k++)
+                    done[group[k]] = SR_SCAN_IN_PLANE;
+                n_closed += count;
+            }
         }
+        if (st == SR_OK && !filled) {
+            if (!fan(mesh, d, l, nv, &g))
+                st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            done[i] = SR_SCAN_BY_FAN;
+            n_closed++;
+        }
+    }
+    if (st == SR_OK && !cut_rims(mesh, nv, &g, &rep, &nrep))
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    if (st != SR_OK)
+        goto out;
+    if (nv + g.nv > SR_MESH_MAX_COUNT || nt + g.nt > SR_MESH_MAX_COUNT) {
+        st = sr_err_set(err, SR_E_RANGE, "too many vertices to close the scan's openings");
+        goto out;
+    }
+    if (g.nt > 0) {
+        double *xyz = realloc(mesh->xyz, 3 * (nv + g.nv) * sizeof *xyz);
+        if (!xyz) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            goto out;
+        }
+        mesh->xyz = xyz; /* same vertices, more room: the mesh is unchanged so far */
+        uint32_t *tri = realloc(mesh->tri, 3 * (nt + g.nt) * sizeof *tri);
+        if (!tri) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            goto out;
+        }
+        mesh->tri = tri;
+        memcpy(xyz + 3 * nv, g.xyz, 3 * g.nv * sizeof *xyz);
+        memcpy(tri + 3 * nt, g.tri, 3 * g.nt * sizeof *tri);
+        for (size_t r = 0; r < nrep; r++)
+            memcpy(tri + 3 * (size_t)rep[4 * r], rep + 4 * r + 1, 3 * sizeof *tri);
+        mesh->vertex_count = nv + g.nv;
+        mesh->tri_count = nt + g.nt;
+        bool *touched = calloc(nv + g.nv + 1, sizeof *touched);
+        if (!touched) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            goto out;
+        }
+        for (size_t e = 0; e < d->boundary_edges; e++)
+            touched[d->loop_verts[e]] = true;
+        for (size_t v = nv; v < nv + g.nv; v++)
+            touched[v] = true;
+        st = cancel_folds(mesh, d, nt, touched, err);
+        free(touched);
+        if (st == SR_OK)
+            st = sr_mesh_split_pinches(mesh, NULL, err);
+        if (st != SR_OK)
+            goto out;
     }
     if (closed)
-        *closed = add_v;
-    if (add_v == 0)
-        return SR_OK;
-    size_t nv = mesh->vertex_count, nt = mesh->tri_count;
-    if (nv + add_v > SR_MESH_MAX_COUNT || nt + add_t > SR_MESH_MAX_COUNT)
-        return sr_err_set(err, SR_E_RANGE, "too many vertices to close the scan's openings");
-    double *xyz = realloc(mesh->xyz, 3 * (nv + add_v) * sizeof *xyz);
-    if (!xyz)
-        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    mesh->xyz = xyz; /* same vertices, more room: the mesh is unchanged so far */
-    uint32_t *tri = realloc(mesh->tri, 3 * (nt + add_t) * sizeof *tri);
-    if (!tri)
-        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    mesh->tri = tri;
-    size_t v = nv, t = nt;
-    for (size_t i = 0; i < d->loop_count; i++) {
-        const sr_scan_loop *l = &d->loops[i];
-        if (!(l->closed && l->edges >= 3 && (max_span_mm2 <= 0 || l->span_mm <= max_span_mm2)))
-            continue;
-        const uint32_t *lv = d->loop_verts + l->first;
-        double c[3] = {0, 0, 0};
-        for (size_t e = 0; e < l->edges; e++)
-            for (int k = 0; k < 3; k++)
-                c[k] += xyz[3 * (size_t)lv[e] + k] / (double)l->edges;
-        memcpy(xyz + 3 * v, c, sizeof c);
-        for (size_t e = 0; e < l->edges; e++) {
-            uint32_t a = lv[e], b = lv[(e + 1) % l->edges];
-            tri[3 * t] = b; /* the rim walks a -> b: the fan walks b -> a */
-            tri[3 * t + 1] = a;
-            tri[3 * t + 2] = (uint32_t)v;
-            t++;
-        }
-        v++;
-    }
-    mesh->vertex_count = v;
-    mesh->tri_count = t;
-    return SR_OK;
+        *closed = n_closed;
+    if (how)
+        memcpy(how, done, d->loop_count * sizeof *how);
+out:
+    free(rep);
+    free(g.xyz);
+    free(g.tri);
+    free(g.cut);
+    free(done);
+    free(group);
+    free(vcomp);
+    return st;
 }

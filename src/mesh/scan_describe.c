@@ -175,8 +175,9 @@ static sr_status walk_loops(const sr_mesh *m, const uint32_t *b, size_t nb, sr_s
         }
         for (size_t i = 0; i < len; i++)
             lv[pos + i] = b[2 * order[i]];
-        loops[nloops++] = (sr_scan_loop){
-            len, length, sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]), closed, pos};
+        loops[nloops++] =
+            (sr_scan_loop){len,    length, sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]),
+                           closed, pos,    {c[0], c[1], c[2]}};
         pos += len;
     }
     free(used);

@@ -25,6 +25,7 @@ typedef struct sr_scan_loop {
     double span_mm; /* area of the opening it bounds, mm^2: a fan from the loop's centroid */
     bool closed;
     size_t first; /* its vertices: loop_verts[first .. first + edges), in walk order */
+    double centre[3]; /* the centroid of its vertices, mm */
 } sr_scan_loop;
 
 /* One connected component (triangles joined through shared vertices). */
@@ -81,14 +82,32 @@ void sr_scan_desc_release(sr_scan_desc *d);
 sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err);
 
 /* Closes every closed loop of d (sr_scan_describe of this mesh) whose span is at most
- * max_span_mm2 (0: every one) with a fan of triangles from a new vertex at the loop's
- * centroid, turned against the rim so each boundary edge is then used twice, once each
- * way. For a plane loop the fan lies in its plane: the winding number of the closed
- * surface is that of the part, whatever the loop's shape (a concave rim's fan folds over
- * itself and cancels; a bore's rim inside the base is turned the other way and cancels
- * its share of the base's fan). *closed (may be NULL) gets the loops closed. Appends
- * vertices and triangles only: d's indices stay valid. SR_E_NOMEM, mesh unchanged. */
-sr_status sr_scan_close_openings(sr_mesh *mesh, const sr_scan_desc *d, double max_span_mm2,
+ * max_span_mm2 (0: every one), turned against the rim so each boundary edge is then used
+ * twice, once each way. Longest first, a loop whose rim lies in a plane (within 0.15 mm
+ * rms, 0.5 mm at most: the face the part stood on, a hole in a flat face) is closed in
+ * that plane together with every other such loop on it, by the constrained triangulation
+ * of the region their rims wind around (bridge/planar_fill.h): the base with the rims of
+ * the bores through it is one face with holes, a concave rim is filled inside only, rims
+ * that cross in the plane are cut where they cross (the scan's triangle on a cut rim edge
+ * is split there, in place, the rest appended); any other loop, or a plane one whose
+ * triangulation does not fit its rims, by a fan from a new vertex at its centroid. Then a
+ * vertex left pinched (two rims that touched) gets one copy per fan (mesh/mesh_pinch.h).
+ * *closed (may be NULL) gets the loops closed. Triangle indices keep their components:
+ * d's indices stay valid. SR_E_RANGE, SR_E_NOMEM: mesh unchanged (but for SR_E_NOMEM in
+ * the pinch split, which leaves it closed with its pinches). */
+sr_status sr_scan_close_openings(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                  size_t *closed, sr_err *err);
+
+/* How an opening was closed (sr_scan_close_openings_how). */
+typedef enum sr_scan_closing {
+    SR_SCAN_LEFT_OPEN = 0, /* not closed: its walk did not close, or over max_span_mm2 */
+    SR_SCAN_BY_FAN,        /* a fan from its centroid */
+    SR_SCAN_IN_PLANE       /* triangulated in its rim's plane */
+} sr_scan_closing;
+
+/* sr_scan_close_openings, and how (may be NULL; d->loop_count entries) gets how each
+ * loop of d was closed. */
+sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
+                                     size_t *closed, sr_scan_closing *how, sr_err *err);
 
 #endif

@@ -82,6 +82,14 @@ void sr_run_nominal_free(sr_run_nominal *n)
     free(n);
 }
 
+void sr_run_scan_free(sr_run_scan *s)
+{
+    if (!s)
+        return;
+    free(s->gaps);
+    free(s);
+}
+
 void sr_run_release(sr_run *run)
 {
     if (!run)
@@ -101,5 +109,6 @@ void sr_run_release(sr_run *run)
     free(run->advice);
     sr_mesh_release(&run->restored);
     sr_run_nominal_free(run->nominal);
+    sr_run_scan_free(run->scan);
     memset(run, 0, sizeof *run);
 }

@@ -115,6 +115,26 @@ void sr_run_nominal_free(sr_run_nominal *n);
  * difference refused the scan: why", or that it was not recorded), into out. */
 void sr_run_nominal_method_text(const sr_run_nominal *n, char *out, size_t size);
 
+/* One opening of an open scan (mesh/scan_describe.h), closed before the reconstruction:
+ * a scan gap, kept apart from the sections. */
+typedef struct sr_run_scan_gap {
+    size_t edges;
+    double length_mm, area_mm2;
+    double centre[3];  /* rim centroid, scan frame, mm */
+    char closed_by[8]; /* 'plane', 'fan' or 'open' */
+} sr_run_scan_gap;
+
+/* The input read as a scan, as recorded (sql/011_scan_gaps.sql). */
+typedef struct sr_run_scan {
+    size_t triangles, boundary_edges, components, strays, stray_triangles;
+    double open_area_mm2, open_share, stray_area_mm2;
+    sr_run_scan_gap *gaps; /* gap_count, longest rim first */
+    size_t gap_count;
+} sr_run_scan;
+
+/* Frees a scan record (and its gaps); accepts NULL. */
+void sr_run_scan_free(sr_run_scan *s);
+
 typedef struct sr_run {
     int64_t id;                 /* read back; ignored by add */
     int64_t instance_id;        /* required */
@@ -146,6 +166,7 @@ typedef struct sr_run {
     size_t advice_count;
     sr_mesh restored;           /* scan frame; empty = none */
     sr_run_nominal *nominal;    /* the nominal's second opinion; NULL = none */
+    sr_run_scan *scan;          /* the input's openings and strays; NULL = a closed input */
 } sr_run;
 
 /* Frees the heap fields of a run (built by sr_run_from_result or read by
