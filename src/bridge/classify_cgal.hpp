@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <cmath>
+
 namespace sr_bool
 {
 
@@ -111,6 +113,22 @@ inline bool classify_free_patches(const Mesh &tm, const Patch_flags &f, Decide d
             return false;
     }
     return true;
+}
+
+/* The box (min xyz, max xyz) of box_b grown by margin on every side, or by 1 % of its
+ * diagonal when margin is not positive: the neighbourhood a local boolean takes of the
+ * large operand. Returns the growth used. */
+inline double grown_box(const double box_b[6], double margin, double box[6])
+{
+    double diag = std::sqrt((box_b[3] - box_b[0]) * (box_b[3] - box_b[0]) +
+                            (box_b[4] - box_b[1]) * (box_b[4] - box_b[1]) +
+                            (box_b[5] - box_b[2]) * (box_b[5] - box_b[2]));
+    double grow = margin > 0 ? margin : 0.01 * diag;
+    for (int k = 0; k < 3; k++) {
+        box[k] = box_b[k] - grow;
+        box[3 + k] = box_b[3 + k] + grow;
+    }
+    return grow;
 }
 
 } // namespace sr_bool

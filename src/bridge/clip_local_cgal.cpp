@@ -103,15 +103,8 @@ sr_status clip_local(const sr_mesh *a, const char *a_what, const sr_mesh *b, con
         snprintf(why, why_size, "'%s' was refused", b_what);
         return SR_OK;
     }
-    double diag = std::sqrt((box_b[3] - box_b[0]) * (box_b[3] - box_b[0]) +
-                            (box_b[4] - box_b[1]) * (box_b[4] - box_b[1]) +
-                            (box_b[5] - box_b[2]) * (box_b[5] - box_b[2]));
-    double grow = margin > 0 ? margin : 0.01 * diag;
     double box[6];
-    for (int k = 0; k < 3; k++) {
-        box[k] = box_b[k] - grow;
-        box[3 + k] = box_b[3 + k] + grow;
-    }
+    grown_box(box_b, margin, box);
     std::vector<uint8_t> in;
     size_t n = 0;
     if (!select_neighbourhood(a, nullptr, box, in, &n)) {

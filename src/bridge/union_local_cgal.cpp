@@ -127,16 +127,8 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
         return st;
 
     /* N and its halfedge mesh; orig = a's vertex number, no_vertex for new ones */
-    double diag = std::sqrt((box_b[3] - box_b[0]) * (box_b[3] - box_b[0]) +
-                            (box_b[4] - box_b[1]) * (box_b[4] - box_b[1]) +
-                            (box_b[5] - box_b[2]) * (box_b[5] - box_b[2]));
-    double grow = margin > 0 ? margin : 0.01 * diag;
-    *grow_used = grow;
     double box[6];
-    for (int k = 0; k < 3; k++) {
-        box[k] = box_b[k] - grow;
-        box[3 + k] = box_b[3 + k] + grow;
-    }
+    *grow_used = grown_box(box_b, margin, box);
     std::vector<uint8_t> in;
     size_t n = 0;
     if (!select_neighbourhood(a, xf, box, in, &n)) {
