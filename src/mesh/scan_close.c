@@ -660,7 +660,8 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_
             goto out;
         }
         mesh->tri = tri;
-        memcpy(xyz + 3 * nv, g.xyz, 3 * g.nv * sizeof *xyz);
+        if (g.nv > 0) /* a fill may reuse only rim vertices */
+            memcpy(xyz + 3 * nv, g.xyz, 3 * g.nv * sizeof *xyz);
         memcpy(tri + 3 * nt, g.tri, 3 * g.nt * sizeof *tri);
         for (size_t r = 0; r < nrep; r++)
             memcpy(tri + 3 * (size_t)rep[4 * r], rep + 4 * r + 1, 3 * sizeof *tri);
