@@ -7,9 +7,10 @@
  * mirror, though every plane through its axis is a mirror plane); a 12-toothed
  * wheel is axial of order 12 (not 6 or 24, not mirror); an angle bracket symmetric
  * about its middle is mirror; a bar with bumps alternating sides every 10 mm is a
- * glide with shift 10 (not mirror). The figures are checked to say so (the proposal's
- * consistency high, a wrong kind's low), a second run gives the same answer, and an
- * empty mesh is refused and leaves *out alone.
+ * glide with shift 10 (not mirror), and so is a toothed bar that is also a mirror
+ * across its length, whole or gouged in the middle. The figures are checked to say so
+ * (the proposal's consistency high, a wrong kind's low), a second run gives the same
+ * answer, and an empty mesh is refused and leaves *out alone.
  *
  * Then two shared parts in their pose (../shared/parts/<part>/damaged_posed.stl,
  * skipped when absent) against the truth: the gear's order 20 and the rail's glide by
@@ -161,6 +162,68 @@ static void make_glide_bar(sr_mesh *m)
     }
 }
 
+/* A toothed bar whose teeth alternate sides: the outline in the x-z plane of a core
+ * |x| <= 5, z 0..192, with ten teeth on +x (x to 11, z 20k+2..20k+10) and nine on -x
+ * (z 20k+12..20k+20), extruded through y -3..3, and a foot (a separate box) under it:
+ * a glide by 10 along z and, ends and all, a mirror across z = 96. `gouged`: the +x
+ * side cut back to x = 2 over z 80..112 (two teeth and the core under them), damage
+ * that the mirror across z = 96 maps onto itself. */
+static void make_crossed_bar(sr_mesh *m, int gouged)
+{
+    double xz[2 * 96];
+    size_t n = 0;
+#define AT(x, z) (xz[2 * n] = (x), xz[2 * n + 1] = (z), n++)
+    AT(-5, 0);
+    AT(5, 0);
+    for (int k = 0; k < 10; k++) {
+        double z0 = 20.0 * k + 2, z1 = z0 + 8;
+        if (gouged && k == 4) {
+            AT(5, 80);
+            AT(2, 80);
+            AT(2, 112);
+            AT(5, 112);
+        }
+        if (gouged && (k == 4 || k == 5))
+            continue;
+        AT(5, z0);
+        AT(11, z0);
+        AT(11, z1);
+        AT(5, z1);
+    }
+    AT(5, 192);
+    AT(-5, 192);
+    for (int k = 8; k >= 0; k--) {
+        double z1 = 20.0 * k + 20, z0 = z1 - 8;
+        AT(-5, z1);
+        AT(-11, z1);
+        AT(-11, z0);
+        AT(-5, z0);
+    }
+#undef AT
+    sr_mesh bar, foot;
+    assert_int_equal(sr_shape_prism(xz, n, -3, 3, &bar, NULL), SR_OK);
+    for (size_t v = 0; v < bar.vertex_count; v++) { /* (x, z, y) -> (x, -y, z): a turn */
+        double *p = bar.xyz + 3 * v, y = p[1];
+        p[1] = -p[2];
+        p[2] = y;
+    }
+    const double lo[3] = {-10, -6, 0}, hi[3] = {10, -3.5, 192};
+    assert_int_equal(sr_shape_box(lo, hi, &foot, NULL), SR_OK);
+    assert_int_equal(sr_mesh_append(&bar, &foot), SR_OK);
+    sr_mesh_release(&foot);
+    *m = bar;
+}
+
+static void make_crossed_bar_whole(sr_mesh *m)
+{
+    make_crossed_bar(m, 0);
+}
+
+static void make_crossed_bar_gouged(sr_mesh *m)
+{
+    make_crossed_bar(m, 1);
+}
+
 typedef void (*make_fn)(sr_mesh *m);
 
 /* Fits `make`'s part moved by pose `seed` (chunk: a ball of radius r at c in the part's
@@ -248,6 +311,25 @@ static void bumped_bar_is_a_glide_by_10(void **state)
     }
 }
 
+/* The toothed bar of make_crossed_bar, whole and gouged: a mirror across its length
+ * (z = 96) fits it as well as the glide does, the gouged one better (the gouge maps
+ * onto itself across that plane). The glide is proposed all the same: it beats the
+ * mirror in its own plane, and a mirror across the length is a pattern's, no evidence
+ * against the glide. */
+static void gouged_glide_bar_is_a_glide(void **state)
+{
+    (void)state;
+    for (int cut = 0; cut < 2; cut++) {
+        sr_symmetry_fit f =
+            fit_posed(cut ? make_crossed_bar_gouged : make_crossed_bar_whole, 51 + cut, NULL, 0);
+        assert_int_equal(f.proposal.kind, SR_SYM_GLIDE);
+        assert_false(f.ambiguous);
+        double k = f.proposal.shift_mm / 10;
+        assert_true(fabs(k - round(k)) < 0.01 && (long)round(k) % 2 == 1);
+        assert_true(f.confidence > 0.3);
+    }
+}
+
 static void the_fit_is_deterministic(void **state)
 {
     (void)state;
@@ -324,6 +406,7 @@ int main(void)
         cmocka_unit_test(toothed_wheel_is_axial_of_order_12),
         cmocka_unit_test(angle_bracket_is_mirror),
         cmocka_unit_test(bumped_bar_is_a_glide_by_10),
+        cmocka_unit_test(gouged_glide_bar_is_a_glide),
         cmocka_unit_test(the_fit_is_deterministic),
         cmocka_unit_test(an_empty_mesh_is_refused),
         cmocka_unit_test(symfit_part_spur_gear_broken_tooth),

@@ -39,7 +39,12 @@
  *     - else the planar kinds: the glide (shift found) against the mirror; the higher
  *       consistency wins when they differ by more than the paired noise (at least 1 %),
  *       else "ambiguous" and the mirror (no shift) is proposed with the glide as the
- *       alternative;
+ *       alternative. A mirror found across the glide's shift (its normal within 30
+ *       degrees of the shift) is no evidence against the glide: a pattern repeated along
+ *       a length has mirrors between its features, and damage in the middle of the
+ *       length maps onto itself across one. Then the glide is weighed against the
+ *       mirror in its own plane (no shift) and proposed when it beats that by the
+ *       paired noise and keeps AXIAL_KEEP of the across mirror's consistency;
  *     - an order of 2 ranks below the planar kinds: parts with a 2-fold axis mostly
  *       also have a mirror or glide plane an engineer names (a bracket symmetric about
  *       two planes, a lever about its mid-plane, a rail whose glide composed with its
@@ -230,6 +235,28 @@ static double trimmed_mean(const float *score, const uint8_t *cell, size_t n)
     return k ? s / (double)k : 0;
 }
 
+/* The noise of the difference of two candidates' consistencies from the samples both
+ * score (*used of them) on which they disagree: 2 sqrt(discordant) / used, at least
+ * 1 %. */
+static double scores_noise(const float *a, const float *b, size_t n, size_t *used)
+{
+    size_t disc = 0;
+    *used = 0;
+    for (size_t i = 0; i < n; i++)
+        if (a[i] >= 0 && b[i] >= 0) {
+            (*used)++;
+            disc += fabsf(a[i] - b[i]) > 0.25f;
+        }
+    return fmax(0.01, 2.0 * sqrt((double)disc) / (double)(*used ? *used : 1));
+}
+
+/* Whether the mirror of frame xm lies across the glide of frame xg: its normal (the
+ * canonical x of xm) within 30 degrees of the glide's shift direction (canonical z). */
+static bool across_glide(const double xm[12], const double xg[12])
+{
+    return fabs(xm[0] * xg[8] + xm[1] * xg[9] + xm[2] * xg[10]) > COS_NORMAL;
+}
+
 static const double ROUND_TURNS[] = {0.1373, 0.2719, 0.3819, 0.6181, 0.8627};
 
 /* Paired noise of two per-sample match sets: 2 sqrt(discordant) / counted, at least
@@ -410,18 +437,34 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
 
     /* planar: glide against mirror; the noise of their difference from the samples on
      * which they disagree */
-    size_t disc = 0, used = 0;
-    for (size_t i = 0; i < N; i++)
-        if (sm[i] >= 0 && sg[i] >= 0) {
-            used++;
-            disc += fabsf(sm[i] - sg[i]) > 0.25f;
-        }
-    double amb = fmax(0.01, 2.0 * sqrt((double)disc) / (double)(used ? used : 1));
+    size_t used = 0;
+    double amb = scores_noise(sm, sg, N, &used);
     double cm = r.fig[SR_SYMFIT_MIRROR].consistency;
     double cg = r.fig[SR_SYMFIT_GLIDE].consistency;
     int has_glide = r.glide_shift_mm > 0 && used >= N / 2;
     int glide = has_glide && cg - cm_glide > amb;
     int planar_amb = has_glide && fabs(cg - cm_glide) <= amb;
+    double c_inplane = 0;
+    int across = has_glide && !glide;
+    if (across)
+        across = across_glide(al[SR_SYMFIT_MIRROR].xform, al[SR_SYMFIT_GLIDE].xform);
+    if (across) {
+        /* the mirror found lies across the glide's shift: a pattern repeated along a
+         * length has such mirrors between its features (a rack's trapezoid teeth), and
+         * damage in the middle of the length maps onto itself across one. It says
+         * nothing against the glide; the mirror in the glide's own plane does. */
+        float *si = score + SR_SYMFIT_COUNT * N;
+        ops[0] = (canon_op){1, 0, 0};
+        candidate_scores(&surf, &smp, al[SR_SYMFIT_GLIDE].xform, ops, 1, r.tol_mm, 0, 0, 0, hit,
+                         si);
+        for (size_t i = 0; i < N; i++)
+            if (sg[i] < 0)
+                si[i] = -1;
+        c_inplane = trimmed_mean(si, cell, N);
+        size_t u2 = 0;
+        glide = cg - c_inplane > scores_noise(si, sg, N, &u2) && cg >= AXIAL_KEEP * cm;
+        planar_amb = planar_amb && !glide;
+    }
     sr_symfit_cand planar = glide ? SR_SYMFIT_GLIDE : SR_SYMFIT_MIRROR;
     double cp = glide ? cg : cm;
     sr_symfit_cand axial = r.order >= 3 ? SR_SYMFIT_NFOLD : SR_SYMFIT_ROUND;
@@ -439,7 +482,9 @@ sr_status sr_symmetry_propose(const sr_mesh *mesh, sr_symmetry_fit *out, sr_err 
             r.ambiguous = 1;
             r.alternative = (sr_symmetry){SR_SYM_GLIDE, 0, r.glide_shift_mm};
         } else if (has_glide) {
-            other = fmax(other, glide ? cm_glide : cg);
+            /* an across mirror set aside: the glide's margin is over the mirror in its
+             * own plane */
+            other = fmax(other, !glide ? cg : across ? c_inplane : cm_glide);
         }
     }
     double cpick = r.fig[pick].consistency;
