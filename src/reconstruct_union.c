@@ -239,25 +239,41 @@ static void image_figures(const sr_layer_grid *grid, const double xf[12], sr_sec
 
 /* Where images met each other or the scan to rounding, the union leaves fins of
  * needles inside the solid (joined to the surface by edges of a micrometre): their
- * short edges are collapsed (sr_mesh_collapse_short_edges), kept only when the mesh
- * stays closed with its volume and crosses itself nowhere (a collapse folded a
- * neighbour over on three of the shared parts' patches). Returns the edges
- * collapsed. */
+ * short edges are collapsed (sr_mesh_collapse_short_edges, which keeps nothing when a
+ * face it moved crosses another: a collapse folded a neighbour over on three of the
+ * shared parts' patches), kept only when the mesh stays closed with its volume.
+ * Returns the edges collapsed. */
 #define SLIVER_EDGE_MM 0.005
+
+/* Whether a triangle of m has an edge shorter than len (a look over the arrays, before
+ * the mesh is built for a collapse). */
+static bool has_short_edge(const sr_mesh *m, double len)
+{
+    for (size_t t = 0; t < m->tri_count; t++)
+        for (int k = 0; k < 3; k++) {
+            const double *a = m->xyz + 3 * (size_t)m->tri[3 * t + k];
+            const double *b = m->xyz + 3 * (size_t)m->tri[3 * t + (k + 1) % 3];
+            double d2 = 0;
+            for (int j = 0; j < 3; j++)
+                d2 += (a[j] - b[j]) * (a[j] - b[j]);
+            if (d2 < len * len)
+                return true;
+        }
+    return false;
+}
+
 static size_t fold_slivers(sr_mesh *m)
 {
+    if (!has_short_edge(m, SLIVER_EDGE_MM))
+        return 0;
     sr_mesh copy = {0};
     size_t n = 0;
     if (sr_mesh_copy(&copy, m) != SR_OK)
         return 0;
     double v0 = sr_mesh_volume(m);
-    sr_status cst = sr_mesh_collapse_short_edges(&copy, SLIVER_EDGE_MM, &n, NULL);
-    int crosses = 0;
-    /* a collapse can fold a neighbour over: such a mesh is not kept */
-    if (cst != SR_OK || n == 0 ||
-        !sr_mesh_is_closed(&copy) ||
-        !(fabs(sr_mesh_volume(&copy) - v0) <= 1e-6 * fabs(v0) + 1e-3) ||
-        sr_mesh_self_intersects(&copy, &crosses, NULL) != SR_OK || crosses) {
+    sr_status cst = sr_mesh_collapse_short_edges(&copy, SLIVER_EDGE_MM, &n, NULL, NULL);
+    if (cst != SR_OK || n == 0 || !sr_mesh_is_closed(&copy) ||
+        !(fabs(sr_mesh_volume(&copy) - v0) <= 1e-6 * fabs(v0) + 1e-3)) {
         sr_mesh_release(&copy);
         return 0;
     }

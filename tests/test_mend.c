@@ -439,58 +439,124 @@ static void fold_beyond_the_cap_is_left_and_said(void **state)
     sr_mesh_release(&before);
 }
 
-/* A box whose edge from vertex a to b is split by a vertex w a micrometre from a: the
- * two triangles at the edge become four, two of them needles. Collapsing edges under
- * 5 um folds the needles away (12 triangles again, closed, the volume to the half
- * micrometre the corner moved); an edge
- * limit under the micrometre changes nothing. */
-static void needles_fold_away_and_longer_edges_stay(void **state)
+/* A box whose edge from vertex a to b (edge[0], edge[1]) is split by a vertex w a
+ * micrometre from a: the two triangles at the edge become four, two of them needles. */
+static void box_with_needles(const double lo[3], const double hi[3], sr_mesh *box, sr_mesh *m,
+                             uint32_t edge[2])
 {
-    (void)state;
-    double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 30};
-    sr_mesh box, m;
-    assert_int_equal(sr_shape_box(lo, hi, &box, NULL), SR_OK);
+    assert_int_equal(sr_shape_box(lo, hi, box, NULL), SR_OK);
     /* the edge of triangle 0 from its first vertex to its second */
-    uint32_t a = box.tri[0], b = box.tri[1];
-    assert_int_equal(sr_mesh_alloc(&m, box.vertex_count + 1, box.tri_count + 2), SR_OK);
-    memcpy(m.xyz, box.xyz, 3 * box.vertex_count * sizeof *m.xyz);
-    uint32_t w = (uint32_t)box.vertex_count;
+    uint32_t a = box->tri[0], b = box->tri[1];
+    assert_int_equal(sr_mesh_alloc(m, box->vertex_count + 1, box->tri_count + 2), SR_OK);
+    memcpy(m->xyz, box->xyz, 3 * box->vertex_count * sizeof *m->xyz);
+    uint32_t w = (uint32_t)box->vertex_count;
     double len = 0;
     for (int k = 0; k < 3; k++)
-        len += pow(box.xyz[3 * b + k] - box.xyz[3 * a + k], 2);
+        len += pow(box->xyz[3 * b + k] - box->xyz[3 * a + k], 2);
     len = sqrt(len);
     for (int k = 0; k < 3; k++)
-        m.xyz[3 * w + k] = box.xyz[3 * a + k] + 1e-3 / len * (box.xyz[3 * b + k] - box.xyz[3 * a + k]);
+        m->xyz[3 * w + k] =
+            box->xyz[3 * a + k] + 1e-3 / len * (box->xyz[3 * b + k] - box->xyz[3 * a + k]);
     size_t t = 0;
-    for (size_t f = 0; f < box.tri_count; f++) {
-        const uint32_t *v = box.tri + 3 * f;
+    for (size_t f = 0; f < box->tri_count; f++) {
+        const uint32_t *v = box->tri + 3 * f;
         int split = -1;
         for (int e = 0; e < 3; e++)
             if ((v[e] == a && v[(e + 1) % 3] == b) || (v[e] == b && v[(e + 1) % 3] == a))
                 split = e;
         if (split < 0) {
-            memcpy(m.tri + 3 * t++, v, 3 * sizeof *v);
+            memcpy(m->tri + 3 * t++, v, 3 * sizeof *v);
             continue;
         }
         uint32_t p = v[split], q = v[(split + 1) % 3], r = v[(split + 2) % 3];
         uint32_t one[3] = {p, w, r}, two[3] = {w, q, r};
-        memcpy(m.tri + 3 * t++, one, sizeof one);
-        memcpy(m.tri + 3 * t++, two, sizeof two);
+        memcpy(m->tri + 3 * t++, one, sizeof one);
+        memcpy(m->tri + 3 * t++, two, sizeof two);
     }
-    assert_int_equal(t, box.tri_count + 2);
-    assert_true(sr_mesh_is_closed(&m));
+    assert_int_equal(t, box->tri_count + 2);
+    assert_true(sr_mesh_is_closed(m));
+    edge[0] = a;
+    edge[1] = b;
+}
+
+/* Collapsing edges under 5 um folds the needles away (12 triangles again, closed, the
+ * volume to the half micrometre the corner moved); an edge limit under the micrometre
+ * changes nothing. */
+static void needles_fold_away_and_longer_edges_stay(void **state)
+{
+    (void)state;
+    double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 30};
+    sr_mesh box, m;
+    uint32_t edge[2];
+    box_with_needles(lo, hi, &box, &m, edge);
     double vol = sr_mesh_volume(&box);
     size_t n = 9;
-    assert_int_equal(sr_mesh_collapse_short_edges(&m, 1e-4, &n, NULL), SR_OK);
+    int crossed = 7;
+    assert_int_equal(sr_mesh_collapse_short_edges(&m, 1e-4, &n, &crossed, NULL), SR_OK);
     assert_int_equal(n, 0);
+    assert_int_equal(crossed, 0);
     assert_int_equal(m.tri_count, box.tri_count + 2);
-    assert_int_equal(sr_mesh_collapse_short_edges(&m, 5e-3, &n, NULL), SR_OK);
+    assert_int_equal(sr_mesh_collapse_short_edges(&m, 5e-3, &n, &crossed, NULL), SR_OK);
     assert_int_equal(n, 1);
+    assert_int_equal(crossed, 0);
     assert_int_equal(m.tri_count, box.tri_count);
     assert_int_equal(m.vertex_count, box.vertex_count);
     assert_true(sr_mesh_is_closed(&m));
     /* the corner moved half a micrometre along the edge */
     assert_near(sr_mesh_volume(&m), vol, 0.1);
+    sr_mesh_release(&box);
+    sr_mesh_release(&m);
+}
+
+/* The needled box with a plate inside it 0.2 um behind the face the corner a moves
+ * into (the face across the split edge): the collapse moves a half micrometre along
+ * the edge, and the face's triangles at a then cross the plate. Nothing is kept: the
+ * mesh is unchanged and *crossed says why. */
+static void a_collapse_that_crosses_is_not_kept(void **state)
+{
+    (void)state;
+    double lo[3] = {0, 0, 0}, hi[3] = {10, 20, 30};
+    sr_mesh box, m, plate;
+    uint32_t edge[2];
+    box_with_needles(lo, hi, &box, &m, edge);
+    const double *a = box.xyz + 3 * edge[0], *b = box.xyz + 3 * edge[1];
+    double p0[3], p1[3];
+    for (int k = 0; k < 3; k++) {
+        double along = b[k] - a[k], in = 0.5 * (lo[k] + hi[k]) - a[k];
+        if (fabs(along) > 0) { /* the edge's axis: 0.2 um behind the face, 1 mm deep */
+            p0[k] = a[k] + copysign(2e-4, along);
+            p1[k] = a[k] + copysign(1.0, along);
+        } else { /* across: from 10 um off the corner inwards */
+            p0[k] = a[k] + copysign(0.01, in);
+            p1[k] = a[k] + copysign(5.0, in);
+        }
+    }
+    double plo[3], phi[3];
+    for (int k = 0; k < 3; k++) {
+        plo[k] = fmin(p0[k], p1[k]);
+        phi[k] = fmax(p0[k], p1[k]);
+    }
+    assert_int_equal(sr_shape_box(plo, phi, &plate, NULL), SR_OK);
+    assert_int_equal(sr_mesh_append(&m, &plate), SR_OK);
+    int crosses = 1;
+    assert_int_equal(sr_mesh_self_intersects(&m, &crosses, NULL), SR_OK);
+    assert_int_equal(crosses, 0);
+    size_t tris = m.tri_count, verts = m.vertex_count, n = 9;
+    int crossed = 0;
+    assert_int_equal(sr_mesh_collapse_short_edges(&m, 5e-3, &n, &crossed, NULL), SR_OK);
+    assert_int_equal(n, 0);
+    assert_int_equal(crossed, 1);
+    assert_int_equal(m.tri_count, tris);
+    assert_int_equal(m.vertex_count, verts);
+    /* the plate moved 1 um further back: the same collapse is kept */
+    for (size_t v = box.vertex_count + 1; v < m.vertex_count; v++)
+        for (int k = 0; k < 3; k++)
+            if (fabs(m.xyz[3 * v + k] - p0[k]) < 1e-9)
+                m.xyz[3 * v + k] = p0[k] + copysign(1e-3, p1[k] - p0[k]);
+    assert_int_equal(sr_mesh_collapse_short_edges(&m, 5e-3, &n, &crossed, NULL), SR_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(crossed, 0);
+    sr_mesh_release(&plate);
     sr_mesh_release(&box);
     sr_mesh_release(&m);
 }
@@ -666,6 +732,7 @@ int main(void)
         cmocka_unit_test(fold_at_the_border_is_refused_and_mesh_untouched),
         cmocka_unit_test(non_manifold_input_is_refused),
         cmocka_unit_test(needles_fold_away_and_longer_edges_stay),
+        cmocka_unit_test(a_collapse_that_crosses_is_not_kept),
         cmocka_unit_test(folded_scan_unites_with_a_patch_over_the_fold),
         cmocka_unit_test(fold_of_noise_size_is_unfolded_within_the_cap),
         cmocka_unit_test(fold_beyond_the_cap_is_left_and_said),

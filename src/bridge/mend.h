@@ -101,10 +101,14 @@ sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *
  * booleans leave where faces met to rounding (a fin of slivers standing inside the
  * solid, joined to the surface by edges a micrometre long) fold away, and the surface
  * moves by at most min_edge_mm / 2 (tried: onto the sharper end, which kept corners
- * in place but left zero-area triangles that refused the next union). The mesh is replaced (vertices renumbered) only
- * when an edge was collapsed; *collapsed (may be NULL) says how many.
- * SR_E_INVALID when mesh is not an oriented manifold (mesh unchanged); SR_E_NOMEM. */
+ * in place but left zero-area triangles that refused the next union). A collapse can
+ * fold a neighbour over: when a face around a moved vertex then crosses a face (any
+ * whose box comes within min_edge_mm of its own; the rest of the mesh did not move and
+ * is not searched), nothing is kept and *crossed = 1. The mesh is replaced (vertices
+ * renumbered) only when edges were collapsed and kept; *collapsed says how many.
+ * collapsed and crossed may be NULL. SR_E_INVALID when mesh is not an oriented
+ * manifold (mesh unchanged); SR_E_NOMEM. */
 sr_status sr_mesh_collapse_short_edges(sr_mesh *mesh, double min_edge_mm, size_t *collapsed,
-                                       sr_err *err);
+                                       int *crossed, sr_err *err);
 
 #endif

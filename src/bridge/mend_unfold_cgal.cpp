@@ -4,11 +4,15 @@
  * (build, mend_cgal.hpp). sr_mesh_unfold relaxes the crossing triangles' vertices
  * towards the centres of their rings, never farther than max_move_mm, looking again
  * around what it moved, round after round; sr_mesh_collapse_short_edges collapses the
- * short edges where CGAL's Euler link condition allows, in passes, and renumbers the
- * vertices. Every extern "C" entry catches all exceptions.
+ * short edges where CGAL's Euler link condition allows, in passes, and keeps the result
+ * (vertices renumbered) only when the faces it moved cross no face near them. Every
+ * extern "C" entry catches all exceptions.
  */
 #include "bridge/mend_cgal.hpp"
 
+#include <CGAL/Bbox_3.h>
+#include <CGAL/Box_intersection_d/Box_with_info_d.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 
 #include <algorithm>
@@ -151,14 +155,56 @@ sr_status unfold(sr_mesh *m, double max_move, sr_unfold_report *rep, sr_err *err
     return SR_OK;
 }
 
+/* Whether a face around the vertices `moved` crosses a face (their own or any other
+ * whose box comes within `grow` of theirs): the faces near them found by CGAL's box
+ * intersection, then CGAL's self-intersection test on those faces only. A fold a
+ * collapse makes is local; the rest of the mesh, which did not move, is not searched. */
+bool crosses_near(const Mesh &sm, const std::vector<Vertex_index> &moved, double grow)
+{
+    typedef CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t> Box;
+    std::vector<Face_index> around = faces_near(sm, moved, 1);
+    if (around.empty())
+        return false;
+    std::vector<Box> near_boxes, all_boxes;
+    near_boxes.reserve(around.size());
+    all_boxes.reserve(sm.number_of_faces());
+    for (Face_index f : sm.faces()) {
+        CGAL::Bbox_3 b;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+            b += sm.point(v).bbox();
+        all_boxes.emplace_back(b, f.idx());
+    }
+    for (Face_index f : around) {
+        CGAL::Bbox_3 b;
+        for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
+            b += sm.point(v).bbox();
+        b.dilate(1);
+        CGAL::Bbox_3 g(b.xmin() - grow, b.ymin() - grow, b.zmin() - grow, b.xmax() + grow,
+                       b.ymax() + grow, b.zmax() + grow);
+        near_boxes.emplace_back(g, f.idx());
+    }
+    std::vector<uint8_t> take(sm.num_faces(), 0);
+    for (Face_index f : around)
+        take[f.idx()] = 1;
+    CGAL::box_intersection_d(near_boxes.begin(), near_boxes.end(), all_boxes.begin(),
+                             all_boxes.end(),
+                             [&take](const Box &, const Box &b) { take[b.info()] = 1; });
+    std::vector<Face_index> range;
+    for (Face_index f : sm.faces())
+        if (take[f.idx()])
+            range.push_back(f);
+    return PMP::does_self_intersect(range, sm);
+}
+
 /* sr_mesh_collapse_short_edges proper: see mend.h. */
-sr_status collapse_short(sr_mesh *m, double min_edge, size_t *collapsed, sr_err *err)
+sr_status collapse_short(sr_mesh *m, double min_edge, size_t *collapsed, int *crossed, sr_err *err)
 {
     Mesh sm;
     if (!build(m, sm))
         return sr_err_set(err, SR_E_INVALID, "cannot collapse edges: not an oriented manifold");
     size_t n = 0;
     double min2 = min_edge * min_edge;
+    std::vector<Vertex_index> moved;
     for (int pass = 0; pass < 8; pass++) {
         size_t before = n;
         std::vector<Mesh::Edge_index> short_edges;
@@ -177,14 +223,19 @@ sr_status collapse_short(sr_mesh *m, double min_edge, size_t *collapsed, sr_err 
                 continue;
             Vertex_index v = CGAL::Euler::collapse_edge(e, sm);
             sm.point(v) = CGAL::midpoint(a, b);
+            moved.push_back(v);
             n++;
         }
         if (n == before)
             break;
     }
-    *collapsed = n;
     if (n == 0)
         return SR_OK;
+    if (crosses_near(sm, moved, min_edge)) {
+        *crossed = 1; /* a neighbour folded over: the mesh is left as it was */
+        return SR_OK;
+    }
+    *collapsed = n;
     sm.collect_garbage();
     sr_mesh out;
     sr_mesh_init(&out);
@@ -235,16 +286,20 @@ sr_status sr_mesh_unfold(sr_mesh *mesh, double max_move_mm, sr_unfold_report *re
 }
 
 sr_status sr_mesh_collapse_short_edges(sr_mesh *mesh, double min_edge_mm, size_t *collapsed,
-                                       sr_err *err)
+                                       int *crossed, sr_err *err)
 {
     size_t local = 0;
+    int local_crossed = 0;
     if (!collapsed)
         collapsed = &local;
+    if (!crossed)
+        crossed = &local_crossed;
     *collapsed = 0;
+    *crossed = 0;
     if (!(min_edge_mm > 0))
         return SR_OK;
     try {
-        return collapse_short(mesh, min_edge_mm, collapsed, err);
+        return collapse_short(mesh, min_edge_mm, collapsed, crossed, err);
     } catch (const std::bad_alloc &) {
         return sr_err_set(err, SR_E_NOMEM, "out of memory collapsing edges");
     } catch (const std::exception &e) {
