@@ -1,17 +1,19 @@
 /*
- * test_scan_peel.c: sr_scan_peel_folds and sr_scan_close_peeling (src/mesh/scan_peel.c)
- * on meshes with known answers. A block 40 x 12 x 30 (x -20..20) with a notch
- * 8 x 6 x 8 (x 12..20, y 0..6, z 0..8: 384 mm^3) cut at the face it stood on, that face
- * left off as a scanner leaves it, and a fold kept in its plane: a triangle at z = 0
- * inside the opening, facing up (into the part), joined to the rim at the corner
- * (-20, 0, 0). Closed as it is, the plane's fill has to cover the fold twice, which it
- * cannot: a fan closes the face over it and the surface is not closed (the image
- * method's boolean refuses it: no section, as on the generated flange whose chip reached
- * its base). Peeled, the fold goes (1 triangle), the face is closed in its plane, the
- * block's volume is 14400 - 384 mm^3, and the reconstruction by the mirror x = 0 finds
- * the notch: one section of 384 mm^3 from z = 0. A triangle of the face kept facing out
- * (down) is no fold: nothing is peeled, it stays a part of the closed face. A box
- * without its top and no fold: closed at once, nothing peeled.
+ * test_scan_peel.c: sr_scan_peel_folds and sr_scan_close_peeling (src/mesh/scan_peel.c),
+ * and the fans of a walk through a vertex twice (src/mesh/scan_close.c), on meshes with
+ * known answers. A block 40 x 12 x 30 (x -20..20) with a notch 8 x 6 x 8 (x 12..20,
+ * y 0..6, z 0..8: 384 mm^3) cut at the face it stood on, that face left off as a scanner
+ * leaves it, and a fold kept in its plane: a triangle at z = 0 inside the opening,
+ * facing up (into the part), joined to the rim at the corner (-20, 0, 0), the walk
+ * round the opening passing that corner twice (one loop of 7 + 3 edges, as on the
+ * generated flange s60221409p13). The plane's fill would have to cover the fold twice:
+ * the loop is fanned, one fan per cycle of its walk (one fan for both used its edges to
+ * the corner four times: not manifold), closed with the block's volume, 14400 - 384
+ * mm^3. Peeled first, the fold goes (1 triangle), the face is closed in its plane at
+ * once, and the reconstruction by the mirror x = 0 finds the notch: one section of
+ * 384 mm^3 from z = 0 to 8. A triangle of the face kept facing out (down) is no fold:
+ * nothing is peeled, the closing keeps it. A box without its top and no fold: closed at
+ * once, nothing peeled.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -136,7 +138,7 @@ static void reconstruct_mirror(const sr_mesh *scan, sr_recon_result *r)
     assert_int_equal(sr_reconstruct(scan, &o, r, &err), SR_OK);
 }
 
-static void a_fold_in_the_base_is_not_closed_as_it_is(void **state)
+static void a_walk_through_a_vertex_twice_is_fanned_cycle_by_cycle(void **state)
 {
     (void)state;
     sr_mesh scan;
@@ -144,12 +146,13 @@ static void a_fold_in_the_base_is_not_closed_as_it_is(void **state)
     sr_scan_desc d;
     assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
     assert_int_equal(d.component_count, 1); /* joined at the corner: no island */
-    assert_int_equal(sr_scan_close_openings(&scan, &d, 0, NULL, NULL), SR_OK);
-    assert_false(closed_manifold(&scan));
-    sr_recon_result r;
-    reconstruct_mirror(&scan, &r);
-    assert_int_equal(r.section_count, 0); /* the notch is lost */
-    sr_recon_result_release(&r);
+    assert_int_equal(d.loop_count, 1);      /* through the corner twice */
+    assert_int_equal(d.loops[0].edges, 10); /* 7 round the face, 3 round the fold */
+    sr_scan_closing how[1];
+    assert_int_equal(sr_scan_close_openings_how(&scan, &d, 0, NULL, how, NULL), SR_OK);
+    assert_int_equal(how[0], SR_SCAN_BY_FAN); /* the fill would cover the fold twice */
+    assert_true(closed_manifold(&scan));      /* one fan per cycle, not one for both */
+    assert_near(sr_mesh_volume(&scan), BLOCK_MM3 - NOTCH_MM3, 1e-6);
     sr_scan_desc_release(&d);
     sr_mesh_release(&scan);
 }
@@ -159,7 +162,13 @@ static void a_fold_in_the_base_is_peeled_and_the_notch_restored(void **state)
     (void)state;
     sr_mesh scan;
     notched_scan(&scan, true);
-    closes_peeling(&scan, 1, 1, BLOCK_MM3 - NOTCH_MM3);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    size_t peeled = 0;
+    assert_int_equal(sr_scan_peel_folds(&scan, &d, NULL, &peeled, NULL), SR_OK);
+    assert_int_equal(peeled, 1);
+    sr_scan_desc_release(&d);
+    closes_peeling(&scan, 0, 1, BLOCK_MM3 - NOTCH_MM3); /* in its plane, at once */
     sr_recon_result r;
     reconstruct_mirror(&scan, &r);
     assert_int_equal(r.section_count, 1);
@@ -199,7 +208,7 @@ static void an_open_box_without_folds_is_closed_at_once(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(a_fold_in_the_base_is_not_closed_as_it_is),
+        cmocka_unit_test(a_walk_through_a_vertex_twice_is_fanned_cycle_by_cycle),
         cmocka_unit_test(a_fold_in_the_base_is_peeled_and_the_notch_restored),
         cmocka_unit_test(a_piece_of_the_base_facing_out_is_kept),
         cmocka_unit_test(an_open_box_without_folds_is_closed_at_once),

@@ -70,26 +70,56 @@ static bool grow_room(grow *g, size_t add_v, size_t add_t)
     return true;
 }
 
-/* The fan of loop l: a new vertex (index base_v + its place in g) at the centroid. */
-static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l, size_t base_v,
-                grow *g)
+/* The fan of the simple cycle cyc[0..n) (rim vertices, walked in that order): a new
+ * vertex (index base_v + its place in g) at its centroid. */
+static bool fan_cycle(const sr_mesh *mesh, const uint32_t *cyc, size_t n, size_t base_v, grow *g)
 {
-    if (!grow_room(g, 1, l->edges))
+    if (!grow_room(g, 1, n))
         return false;
-    const uint32_t *lv = d->loop_verts + l->first;
     double c[3] = {0, 0, 0};
-    for (size_t e = 0; e < l->edges; e++)
+    for (size_t e = 0; e < n; e++)
         for (int k = 0; k < 3; k++)
-            c[k] += mesh->xyz[3 * (size_t)lv[e] + k] / (double)l->edges;
+            c[k] += mesh->xyz[3 * (size_t)cyc[e] + k] / (double)n;
     uint32_t v = (uint32_t)(base_v + g->nv);
     memcpy(g->xyz + 3 * g->nv++, c, sizeof c);
-    for (size_t e = 0; e < l->edges; e++) {
+    for (size_t e = 0; e < n; e++) {
         uint32_t *t = g->tri + 3 * g->nt++;
-        t[0] = lv[(e + 1) % l->edges]; /* the rim walks a -> b: the fan walks b -> a */
-        t[1] = lv[e];
+        t[0] = cyc[(e + 1) % n]; /* the rim walks a -> b: the fan walks b -> a */
+        t[1] = cyc[e];
         t[2] = v;
     }
     return true;
+}
+
+/* The fans of loop l: one per simple cycle of its walk. A walk through a vertex twice
+ * (two rims touching there, a fold of the face the part stood on joined to the rim at
+ * one vertex) is cut there into cycles, each fanned from its own centroid: one fan of
+ * the whole walk would use its edges to that vertex twice over each (s60221409p14, whose
+ * base loop passed one vertex nine times: edges used up to 18 times). */
+static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l, size_t base_v,
+                grow *g)
+{
+    const uint32_t *lv = d->loop_verts + l->first;
+    uint32_t *stack = malloc((l->edges + 1) * sizeof *stack);
+    if (!stack)
+        return false;
+    size_t top = 0;
+    bool ok = true;
+    for (size_t e = 0; ok && e < l->edges; e++) {
+        size_t j = 0;
+        while (j < top && stack[j] != lv[e])
+            j++;
+        if (j < top) { /* back at stack[j]: the cycle stack[j..top) closes there */
+            if (top - j >= 3)
+                ok = fan_cycle(mesh, stack + j, top - j, base_v, g);
+            top = j;
+        }
+        stack[top++] = lv[e];
+    }
+    if (ok && top >= 3)
+        ok = fan_cycle(mesh, stack, top, base_v, g);
+    free(stack);
+    return ok;
 }
 
 static int key_cmp(const void *a, const void *b)
