@@ -231,19 +231,12 @@ void json_scan(json_out *j, const sr_scan_desc *d)
 sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_run_scan **rec, sr_err *err)
 {
     sr_scan_desc d;
-    sr_status st = sr_scan_describe(scan, NULL, &d, err);
+    sr_scan_closing *how = NULL;
+    sr_status st = sr_scan_close_peeling(scan, &d, &how, NULL, err);
     if (st != SR_OK)
         return st;
-    sr_scan_closing *how = calloc(d.loop_count + 1, sizeof *how);
-    if (!how)
-        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    if (st == SR_OK)
-        st = sr_scan_close_openings_how(scan, &d, 0, NULL, how, err);
-    if (st == SR_OK)
-        st = sr_scan_drop_strays(scan, &d, err);
     sr_run_scan *r = NULL;
-    if (st == SR_OK)
-        st = sr_run_scan_from_desc(&d, how, &r, err);
+    st = sr_run_scan_from_desc(&d, how, &r, err);
     free(how);
     if (st != SR_OK) {
         sr_scan_desc_release(&d);

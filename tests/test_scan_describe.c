@@ -29,6 +29,7 @@
 #include "mesh/scan_describe.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
+#include "support/open_face.h"
 
 static void box(double x0, sr_mesh *out)
 {
@@ -113,24 +114,6 @@ static void a_box_without_its_top_has_one_loop_round_it(void **state)
     sr_mesh_release(&m);
 }
 
-/* Removes every triangle whose three vertices lie at z = z0; returns how many. */
-static size_t drop_face_at(sr_mesh *m, double z0)
-{
-    size_t kept = 0;
-    for (size_t t = 0; t < m->tri_count; t++) {
-        bool on = true;
-        for (int k = 0; k < 3; k++)
-            on = on && fabs(m->xyz[3 * m->tri[3 * t + k] + 2] - z0) < 1e-12;
-        if (!on) {
-            memmove(m->tri + 3 * kept, m->tri + 3 * t, 3 * sizeof *m->tri);
-            kept++;
-        }
-    }
-    size_t gone = m->tri_count - kept;
-    m->tri_count = kept;
-    return gone;
-}
-
 /* Area of triangles [from, tri_count) of m. */
 static double area_from(const sr_mesh *m, size_t from)
 {
@@ -167,7 +150,7 @@ static void closes_in_plane(sr_mesh *m, size_t loops, double base_area)
 {
     double volume = sr_mesh_volume(m);
     size_t nv = m->vertex_count;
-    assert_true(drop_face_at(m, 0) > 0);
+    assert_true(test_drop_face_at(m, 0) > 0);
     size_t open_tris = m->tri_count;
     sr_scan_desc d;
     assert_int_equal(sr_scan_describe(m, NULL, &d, NULL), SR_OK);
@@ -323,7 +306,7 @@ static void an_island_left_in_the_base_is_dropped_not_filled_round(void **state)
     (void)state;
     sr_mesh m;
     box(0, &m);
-    assert_int_equal(drop_face_at(&m, 0), 2);
+    assert_int_equal(test_drop_face_at(&m, 0), 2);
     const double a[3] = {0.2, 5, 0}, b[3] = {2.2, 5, 0}, c[3] = {1.2, 8, 0};
     add_triangle(&m, a, b, c); /* facing up; 0.2 mm off the wall x = 0: not a stray */
     sr_scan_desc d;

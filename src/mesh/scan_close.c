@@ -13,7 +13,8 @@
  * touched) gets one copy per fan (mesh/mesh_pinch.h). The image method's voxels count
  * crossings along z by the winding rule (images/voxels.h): an open base or a hole lets a
  * column miss a crossing and fills or empties it from there on; closed, every column
- * crosses a closed surface again.
+ * crosses a closed surface again. Which rims lie in one plane is scan_plane.c's
+ * (scan_int.h).
  */
 #include "mesh/scan_describe.h"
 
@@ -23,23 +24,7 @@
 
 #include "bridge/planar_fill.h"
 #include "mesh/mesh_pinch.h"
-
-/* A rim is planar when its vertices lie this close to the plane through its centroid
- * with its area normal: root mean square and largest distance, mm (the scan's noise,
- * sigma up to 0.1 mm, stays inside both). */
-#define PLANE_RMS_MM 0.15
-#define PLANE_MAX_MM 0.5
-/* Another rim joins a plane's group only when its own plane is this close to parallel
- * (cosine): a small hole in a wall beside the base lies within the tolerances of the
- * base's plane, but across it (seen edge on: cosine near 0). A rim round an island
- * the scan kept in the base (a few noisy triangles tilted past the rest) is a hole in
- * the base's fill and must join it, though its own plane, over a millimetre, tilts
- * with the noise: 45 degrees still tells the two apart. */
-#define SAME_PLANE_COS 0.7
-/* A loop spanning less is fanned. 0: none is; a fan of a tiny loop (a triangle left
- * out along the base's rim) was seen to make the image method miss a plate's damage
- * (s3301p06), so tiny loops go to the plane too, guarded by the fill's check. mm^2 */
-#define PLANE_MIN_MM2 0.0
+#include "mesh/scan_int.h"
 
 /* What the closing appends: vertices and triangles, grown as needed. */
 typedef struct grow {
@@ -85,71 +70,56 @@ static bool grow_room(grow *g, size_t add_v, size_t add_t)
     return true;
 }
 
-static bool eligible(const sr_scan_loop *l, double max_span_mm2)
+/* The fan of the simple cycle cyc[0..n) (rim vertices, walked in that order): a new
+ * vertex (index base_v + its place in g) at its centroid. */
+static bool fan_cycle(const sr_mesh *mesh, const uint32_t *cyc, size_t n, size_t base_v, grow *g)
 {
-    return l->closed && l->edges >= 3 && (max_span_mm2 <= 0 || l->span_mm <= max_span_mm2);
-}
-
-/* The fan of loop l: a new vertex (index base_v + its place in g) at the centroid. */
-static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l, size_t base_v,
-                grow *g)
-{
-    if (!grow_room(g, 1, l->edges))
+    if (!grow_room(g, 1, n))
         return false;
-    const uint32_t *lv = d->loop_verts + l->first;
     double c[3] = {0, 0, 0};
-    for (size_t e = 0; e < l->edges; e++)
+    for (size_t e = 0; e < n; e++)
         for (int k = 0; k < 3; k++)
-            c[k] += mesh->xyz[3 * (size_t)lv[e] + k] / (double)l->edges;
+            c[k] += mesh->xyz[3 * (size_t)cyc[e] + k] / (double)n;
     uint32_t v = (uint32_t)(base_v + g->nv);
     memcpy(g->xyz + 3 * g->nv++, c, sizeof c);
-    for (size_t e = 0; e < l->edges; e++) {
+    for (size_t e = 0; e < n; e++) {
         uint32_t *t = g->tri + 3 * g->nt++;
-        t[0] = lv[(e + 1) % l->edges]; /* the rim walks a -> b: the fan walks b -> a */
-        t[1] = lv[e];
+        t[0] = cyc[(e + 1) % n]; /* the rim walks a -> b: the fan walks b -> a */
+        t[1] = cyc[e];
         t[2] = v;
     }
     return true;
 }
 
-/* Centroid c and unit area normal n of loop l; false when the loop has no area. */
-static bool loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
-                       double c[3], double n[3])
+/* The fans of loop l: one per simple cycle of its walk. A walk through a vertex twice
+ * (two rims touching there, a fold of the face the part stood on joined to the rim at
+ * one vertex) is cut there into cycles, each fanned from its own centroid: one fan of
+ * the whole walk would use its edges to that vertex twice over each (s60221409p14, whose
+ * base loop passed one vertex nine times: edges used up to 18 times). */
+static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l, size_t base_v,
+                grow *g)
 {
     const uint32_t *lv = d->loop_verts + l->first;
-    c[0] = c[1] = c[2] = n[0] = n[1] = n[2] = 0;
-    for (size_t e = 0; e < l->edges; e++)
-        for (int k = 0; k < 3; k++)
-            c[k] += mesh->xyz[3 * (size_t)lv[e] + k] / (double)l->edges;
-    for (size_t e = 0; e < l->edges; e++) { /* Newell */
-        const double *a = mesh->xyz + 3 * (size_t)lv[e];
-        const double *b = mesh->xyz + 3 * (size_t)lv[(e + 1) % l->edges];
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(len > 0))
+    uint32_t *stack = malloc((l->edges + 1) * sizeof *stack);
+    if (!stack)
         return false;
-    for (int k = 0; k < 3; k++)
-        n[k] /= len;
-    return true;
-}
-
-/* Whether every vertex of loop l lies on the plane (c, n) within the tolerances. */
-static bool on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
-                     const double c[3], const double n[3])
-{
-    const uint32_t *lv = d->loop_verts + l->first;
-    double ss = 0;
-    for (size_t e = 0; e < l->edges; e++) {
-        const double *p = mesh->xyz + 3 * (size_t)lv[e];
-        double h = (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
-        if (fabs(h) > PLANE_MAX_MM)
-            return false;
-        ss += h * h;
+    size_t top = 0;
+    bool ok = true;
+    for (size_t e = 0; ok && e < l->edges; e++) {
+        size_t j = 0;
+        while (j < top && stack[j] != lv[e])
+            j++;
+        if (j < top) { /* back at stack[j]: the cycle stack[j..top) closes there */
+            if (top - j >= 3)
+                ok = fan_cycle(mesh, stack + j, top - j, base_v, g);
+            top = j;
+        }
+        stack[top++] = lv[e];
     }
-    return sqrt(ss / (double)l->edges) <= PLANE_RMS_MM;
+    if (ok && top >= 3)
+        ok = fan_cycle(mesh, stack, top, base_v, g);
+    free(stack);
+    return ok;
 }
 
 static int key_cmp(const void *a, const void *b)
@@ -532,7 +502,7 @@ static sr_status cancel_folds(sr_mesh *mesh, sr_scan_desc *d, size_t nt, const b
 }
 
 /* Whether every vertex of component comp of d lies on the plane (c, n) within
- * PLANE_MAX_MM. */
+ * SR_SCAN_PLANE_MAX_MM. */
 static bool component_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, size_t comp,
                                const double c[3], const double n[3])
 {
@@ -542,7 +512,7 @@ static bool component_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, size_
         for (int k = 0; k < 3; k++) {
             const double *p = mesh->xyz + 3 * (size_t)mesh->tri[3 * t + k];
             double h = (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
-            if (fabs(h) > PLANE_MAX_MM)
+            if (fabs(h) > SR_SCAN_PLANE_MAX_MM)
                 return false;
         }
     }
@@ -607,23 +577,12 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_
             vcomp[mesh->tri[3 * t + k]] = (uint32_t)d->tri_component[t];
     for (size_t i = 0; i < d->loop_count && st == SR_OK; i++) {
         const sr_scan_loop *l = &d->loops[i];
-        if (done[i] != SR_SCAN_LEFT_OPEN || !eligible(l, max_span_mm2))
+        if (done[i] != SR_SCAN_LEFT_OPEN || !sr_scan_loop_eligible(l, max_span_mm2))
             continue;
         double c[3], n[3];
         bool filled = false;
-        if (l->span_mm >= PLANE_MIN_MM2 && loop_plane(mesh, d, l, c, n) &&
-            on_plane(mesh, d, l, c, n)) {
-            size_t count = 0;
-            group[count++] = i;
-            for (size_t j = i + 1; j < d->loop_count; j++) {
-                double cj[3], nj[3];
-                if (done[j] == SR_SCAN_LEFT_OPEN && eligible(&d->loops[j], max_span_mm2) &&
-                    d->loops[j].span_mm >= PLANE_MIN_MM2 &&
-                    loop_plane(mesh, d, &d->loops[j], cj, nj) &&
-                    fabs(nj[0] * n[0] + nj[1] * n[1] + nj[2] * n[2]) >= SAME_PLANE_COS &&
-                    on_plane(mesh, d, &d->loops[j], c, n))
-                    group[count++] = j;
-            }
+        size_t count = sr_scan_plane_group(mesh, d, i, done, max_span_mm2, group, c, n);
+        if (count > 0) {
             count = drop_islands(mesh, d, group, count, c, n, vcomp, done, &n_closed);
             st = plane_fill(mesh, d, group, count, c, n, nv, &g, &filled, err);
             if (filled) {

@@ -110,4 +110,31 @@ typedef enum sr_scan_closing {
 sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                      size_t *closed, sr_scan_closing *how, sr_err *err);
 
+/* Peels off the planes of d's openings (sr_scan_describe of this mesh; the loops closed
+ * in one plane as sr_scan_close_openings groups them; with how, from a closing of this
+ * mesh, only the groups whose first loop it closed by a fan: whose fill did not fit)
+ * the folds of the scan lying in them: a triangle on the rim of such a group whose
+ * corners all lie within the rims' noise of its plane (3 x their rms distance, 0.15 to
+ * 0.5 mm) and that faces into the part, against the way the plane's fill faces (a
+ * sliver of the face the part stood on turned over by the noise),
+ * then the next such triangle on the rim so grown. Triangles of d's strays are not
+ * touched. The triangles peeled go with the vertices only they used; the rest keep
+ * their order. *peeled (may be NULL) gets their count; when it is not 0, d no longer
+ * describes mesh. SR_E_NOMEM: mesh unchanged. */
+sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
+                             size_t *peeled, sr_err *err);
+
+/* A scan made ready for use: described (default options), every opening closed
+ * (sr_scan_close_openings_how), strays dropped; when the result is not closed or a loop
+ * lying in a plane was fanned (its plane's fill did not fit its rims: folds lying in
+ * the plane), the scan as it came is peeled of those folds (sr_scan_peel_folds: first
+ * the planes whose fill failed, then every plane) and closed again; a peeled closing is
+ * kept when it leaves fewer edges used other than twice (once each way), or as few and
+ * every plane filled. *out gets the description of the mesh kept (its strays dropped,
+ * its loops those closed), *how its loops' closings (malloc'ed, out->loop_count
+ * entries), *peeled (may be NULL) the triangles peeled off (0 when the first closing
+ * was kept). On error mesh may be closed in part, nothing is written to out or how. */
+sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closing **how,
+                                size_t *peeled, sr_err *err);
+
 #endif

@@ -1,0 +1,39 @@
+/*
+ * scan_int.h: private to the scan files of src/mesh. scan_plane.c owns the planes of a
+ * scan's openings: whether a loop's rim lies in a plane, and the group of loops closed
+ * in one plane together (used by scan_close.c, which closes them, and by scan_peel.c,
+ * which first peels the folds of the scan lying in them). Pure C on plain arrays.
+ */
+#ifndef SR_SCAN_INT_H
+#define SR_SCAN_INT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "mesh/scan_describe.h"
+
+/* A rim is planar when its vertices lie this close to the plane through its centroid
+ * with its area normal: root mean square and largest distance, mm (the scan's noise,
+ * sigma up to 0.1 mm, stays inside both). */
+#define SR_SCAN_PLANE_RMS_MM 0.15
+#define SR_SCAN_PLANE_MAX_MM 0.5
+
+/* Whether loop l may be closed: its walk closed, at least 3 edges, a span of at most
+ * max_span_mm2 (0: any). */
+bool sr_scan_loop_eligible(const sr_scan_loop *l, double max_span_mm2);
+
+/* Centroid c and unit area normal n (Newell's, as the rim walks) of loop l; false when
+ * the loop has no area. */
+bool sr_scan_loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
+                        double c[3], double n[3]);
+
+/* The loops of d closed in one plane with loop i, into group (room for d->loop_count;
+ * group[0] = i) and the plane into c, n (loop i's): every eligible loop after i still
+ * open (done[j] SR_SCAN_LEFT_OPEN; done may be NULL) whose rim lies on that plane within
+ * the tolerances and whose own plane is near parallel to it. Returns the count, 0 when
+ * loop i is not eligible or not planar. */
+size_t sr_scan_plane_group(const sr_mesh *mesh, const sr_scan_desc *d, size_t i,
+                           const sr_scan_closing *done, double max_span_mm2, size_t *group,
+                           double c[3], double n[3]);
+
+#endif

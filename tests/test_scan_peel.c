@@ -1,0 +1,217 @@
+/*
+ * test_scan_peel.c: sr_scan_peel_folds and sr_scan_close_peeling (src/mesh/scan_peel.c),
+ * and the fans of a walk through a vertex twice (src/mesh/scan_close.c), on meshes with
+ * known answers. A block 40 x 12 x 30 (x -20..20) with a notch 8 x 6 x 8 (x 12..20,
+ * y 0..6, z 0..8: 384 mm^3) cut at the face it stood on, that face left off as a scanner
+ * leaves it, and a fold kept in its plane: a triangle at z = 0 inside the opening,
+ * facing up (into the part), joined to the rim at the corner (-20, 0, 0), the walk
+ * round the opening passing that corner twice (one loop of 7 + 3 edges, as on the
+ * generated flange s60221409p13). The plane's fill would have to cover the fold twice:
+ * the loop is fanned, one fan per cycle of its walk (one fan for both used its edges to
+ * the corner four times: not manifold), closed with the block's volume, 14400 - 384
+ * mm^3. Peeled first, the fold goes (1 triangle), the face is closed in its plane at
+ * once, and the reconstruction by the mirror x = 0 finds the notch: one section of
+ * 384 mm^3 from z = 0 to 8. A triangle of the face kept facing out (down) is no fold:
+ * nothing is peeled, the closing keeps it. A box without its top and no fold: closed at
+ * once, nothing peeled.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "bridge/boolean.h"
+#include "mesh/mesh.h"
+#include "mesh/scan_describe.h"
+#include "mesh/shapes.h"
+#include "reconstruct.h"
+#include "support/assert_near.h"
+#include "support/open_face.h"
+
+#define BLOCK_MM3 (40.0 * 12.0 * 30.0)
+#define NOTCH_MM3 (8.0 * 6.0 * 8.0)
+
+static void box(sr_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    const double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
+    assert_int_equal(sr_shape_box(lo, hi, m, NULL), SR_OK);
+}
+
+/* The index of m's vertex at p (exactly). */
+static uint32_t vertex_at(const sr_mesh *m, const double p[3])
+{
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (memcmp(m->xyz + 3 * v, p, 3 * sizeof *p) == 0)
+            return (uint32_t)v;
+    fail_msg("no vertex at (%g, %g, %g)", p[0], p[1], p[2]);
+    return 0;
+}
+
+/* Appends the triangle (m's vertex at, a, b): a and b as new vertices. */
+static void add_at(sr_mesh *m, uint32_t at, const double a[3], const double b[3])
+{
+    sr_mesh t;
+    assert_int_equal(sr_mesh_alloc(&t, 2, 0), SR_OK);
+    memcpy(t.xyz, a, 3 * sizeof(double));
+    memcpy(t.xyz + 3, b, 3 * sizeof(double));
+    uint32_t nv = (uint32_t)m->vertex_count;
+    assert_int_equal(sr_mesh_append(m, &t), SR_OK);
+    sr_mesh_release(&t);
+    uint32_t *tri = realloc(m->tri, 3 * (m->tri_count + 1) * sizeof *tri);
+    assert_non_null(tri);
+    m->tri = tri;
+    tri += 3 * m->tri_count++;
+    tri[0] = at;
+    tri[1] = nv;
+    tri[2] = nv + 1;
+}
+
+/* The notched block without the face it stood on; with a triangle at z = 0 from the
+ * corner (-20, 0, 0) into the opening, facing up (a fold) or down (the face kept). */
+static void notched_scan(sr_mesh *scan, bool up)
+{
+    sr_mesh block, notch;
+    box(&block, -20, 0, 0, 20, 12, 30);
+    box(&notch, 12, -1, -1, 25, 6, 8);
+    sr_err err = {{0}};
+    assert_int_equal(sr_boolean_difference(&block, &notch, scan, &err), SR_OK);
+    assert_near(sr_mesh_volume(scan), BLOCK_MM3 - NOTCH_MM3, 1e-6);
+    assert_true(test_drop_face_at(scan, 0) > 0);
+    const double corner[3] = {-20, 0, 0}, a[3] = {-10, 2, 0}, b[3] = {-12, 5, 0};
+    uint32_t at = vertex_at(scan, corner);
+    if (up)
+        add_at(scan, at, a, b); /* counter-clockwise seen from above: facing up */
+    else
+        add_at(scan, at, b, a);
+    /* the corner numbered last, a new vertex in its place: the rims are walked from the
+     * lowest vertex, so the walk round the opening passes the corner once out along the
+     * rim and once into the fold, one loop through it twice (as the scanned flange's) */
+    uint32_t last = (uint32_t)scan->vertex_count - 1;
+    double tmp[3];
+    memcpy(tmp, scan->xyz + 3 * (size_t)at, sizeof tmp);
+    memcpy(scan->xyz + 3 * (size_t)at, scan->xyz + 3 * (size_t)last, sizeof tmp);
+    memcpy(scan->xyz + 3 * (size_t)last, tmp, sizeof tmp);
+    for (size_t i = 0; i < 3 * scan->tri_count; i++)
+        scan->tri[i] = scan->tri[i] == at ? last : scan->tri[i] == last ? at : scan->tri[i];
+    sr_mesh_release(&block);
+    sr_mesh_release(&notch);
+}
+
+static bool closed_manifold(const sr_mesh *m)
+{
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(m, &e), SR_OK);
+    return e.boundary_edges == 0 && e.nonmanifold_edges == 0 && e.misoriented_edges == 0;
+}
+
+/* Closes m by sr_scan_close_peeling and checks: peeled triangles peeled, loops loops (the
+ * first closed in its plane), closed and manifold, volume mm^3. */
+static void closes_peeling(sr_mesh *m, size_t peeled, size_t loops, double volume)
+{
+    sr_scan_desc d;
+    sr_scan_closing *how = NULL;
+    size_t n = SIZE_MAX;
+    assert_int_equal(sr_scan_close_peeling(m, &d, &how, &n, NULL), SR_OK);
+    assert_int_equal(n, peeled);
+    assert_int_equal(d.loop_count, loops);
+    assert_int_equal(how[0], SR_SCAN_IN_PLANE);
+    assert_true(closed_manifold(m));
+    assert_near(sr_mesh_volume(m), volume, 1e-6);
+    free(how);
+    sr_scan_desc_release(&d);
+}
+
+/* The reconstruction of scan (built in the aligned frame) by the mirror x = 0. */
+static void reconstruct_mirror(const sr_mesh *scan, sr_recon_result *r)
+{
+    sr_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.symmetry = (sr_symmetry){SR_SYM_MIRROR, 0, 0};
+    o.have_alignment = 1;
+    sr_xform_identity(o.alignment.xform);
+    sr_err err = {{0}};
+    assert_int_equal(sr_reconstruct(scan, &o, r, &err), SR_OK);
+}
+
+static void a_walk_through_a_vertex_twice_is_fanned_cycle_by_cycle(void **state)
+{
+    (void)state;
+    sr_mesh scan;
+    notched_scan(&scan, true);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.component_count, 1); /* joined at the corner: no island */
+    assert_int_equal(d.loop_count, 1);      /* through the corner twice */
+    assert_int_equal(d.loops[0].edges, 10); /* 7 round the face, 3 round the fold */
+    sr_scan_closing how[1];
+    assert_int_equal(sr_scan_close_openings_how(&scan, &d, 0, NULL, how, NULL), SR_OK);
+    assert_int_equal(how[0], SR_SCAN_BY_FAN); /* the fill would cover the fold twice */
+    assert_true(closed_manifold(&scan));      /* one fan per cycle, not one for both */
+    assert_near(sr_mesh_volume(&scan), BLOCK_MM3 - NOTCH_MM3, 1e-6);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&scan);
+}
+
+static void a_fold_in_the_base_is_peeled_and_the_notch_restored(void **state)
+{
+    (void)state;
+    sr_mesh scan;
+    notched_scan(&scan, true);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    size_t peeled = 0;
+    assert_int_equal(sr_scan_peel_folds(&scan, &d, NULL, &peeled, NULL), SR_OK);
+    assert_int_equal(peeled, 1);
+    sr_scan_desc_release(&d);
+    closes_peeling(&scan, 0, 1, BLOCK_MM3 - NOTCH_MM3); /* in its plane, at once */
+    sr_recon_result r;
+    reconstruct_mirror(&scan, &r);
+    assert_int_equal(r.section_count, 1);
+    assert_true(fabs(r.sections[0].volume_mm3 - NOTCH_MM3) <= 0.01 * NOTCH_MM3);
+    assert_true(fabs(r.sections[0].z_min) < 1e-6 && fabs(r.sections[0].z_max - 8) < 1e-6);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&scan);
+}
+
+static void a_piece_of_the_base_facing_out_is_kept(void **state)
+{
+    (void)state;
+    sr_mesh scan;
+    notched_scan(&scan, false);
+    size_t tris = scan.tri_count;
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    size_t peeled = 1;
+    assert_int_equal(sr_scan_peel_folds(&scan, &d, NULL, &peeled, NULL), SR_OK);
+    assert_int_equal(peeled, 0);
+    assert_int_equal(scan.tri_count, tris);
+    sr_scan_desc_release(&d);
+    closes_peeling(&scan, 0, 1, BLOCK_MM3 - NOTCH_MM3);
+    sr_mesh_release(&scan);
+}
+
+static void an_open_box_without_folds_is_closed_at_once(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(&m, 0, 0, 0, 10, 20, 30);
+    assert_int_equal(test_drop_face_at(&m, 30), 2);
+    closes_peeling(&m, 0, 1, 6000);
+    sr_mesh_release(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_walk_through_a_vertex_twice_is_fanned_cycle_by_cycle),
+        cmocka_unit_test(a_fold_in_the_base_is_peeled_and_the_notch_restored),
+        cmocka_unit_test(a_piece_of_the_base_facing_out_is_kept),
+        cmocka_unit_test(an_open_box_without_folds_is_closed_at_once),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
