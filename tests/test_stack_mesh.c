@@ -18,6 +18,7 @@
 #include "mesh/shapes.h"
 #include "robust/stack_mesh.h"
 #include "support/assert_near.h"
+#include "support/heap_stir.h"
 
 static void square(sr_poly2 *p, double x0, double y0, double side, int cw)
 {
@@ -106,6 +107,38 @@ static void layers_with_holes_stitch_closed(void **state)
     for (int i = 0; i < 2; i++)
         sr_poly2_release(&r[i]);
     sr_mesh_release(&m);
+}
+
+/* The same stack gives the same mesh, triangle for triangle, whatever the heap held
+ * before: the arrangement's faces are capped in its own order, not their addresses'
+ * (the heap stirred three ways between). Three layers of islands and holes. */
+static void a_stack_is_one_mesh_whatever_the_heap_held(void **state)
+{
+    (void)state;
+    sr_poly2 r[3] = {{0}};
+    square(&r[0], 0, 0, 10, 0);
+    square(&r[0], 3, 3, 4, 1);
+    square(&r[0], 12, 0, 3, 0);
+    square(&r[1], 0, 0, 10, 0);
+    square(&r[1], 2, 2, 4, 1);
+    square(&r[1], 12.5, 0.5, 3, 0);
+    square(&r[2], 1, 1, 8, 0);
+    square(&r[2], 13, 1, 3, 0);
+    double z[4] = {0, 1, 2, 3};
+    sr_mesh first = {0};
+    assert_int_equal(sr_stack_mesh(r, z, 3, &first, NULL), SR_OK);
+    check_closed(&first);
+    for (unsigned round = 0; round < 3; round++) {
+        void **kept = test_heap_stir(round);
+        sr_mesh again = {0};
+        assert_int_equal(sr_stack_mesh(r, z, 3, &again, NULL), SR_OK);
+        test_assert_same_mesh(&again, &first);
+        sr_mesh_release(&again);
+        test_heap_settle(kept);
+    }
+    for (int i = 0; i < 3; i++)
+        sr_poly2_release(&r[i]);
+    sr_mesh_release(&first);
 }
 
 static void separate_islands_and_empty_layers(void **state)
@@ -255,6 +288,7 @@ int main(void)
         cmocka_unit_test(identical_layers_leave_no_internal_faces),
         cmocka_unit_test(shifted_and_rotated_layers_stitch_closed),
         cmocka_unit_test(layers_with_holes_stitch_closed),
+        cmocka_unit_test(a_stack_is_one_mesh_whatever_the_heap_held),
         cmocka_unit_test(separate_islands_and_empty_layers),
         cmocka_unit_test(layers_touching_along_an_edge_are_pulled_apart),
         cmocka_unit_test(heights_must_increase),

@@ -28,6 +28,8 @@
 
 #define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* before any CGAL header; see above */
 
+#include "bridge/box_ids_cgal.hpp" /* before CGAL makes a box; see there */
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>

@@ -21,6 +21,8 @@
 
 #define CGAL_ALWAYS_ROUND_TO_NEAREST 1 /* before any CGAL header; see boolean_cgal.hpp */
 
+#include "bridge/box_ids_cgal.hpp" /* before CGAL makes a box; see there */
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>

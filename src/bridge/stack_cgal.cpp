@@ -206,11 +206,16 @@ void interface(const sr_poly2 *below, const sr_poly2 *above, double z, Soup &sou
         for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c)
             visit(*c);
     }
-    for (auto &fs : state) {
-        if (fs.second == 1)
-            cap_face(fs.first, z, true, soup);
-        else if (fs.second == 2)
-            cap_face(fs.first, z, false, soup);
+    /* capped in the arrangement's order of faces: the map's order is the faces'
+     * addresses, which follow the heap's history (the soup's numbering, then the
+     * patch, changed with the thread count of an earlier step) */
+    const Arr &faces = arr;
+    for (Arr::Face_const_iterator f = faces.faces_begin(); f != faces.faces_end(); ++f) {
+        auto fs = state.find(Arr::Face_const_handle(f));
+        if (fs != state.end() && fs->second == 1)
+            cap_face(fs->first, z, true, soup);
+        else if (fs != state.end() && fs->second == 2)
+            cap_face(fs->first, z, false, soup);
     }
 }
 
