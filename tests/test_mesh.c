@@ -91,6 +91,35 @@ static void volume_is_translation_invariant_far_from_origin(void **state)
     sr_mesh_release(&m);
 }
 
+/* The volume on each side of a plane x = x0, without a boolean: the unit cube cut at
+ * 0.3 holds 0.3 and 0.7; cut through its face x = 0 or beyond it, all on one side. A
+ * hexagonal prism (radius 2, height 3; its slanted sides crossed) cut at x = 0.5: the
+ * hexagon's part beyond is 2 sqrt 3 (a strip 0.5 wide and 2 sqrt 3 high, then a
+ * triangle 1 wide), so 6 sqrt 3 above and 12 sqrt 3 below. */
+static void volume_across_a_plane_is_each_sides_share(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    make_cube(&m);
+    double below, above;
+    sr_mesh_volume_across_x(&m, 0.3, &below, &above);
+    assert_near(below, 0.3, 1e-14);
+    assert_near(above, 0.7, 1e-14);
+    sr_mesh_volume_across_x(&m, 0.0, &below, &above);
+    assert_near(below, 0.0, 1e-15);
+    assert_near(above, 1.0, 1e-14);
+    sr_mesh_volume_across_x(&m, 2.0, &below, &above);
+    assert_near(below, 1.0, 1e-14);
+    assert_near(above, 0.0, 1e-15);
+    sr_mesh_release(&m);
+    make_prism(&m, 6, 2.0, 3.0);
+    sr_mesh_volume_across_x(&m, 0.5, &below, &above);
+    assert_near(above, 6.0 * sqrt(3.0), 1e-12);
+    assert_near(below, 12.0 * sqrt(3.0), 1e-12);
+    assert_near(below + above, sr_mesh_volume(&m), 1e-12);
+    sr_mesh_release(&m);
+}
+
 static void flipped_mesh_has_negative_volume(void **state)
 {
     sr_mesh m;
@@ -365,6 +394,7 @@ int main(void)
         cmocka_unit_test(cube_volume_area_bbox_are_exact),
         cmocka_unit_test(prism_volume_matches_polygon_formula),
         cmocka_unit_test(volume_is_translation_invariant_far_from_origin),
+        cmocka_unit_test(volume_across_a_plane_is_each_sides_share),
         cmocka_unit_test(flipped_mesh_has_negative_volume),
         cmocka_unit_test(missing_face_gives_boundary_edges),
         cmocka_unit_test(one_flipped_face_is_misoriented),

@@ -8,39 +8,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "bridge/boolean.h"
-#include "mesh/shapes.h"
+#include "mesh/mesh.h"
 #include "robust/region_sections.h"
-
-/* The volumes of m on the two sides of the plane x = 0 (aligned frame); 0 when a clip
- * fails. */
-static int side_volumes(const sr_mesh *m, double *neg, double *pos)
-{
-    double lo[3], hi[3];
-    sr_mesh_bbox(m, lo, hi);
-    double big = 1.0;
-    for (int c = 0; c < 3; c++)
-        big = fmax(big, fmax(fabs(lo[c]), fabs(hi[c])));
-    big *= 2.0;
-    double side[2] = {0, 0};
-    for (int k = 0; k < 2; k++) {
-        double bl[3] = {k ? 0.0 : -big, -big, -big}, bh[3] = {k ? big : 0.0, big, big};
-        sr_mesh box = {0}, piece = {0};
-        if (sr_shape_box(bl, bh, &box, NULL) != SR_OK)
-            return 0;
-        sr_status st = sr_boolean_intersection(m, &box, &piece, NULL);
-        sr_mesh_release(&box);
-        if (st != SR_OK) {
-            sr_mesh_release(&piece);
-            return 0;
-        }
-        side[k] = sr_mesh_volume(&piece);
-        sr_mesh_release(&piece);
-    }
-    *neg = side[0];
-    *pos = side[1];
-    return 1;
-}
 
 #define CONTINUE_MARGIN_MM 3.0
 
@@ -152,9 +121,8 @@ sr_status sr_continue_across_plane(const sr_mesh *aligned, const sr_layer_grid *
              * added on the image's side). The lever: 257 mm3 added across, -0.6 on
              * the image's side. */
             double layer_neg, layer_pos, image_neg, image_pos;
-            if (!side_volumes(&ls[k].patch, &layer_neg, &layer_pos) ||
-                !side_volumes(&sec->patch, &image_neg, &image_pos))
-                continue;
+            sr_mesh_volume_across_x(&ls[k].patch, 0.0, &layer_neg, &layer_pos);
+            sr_mesh_volume_across_x(&sec->patch, 0.0, &image_neg, &image_pos);
             int image_pos_side = image_pos >= image_neg;
             double add_neg = layer_neg - image_neg, add_pos = layer_pos - image_pos;
             double add_own = image_pos_side ? add_pos : add_neg;

@@ -180,6 +180,56 @@ double sr_mesh_volume(const sr_mesh *mesh)
     return sum / 6.0;
 }
 
+/* det(a - o, b - o, c - o) for o = (x0, cy, cz): six times the cone's volume */
+static double cone6(const double *a, const double *b, const double *c, const double o[3])
+{
+    double u[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
+    double v[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
+    double w[3] = {c[0] - o[0], c[1] - o[1], c[2] - o[2]};
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+           u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+/* Six times the cones over the part of triangle p[0..2] where side * (x - x0) > 0 (the
+ * triangle clipped to that half: a polygon of up to 4 corners, fanned). */
+static double clipped_cones6(const double *p[3], double x0, double side, const double o[3])
+{
+    double poly[4][3];
+    size_t n = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *a = p[k], *b = p[(k + 1) % 3];
+        double da = side * (a[0] - x0), db = side * (b[0] - x0);
+        if (da >= 0 && n < 4)
+            memcpy(poly[n++], a, sizeof poly[0]);
+        if (((da > 0 && db < 0) || (da < 0 && db > 0)) && n < 4) {
+            double t = da / (da - db);
+            for (int c = 0; c < 3; c++)
+                poly[n][c] = a[c] + t * (b[c] - a[c]);
+            poly[n++][0] = x0;
+        }
+    }
+    double sum = 0;
+    for (size_t k = 1; k + 1 < n; k++)
+        sum += cone6(poly[0], poly[k], poly[k + 1], o);
+    return sum;
+}
+
+void sr_mesh_volume_across_x(const sr_mesh *mesh, double x0, double *below, double *above)
+{
+    double lo[3], hi[3];
+    sr_mesh_bbox(mesh, lo, hi);
+    double o[3] = {x0, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    double sum[2] = {0, 0};
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        const uint32_t *f = mesh->tri + 3 * t;
+        const double *p[3] = {mesh->xyz + 3 * f[0], mesh->xyz + 3 * f[1], mesh->xyz + 3 * f[2]};
+        sum[0] += clipped_cones6(p, x0, -1.0, o);
+        sum[1] += clipped_cones6(p, x0, 1.0, o);
+    }
+    *below = sum[0] / 6.0;
+    *above = sum[1] / 6.0;
+}
+
 double sr_mesh_area(const sr_mesh *mesh)
 {
     double sum = 0;

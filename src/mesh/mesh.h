@@ -68,6 +68,12 @@ void sr_mesh_bbox(const sr_mesh *mesh, double min[3], double max[3]);
  * relative to the bbox centre for accuracy. */
 double sr_mesh_volume(const sr_mesh *mesh);
 
+/* The enclosed volume of a closed outward mesh on each side of the plane x = x0, mm^3:
+ * *below where x < x0, *above where x > x0 (their sum is sr_mesh_volume). Each
+ * triangle's part on a side counted by the divergence theorem from a point of the
+ * plane, where the cut face adds nothing: no boolean, exact to rounding. */
+void sr_mesh_volume_across_x(const sr_mesh *mesh, double x0, double *below, double *above);
+
 /* Total triangle area, mm^2. */
 double sr_mesh_area(const sr_mesh *mesh);
 
