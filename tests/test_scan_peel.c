@@ -1,6 +1,6 @@
 /*
- * test_scan_peel.c: sr_scan_peel_folds and sr_scan_close_peeling (src/mesh/scan_peel.c),
- * and the fans of a walk through a vertex twice (src/mesh/scan_close.c), on meshes with
+ * test_scan_peel.c: sr_scan_peel_folds, sr_scan_peel_plane_rims and
+ * sr_scan_close_peeling (src/mesh/scan_peel.c), and the fans of a walk through a vertex twice (src/mesh/scan_close.c), on meshes with
  * known answers. A block 40 x 12 x 30 (x -20..20) with a notch 8 x 6 x 8 (x 12..20,
  * y 0..6, z 0..8: 384 mm^3) cut at the face it stood on, that face left off as a scanner
  * leaves it, and a fold kept in its plane: a triangle at z = 0 inside the opening,
@@ -12,8 +12,11 @@
  * mm^3. Peeled first, the fold goes (1 triangle), the face is closed in its plane at
  * once, and the reconstruction by the mirror x = 0 finds the notch: one section of
  * 384 mm^3 from z = 0 to 8. A triangle of the face kept facing out (down) is no fold:
- * nothing is peeled, the closing keeps it. A box without its top and no fold: closed at
- * once, nothing peeled.
+ * nothing is peeled, the closing keeps it. Three more scraps of the face facing out,
+ * petals joined at one point of the opening: the fill cannot wind round them (the face
+ * is fanned); sr_scan_peel_plane_rims peels all four scraps and the face then closes in
+ * its plane, and the closing by sr_scan_close_peeling restores the notch. A box without
+ * its top and no fold: closed at once, nothing peeled.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -195,6 +198,62 @@ static void a_piece_of_the_base_facing_out_is_kept(void **state)
     sr_mesh_release(&scan);
 }
 
+/* Scraps of the face the part stood on kept facing out, as a scanner keeps the ones the
+ * noise tilted past its cut: a fan of petals round a point of the face, joined to one
+ * another and to the rim only at vertices, so the walk round the opening passes each
+ * joint twice (as on the generated bracket s1123581p02, whose base met its damage). */
+static void petals_at(sr_mesh *scan, uint32_t at, const double *p, size_t n)
+{
+    for (size_t i = 0; i + 1 < n; i += 2)
+        add_at(scan, at, p + 3 * (i + 1), p + 3 * i); /* clockwise from above: facing down */
+}
+
+static void scraps_of_the_base_facing_out_are_peeled_when_the_fill_fails(void **state)
+{
+    (void)state;
+    sr_mesh scan;
+    notched_scan(&scan, false);          /* a scrap at the corner (-20, 0, 0), facing out */
+    const double joint[3] = {-10, 2, 0}; /* the scrap's corner in the opening */
+    const double petals[] = {-8, 3, 0, -7, 1, 0, -12, 0.5, 0, -13, 1.5, 0, -9, 5, 0, -11, 5.5, 0};
+    petals_at(&scan, vertex_at(&scan, joint), petals, 6);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.component_count, 1); /* all joined at vertices */
+    assert_int_equal(d.loop_count, 4);      /* the opening's walk, and a cycle per petal */
+    sr_scan_closing how[4];
+    sr_mesh as_is;
+    assert_int_equal(sr_mesh_copy(&as_is, &scan), SR_OK);
+    assert_int_equal(sr_scan_close_openings_how(&as_is, &d, 0, NULL, how, NULL), SR_OK);
+    assert_int_equal(how[0], SR_SCAN_BY_FAN); /* the fill cannot wind round the petals */
+    sr_mesh_release(&as_is);
+    /* every scrap lying in the plane goes, whichever way it faces: the corner's and the
+     * three petals; then the face closes in its plane at once */
+    sr_mesh peeled_all;
+    assert_int_equal(sr_mesh_copy(&peeled_all, &scan), SR_OK);
+    size_t n = 0;
+    assert_int_equal(sr_scan_peel_plane_rims(&peeled_all, &d, how, &n, NULL), SR_OK);
+    assert_int_equal(n, 4);
+    closes_peeling(&peeled_all, 0, 1, BLOCK_MM3 - NOTCH_MM3);
+    sr_mesh_release(&peeled_all);
+    sr_scan_desc_release(&d);
+    sr_scan_closing *closing = NULL;
+    size_t peeled = 0;
+    assert_int_equal(sr_scan_close_peeling(&scan, &d, &closing, &peeled, NULL), SR_OK);
+    assert_true(peeled >= 1);
+    for (size_t i = 0; i < d.loop_count; i++)
+        assert_int_equal(closing[i], SR_SCAN_IN_PLANE); /* the face in its plane */
+    assert_true(closed_manifold(&scan));
+    assert_near(sr_mesh_volume(&scan), BLOCK_MM3 - NOTCH_MM3, 1e-6);
+    free(closing);
+    sr_scan_desc_release(&d);
+    sr_recon_result r;
+    reconstruct_mirror(&scan, &r);
+    assert_int_equal(r.section_count, 1);
+    assert_true(fabs(r.sections[0].volume_mm3 - NOTCH_MM3) <= 0.01 * NOTCH_MM3);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&scan);
+}
+
 static void an_open_box_without_folds_is_closed_at_once(void **state)
 {
     (void)state;
@@ -211,6 +270,7 @@ int main(void)
         cmocka_unit_test(a_walk_through_a_vertex_twice_is_fanned_cycle_by_cycle),
         cmocka_unit_test(a_fold_in_the_base_is_peeled_and_the_notch_restored),
         cmocka_unit_test(a_piece_of_the_base_facing_out_is_kept),
+        cmocka_unit_test(scraps_of_the_base_facing_out_are_peeled_when_the_fill_fails),
         cmocka_unit_test(an_open_box_without_folds_is_closed_at_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

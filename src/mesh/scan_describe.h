@@ -124,13 +124,22 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_
 sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                              size_t *peeled, sr_err *err);
 
+/* sr_scan_peel_folds, peeling every triangle lying in such a plane from its rim, whichever
+ * way it faces: the scraps of the face the part stood on that the scanner kept (tilted
+ * past the cut by the noise, joined to the rim and to one another at vertices), which
+ * the plane's fill must cover and cannot wind around. */
+sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
+                                  size_t *peeled, sr_err *err);
+
 /* A scan made ready for use: described (default options), every opening closed
  * (sr_scan_close_openings_how), strays dropped; when the result is not closed or a loop
  * lying in a plane was fanned (its plane's fill did not fit its rims: folds lying in
  * the plane), the scan as it came is peeled of those folds (sr_scan_peel_folds: first
  * the planes whose fill failed, then every plane) and closed again; a peeled closing is
  * kept when it leaves fewer edges used other than twice (once each way), or as few and
- * every plane filled. *out gets the description of the mesh kept (its strays dropped,
+ * every plane filled. Last, when a plane's fill still failed, the scan as it came is
+ * peeled of every scrap lying in those planes (sr_scan_peel_plane_rims), kept when then
+ * every plane fills, no more edges are left bad and fewer rim edges are fanned. *out gets the description of the mesh kept (its strays dropped,
  * its loops those closed), *how its loops' closings (malloc'ed, out->loop_count
  * entries), *peeled (may be NULL) the triangles peeled off (0 when the first closing
  * was kept). On error mesh may be closed in part, nothing is written to out or how. */

@@ -33,6 +33,12 @@
  * (45, peeling the slivers turned sideways too, also peeled walls' slivers at the base
  * of a spline, 3292 triangles, and cost its restoration 2.9 mm of Hausdorff). */
 #define FACING_DEG 90.0
+/* sr_scan_peel_plane_rims: a triangle in a plane facing within this many degrees of
+ * either way across it is a scrap of the face (kept scraps were seen tilted up to 84
+ * degrees by the noise, on triangles of a few hundredths of a mm^2); one turned further
+ * (sideways) is a wall's, whose lowest row lies within the rims' noise of the plane too,
+ * and stays (peeled, the rim of a collar's bore rose off the plane and was fanned). */
+#define FLAT_DEG 80.0
 /* The rims' noise: a triangle lies in a plane when its corners lie within this many
  * times the rms distance of the group's rim vertices from it (at least
  * SR_SCAN_PLANE_RMS_MM, at most SR_SCAN_PLANE_MAX_MM). */
@@ -90,13 +96,19 @@ static bool group_plane(const sr_mesh *mesh, const sr_scan_desc *d, const size_t
     return true;
 }
 
-/* Whether triangle t lies in one of the planes facing off its fill. */
-static bool folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np)
+/* How a triangle lying in a plane is peeled: when the cosine of its normal with the
+ * fill's outward normal is below `below` (facing into the part), or when its magnitude
+ * is at least `flat` (facing either way across the plane, not sideways as a wall's). */
+typedef struct facing_rule {
+    double below, flat;
+} facing_rule;
+
+/* Whether triangle t lies in one of the planes facing as rule peels. */
+static bool folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np, facing_rule rule)
 {
     double nt[3];
     sr_mesh_tri_normal(mesh, t, nt);
     double len = sqrt(nt[0] * nt[0] + nt[1] * nt[1] + nt[2] * nt[2]);
-    double cs = cos(FACING_DEG * M_PI / 180);
     for (size_t i = 0; i < np; i++) {
         const plane *p = &pl[i];
         bool in = true;
@@ -107,7 +119,7 @@ static bool folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np)
         }
         double facing =
             len > 0 ? (nt[0] * p->out[0] + nt[1] * p->out[1] + nt[2] * p->out[2]) / len : 0;
-        if (in && facing < cs)
+        if (in && (facing < rule.below || fabs(facing) >= rule.flat))
             return true;
     }
     return false;
@@ -146,8 +158,10 @@ static sr_status drop(sr_mesh *mesh, const bool *gone, sr_err *err)
     return SR_OK;
 }
 
-sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
-                             size_t *peeled, sr_err *err)
+/* sr_scan_peel_folds and sr_scan_peel_plane_rims: the triangles lying in a chosen plane
+ * and facing as rule peels, peeled from its rim. */
+static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
+                      facing_rule rule, size_t *peeled, sr_err *err)
 {
     size_t nt = mesh->tri_count, np = 0, removed = 0, nq = 0;
     sr_status st = SR_OK;
@@ -214,7 +228,7 @@ sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan
     for (size_t t = 0; t < nt; t++) {
         if (stray(d, t) || fill[t] < 3)
             continue;
-        fold[t] = folded(mesh, t, pl, np);
+        fold[t] = folded(mesh, t, pl, np, rule);
         bool rim = false; /* an edge on a chosen group's rim */
         for (int k = 0; k < 3; k++) {
             size_t e = tri_edge[3 * t + k];
@@ -259,10 +273,25 @@ out:
     return st;
 }
 
+sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
+                             size_t *peeled, sr_err *err)
+{
+    return peel(mesh, d, how, (facing_rule){cos(FACING_DEG * M_PI / 180), 2}, peeled, err);
+}
+
+sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
+                                  size_t *peeled, sr_err *err)
+{
+    return peel(mesh, d, how,
+                (facing_rule){cos(FACING_DEG * M_PI / 180), cos(FLAT_DEG * M_PI / 180)}, peeled,
+                err);
+}
+
 /* mesh described, closed (every opening) and rid of its strays, in place; bad[0] gets
- * the edges of the result not used twice, once each way, bad[1] the loops lying in a
+ * the edges of the result not used twice, once each way, bad[2] the rim edges closed by
+ * fans, bad[1] the loops lying in a
  * plane closed by a fan (the plane's fill did not fit). On error d and *how are freed. */
-static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **how, size_t bad[2],
+static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **how, size_t bad[3],
                             sr_err *err)
 {
     *how = NULL;
@@ -277,9 +306,10 @@ static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **ho
     size_t *group = st == SR_OK ? malloc((d->loop_count + 1) * sizeof *group) : NULL;
     if (st == SR_OK && !group)
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    bad[1] = 0; /* plane loops fanned: their fill did not fit (the loops' vertices kept) */
+    bad[1] = bad[2] = 0; /* plane loops fanned: their fill did not fit (the loops' vertices kept) */
     for (size_t i = 0; st == SR_OK && i < d->loop_count; i++) {
         double c[3], n[3];
+        bad[2] += (*how)[i] == SR_SCAN_BY_FAN ? d->loops[i].edges : 0;
         bad[1] += (*how)[i] == SR_SCAN_BY_FAN &&
                   sr_scan_plane_group(mesh, d, i, NULL, 0, group, c, n) > 0;
     }
@@ -305,31 +335,48 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
     sr_mesh orig = {0};
     sr_scan_desc d = {0};
     sr_scan_closing *h = NULL;
-    size_t bad[2] = {0, 0}, n_kept = 0;
+    size_t bad[3] = {0, 0, 0}, n_kept = 0;
     sr_status st = sr_mesh_copy(&orig, mesh);
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory closing the scan's openings");
     st = close_once(mesh, &d, &h, bad, err);
+    sr_scan_closing *h0 = NULL; /* the first closing's, for the passes on the scan as it came */
+    if (st == SR_OK && (bad[0] > 0 || bad[1] > 0)) {
+        h0 = malloc((d.loop_count + 1) * sizeof *h0);
+        if (!h0)
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        else
+            memcpy(h0, h, d.loop_count * sizeof *h0);
+    }
     /* not closed, or a plane's fill failed (its loops fanned, over the folds): the folds
      * peeled off the planes whose fill failed, then off every plane (a fill that fits
      * may still run along a fold's edge); kept when fewer edges are left used other
      * than twice, or as few and every plane then filled (a peel that leaves some plane
-     * fanned still was seen to cost a spline's restoration 2.9 mm of Hausdorff) */
-    for (int all = 0; st == SR_OK && (bad[0] > 0 || bad[1] > 0) && all < 2; all++) {
+     * fanned still was seen to cost a spline's restoration 2.9 mm of Hausdorff); last,
+     * when a plane's fill still fails, every scrap lying in the planes whose fill failed
+     * peeled off their rims, whichever way it faces, kept only when then every plane
+     * fills, no more edges are left bad and fewer rim edges are fanned (peeled up its
+     * walls, a rail's whole base was fanned, closer to manifold, and the rail read as
+     * not fitting its glide: s1123581p03) */
+    for (int pass = 0; st == SR_OK && (bad[0] > 0 || bad[1] > 0) && pass < 3; pass++) {
         sr_mesh m = {0};
         sr_scan_desc d0 = {0}, d2 = {0};
         sr_scan_closing *h2 = NULL;
-        size_t n = 0, bad2[2] = {0, 0};
+        size_t n = 0, bad2[3] = {0, 0, 0};
         st = sr_mesh_copy(&m, &orig);
         if (st == SR_OK)
             st = sr_scan_describe(&m, NULL, &d0, err);
         if (st == SR_OK)
-            st = sr_scan_peel_folds(&m, &d0, all ? NULL : h, &n, err);
+            st = pass == 2   ? sr_scan_peel_plane_rims(&m, &d0, h0, &n, err)
+                 : pass == 1 ? sr_scan_peel_folds(&m, &d0, NULL, &n, err)
+                             : sr_scan_peel_folds(&m, &d0, h0, &n, err);
         sr_scan_desc_release(&d0);
         if (st == SR_OK && n > 0)
             st = close_once(&m, &d2, &h2, bad2, err);
-        if (st == SR_OK && n > 0 &&
-            (bad2[0] < bad[0] || (bad2[0] == bad[0] && bad2[1] == 0 && bad[1] > 0))) {
+        bool better = pass < 2
+                          ? bad2[0] < bad[0] || (bad2[0] == bad[0] && bad2[1] == 0 && bad[1] > 0)
+                          : bad2[1] == 0 && bad2[0] <= bad[0] && bad2[2] < bad[2];
+        if (st == SR_OK && n > 0 && better) {
             sr_mesh_release(mesh);
             *mesh = m;
             m = (sr_mesh){0};
@@ -341,6 +388,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
             h2 = NULL;
             bad[0] = bad2[0];
             bad[1] = bad2[1];
+            bad[2] = bad2[2];
             n_kept = n;
         }
         sr_mesh_release(&m);
@@ -348,6 +396,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
         free(h2);
     }
     sr_mesh_release(&orig);
+    free(h0);
     if (st != SR_OK) {
         sr_scan_desc_release(&d);
         free(h);
