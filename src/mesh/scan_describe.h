@@ -124,10 +124,11 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_
 sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                              size_t *peeled, sr_err *err);
 
-/* sr_scan_peel_folds, peeling every triangle lying in such a plane from its rim, whichever
- * way it faces: the scraps of the face the part stood on that the scanner kept (tilted
- * past the cut by the noise, joined to the rim and to one another at vertices), which
- * the plane's fill must cover and cannot wind around. */
+/* sr_scan_peel_folds, peeling every triangle lying in such a plane from its rim that
+ * faces within 80 degrees of either way across it (a wall's, sideways, stays): the
+ * scraps of the face the part stood on that the scanner kept (tilted past the cut by the
+ * noise, joined to the rim and to one another at vertices), which the plane's fill must
+ * cover and cannot wind around. */
 sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                                   size_t *peeled, sr_err *err);
 
@@ -139,10 +140,11 @@ sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr
  * kept when it leaves fewer edges used other than twice (once each way), or as few and
  * every plane filled. Last, when a plane's fill still failed, the scan as it came is
  * peeled of every scrap lying in those planes (sr_scan_peel_plane_rims), kept when then
- * every plane fills, no more edges are left bad and fewer rim edges are fanned. *out gets the description of the mesh kept (its strays dropped,
- * its loops those closed), *how its loops' closings (malloc'ed, out->loop_count
- * entries), *peeled (may be NULL) the triangles peeled off (0 when the first closing
- * was kept). On error mesh may be closed in part, nothing is written to out or how. */
+ * every plane fills, no more edges are left bad and fewer rim edges are fanned. *out
+ * gets the description of the mesh kept (its strays dropped, its loops those closed),
+ * *how its loops' closings (malloc'ed, out->loop_count entries), *peeled (may be NULL)
+ * the triangles peeled off (0 when the first closing was kept). On error mesh may be
+ * closed in part, nothing is written to out or how. */
 sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closing **how,
                                 size_t *peeled, sr_err *err);
 

@@ -288,9 +288,9 @@ sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr
 }
 
 /* mesh described, closed (every opening) and rid of its strays, in place; bad[0] gets
- * the edges of the result not used twice, once each way, bad[2] the rim edges closed by
- * fans, bad[1] the loops lying in a
- * plane closed by a fan (the plane's fill did not fit). On error d and *how are freed. */
+ * the edges of the result not used twice, once each way, bad[1] the loops lying in a
+ * plane closed by a fan (the plane's fill did not fit), bad[2] the rim edges of every
+ * loop closed by a fan. On error d and *how are freed. */
 static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **how, size_t bad[3],
                             sr_err *err)
 {
