@@ -322,6 +322,34 @@ static void mirror_arrow_plane_found_and_frame_puts_it_at_x0(void **state)
     sr_mesh_release(&m);
 }
 
+/* A lever on the mirror x = 0: a web (box wlo..whi) between two bosses standing on
+ * z = 0 (radius, height, y of each, segments round), less the damage `cut`. */
+typedef struct boss {
+    double r, h, y;
+    size_t segments;
+} boss;
+
+static void lever_less(const double wlo[3], const double whi[3], boss b1, boss b2,
+                       const sr_mesh *cut, sr_mesh *lever)
+{
+    sr_mesh web, c1, c2, a, b;
+    assert_int_equal(sr_shape_box(wlo, whi, &web, NULL), SR_OK);
+    assert_int_equal(sr_shape_cylinder(b1.r, 0, b1.h, b1.segments, &c1, NULL), SR_OK);
+    assert_int_equal(sr_shape_cylinder(b2.r, 0, b2.h, b2.segments, &c2, NULL), SR_OK);
+    for (size_t v = 0; v < c1.vertex_count; v++)
+        c1.xyz[3 * v + 1] += b1.y;
+    for (size_t v = 0; v < c2.vertex_count; v++)
+        c2.xyz[3 * v + 1] += b2.y;
+    assert_int_equal(sr_boolean_union(&web, &c1, &a, NULL), SR_OK);
+    assert_int_equal(sr_boolean_union(&a, &c2, &b, NULL), SR_OK);
+    assert_int_equal(sr_boolean_difference(&b, cut, lever, NULL), SR_OK);
+    sr_mesh_release(&web);
+    sr_mesh_release(&c1);
+    sr_mesh_release(&c2);
+    sr_mesh_release(&a);
+    sr_mesh_release(&b);
+}
+
 /* A lever: web 8 wide and 8 thick from y = -30 to 52, a boss of radius 14 (20 high) at
  * y = -30, one of radius 8 (16 high) at y = 52, less a chip (its planes tilted 12 deg)
  * off the +x side of the small boss and the web from y = 10 on. The web's faces reflect
@@ -331,32 +359,39 @@ static void mirror_arrow_plane_found_and_frame_puts_it_at_x0(void **state)
 static void mirror_lever_with_a_chipped_boss_keeps_its_plane(void **state)
 {
     (void)state;
-    sr_mesh web, big, small, chip, a, b, lever;
-    double wlo[3] = {-4, -30, 0}, whi[3] = {4, 52, 8};
-    assert_int_equal(sr_shape_box(wlo, whi, &web, NULL), SR_OK);
-    assert_int_equal(sr_shape_cylinder(14, 0, 20, 64, &big, NULL), SR_OK);
-    assert_int_equal(sr_shape_cylinder(8, 0, 16, 48, &small, NULL), SR_OK);
-    for (size_t v = 0; v < big.vertex_count; v++)
-        big.xyz[3 * v + 1] -= 30;
-    for (size_t v = 0; v < small.vertex_count; v++)
-        small.xyz[3 * v + 1] += 52;
+    sr_mesh chip, lever;
     double clo[3] = {1.0, 10, 3}, chi[3] = {30, 70, 30};
     assert_int_equal(sr_shape_box(clo, chi, &chip, NULL), SR_OK);
     double t = 12 * M_PI / 180, c = cos(t), sn = sin(t); /* the fracture's planes tilted */
     double tilt[12] = {c, 0, -sn, 1.0 - 1.0 * c, 0, 1, 0, 0, sn, 0, c, -1.0 * sn};
     sr_mesh_transform(&chip, tilt);
-    assert_int_equal(sr_boolean_union(&web, &big, &a, NULL), SR_OK);
-    assert_int_equal(sr_boolean_union(&a, &small, &b, NULL), SR_OK);
-    assert_int_equal(sr_boolean_difference(&b, &chip, &lever, NULL), SR_OK);
+    double wlo[3] = {-4, -30, 0}, whi[3] = {4, 52, 8};
+    lever_less(wlo, whi, (boss){14, 20, -30, 64}, (boss){8, 16, 52, 48}, &chip, &lever);
     sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
     for (unsigned seed = 1; seed <= 3; seed++)
         align_posed(&lever, seed, &sym, NULL, 0.1, 0.05);
-    sr_mesh_release(&web);
-    sr_mesh_release(&big);
-    sr_mesh_release(&small);
     sr_mesh_release(&chip);
-    sr_mesh_release(&a);
-    sr_mesh_release(&b);
+    sr_mesh_release(&lever);
+}
+
+/* A lever whose damage took the half of one boss beside the plane (a cut 1.2 mm off it,
+ * parallel to it, through the whole boss: the generated lever s2207p14): what is left
+ * of the plane's evidence pivots about the other boss, whose round walls reflect onto
+ * themselves about any plane through its axis. The restarts tilted about the part's
+ * centre left the fit 1.4 deg off, pivoting there (the restored boss 1.5 mm out: 45 %
+ * of the loss missed); restarted about points along the plane too, it is found. */
+static void mirror_lever_with_half_a_boss_gone_keeps_its_plane(void **state)
+{
+    (void)state;
+    sr_mesh cut, lever;
+    double clo[3] = {-20, -50, -1}, chi[3] = {-1.2, -14, 20};
+    assert_int_equal(sr_shape_box(clo, chi, &cut, NULL), SR_OK);
+    double wlo[3] = {-3.45, -31, 0}, whi[3] = {3.45, 31, 7};
+    lever_less(wlo, whi, (boss){12, 17.5, -31, 64}, (boss){16, 13, 31, 64}, &cut, &lever);
+    sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
+    for (unsigned seed = 1; seed <= 3; seed++)
+        align_posed(&lever, seed, &sym, NULL, 0.1, 0.05);
+    sr_mesh_release(&cut);
     sr_mesh_release(&lever);
 }
 
@@ -901,6 +936,7 @@ int main(void)
         cmocka_unit_test(axial_nfold_star_axis_found),
         cmocka_unit_test(mirror_arrow_plane_found_and_frame_puts_it_at_x0),
         cmocka_unit_test(mirror_lever_with_a_chipped_boss_keeps_its_plane),
+        cmocka_unit_test(mirror_lever_with_half_a_boss_gone_keeps_its_plane),
         cmocka_unit_test(mirror_prefers_the_plane_across_the_widest_spread),
         cmocka_unit_test(mirror_hint_picks_another_good_plane),
         cmocka_unit_test(glide_bar_plane_and_shift_found),

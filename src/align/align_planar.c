@@ -115,7 +115,12 @@ static double spread_along(const al_surface *s, const double n[3])
  * has taken away what pinned the tilt (the walls of one boss), the fit can settle a
  * degree or two off, on a plane that matches fewer samples exactly. The refined plane
  * is restarted tilted by POLISH_DEG and twice that about two directions in it, both
- * ways, each start fitted on the screening samples; the best start that matches more
+ * ways, pivoting about its point and about points 1.5 standard deviations of the
+ * surface either way along the tilt (where half a boss has gone, what is left pivots
+ * about the other boss, whose round walls fit any plane through its axis: tilted about
+ * the centre, every start was as far off at one boss or the other, and a generated
+ * lever's fit stayed 1.4 deg off), each start fitted on the screening samples; the
+ * best start that matches more
  * of them than the plane does is refined on the coarse samples and replaces the plane
  * if it matches more there too (al_fit_better); at most POLISH_ROUNDS rounds. */
 #define POLISH_DEG 1.5
@@ -134,16 +139,19 @@ static void polish_plane(al_ctx *ctx, double tau, plane_cand *pc)
         al_evaluate(s, &ctx->screen, &pc->m, ctx->tol, &here);
         al_model best = pc->m;
         al_fit best_f = here;
-        for (int k = 0; k < 8; k++) {
-            double deg = (k < 4 ? 1 : 2) * POLISH_DEG * M_PI / 180;
+        for (int k = 0; k < 24; k++) {
+            double deg = (k % 8 < 4 ? 1 : 2) * POLISH_DEG * M_PI / 180;
             const double *d = (k % 2) ? w : u;
             double sg = (k % 4) < 2 ? 1 : -1;
-            double n[3];
-            for (int q = 0; q < 3; q++)
+            double arm = (k / 8 == 0 ? 0 : k / 8 == 1 ? 1 : -1) * 1.5 * sqrt(spread_along(s, d));
+            double n[3], piv[3];
+            for (int q = 0; q < 3; q++) {
                 n[q] = cos(deg) * pc->m.a[q] + sg * sin(deg) * d[q];
+                piv[q] = pc->m.c[q] + arm * d[q];
+            }
             al_model t;
             al_fit tf;
-            plane_model(s, AL_MIRROR, n, pc->m.c, &t);
+            plane_model(s, AL_MIRROR, n, piv, &t);
             al_icp(s, &ctx->screen, &t, 15, tau, ctx->tol, &tf);
             if (al_fit_better(&tf, &best_f)) {
                 best = t;
