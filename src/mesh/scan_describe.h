@@ -110,6 +110,16 @@ typedef enum sr_scan_closing {
 sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_span_mm2,
                                      size_t *closed, sr_scan_closing *how, sr_err *err);
 
+/* Hangs back the walls the scan lost beside a plane opening (scan_curtain.c): every
+ * eligible loop of d (sr_scan_describe of this mesh) that is not planar but lies for at
+ * least a third of its vertices on the plane of a planar loop of d (within its
+ * tolerances), leaving it to one side only, gets each excursion off the plane projected
+ * onto it and a strip of triangles from the excursion down to its projection, so its
+ * rim then lies in the plane (a bore's mouth in the face the part stood on, where a
+ * scanner's hole in the bore's wall reached the face). *hung gets the loops so hung;
+ * when it is not 0, d no longer describes mesh. On error the mesh is unchanged. */
+sr_status sr_scan_hang_curtains(sr_mesh *mesh, const sr_scan_desc *d, size_t *hung, sr_err *err);
+
 /* Peels off the planes of d's openings (sr_scan_describe of this mesh; the loops closed
  * in one plane as sr_scan_close_openings groups them; with how, from a closing of this
  * mesh, only the groups whose first loop it closed by a fan: whose fill did not fit)

@@ -27,6 +27,10 @@ bool sr_scan_loop_eligible(const sr_scan_loop *l, double max_span_mm2);
 bool sr_scan_loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
                         double c[3], double n[3]);
 
+/* Whether every vertex of loop l lies on the plane (c, n) within the tolerances above. */
+bool sr_scan_loop_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
+                           const double c[3], const double n[3]);
+
 /* The loops of d closed in one plane with loop i, into group (room for d->loop_count;
  * group[0] = i) and the plane into c, n (loop i's): every eligible loop after i still
  * open (done[j] SR_SCAN_LEFT_OPEN; done may be NULL) whose rim lies on that plane within

@@ -47,6 +47,8 @@
 typedef struct plane {
     double c[3], out[3]; /* a point, the fill's outward unit normal */
     double tol;          /* mm */
+    double span_mm2;     /* the openings of its group */
+    double peeled_mm2;   /* the area peeled off it */
 } plane;
 
 typedef struct edge_use {
@@ -98,13 +100,17 @@ static bool group_plane(const sr_mesh *mesh, const sr_scan_desc *d, const size_t
 
 /* How a triangle lying in a plane is peeled: when the cosine of its normal with the
  * fill's outward normal is below `below` (facing into the part), or when its magnitude
- * is at least `flat` (facing either way across the plane, not sideways as a wall's). */
+ * is at least `flat` (facing either way across the plane, not sideways as a wall's).
+ * capped: a plane is peeled only when what comes off it is smaller than its openings
+ * (scraps of a face the scanner lost; peeled from the rims of a few pinholes in a face
+ * it saw, a gear's whole top face went, and was fanned: 9.9 mm of Hausdorff). */
 typedef struct facing_rule {
     double below, flat;
+    bool capped;
 } facing_rule;
 
-/* Whether triangle t lies in one of the planes facing as rule peels. */
-static bool folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np, facing_rule rule)
+/* 1 + the plane of pl that triangle t lies in facing as rule peels; 0: none. */
+static uint32_t folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np, facing_rule rule)
 {
     double nt[3];
     sr_mesh_tri_normal(mesh, t, nt);
@@ -120,9 +126,9 @@ static bool folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np, fa
         double facing =
             len > 0 ? (nt[0] * p->out[0] + nt[1] * p->out[1] + nt[2] * p->out[2]) / len : 0;
         if (in && (facing < rule.below || fabs(facing) >= rule.flat))
-            return true;
+            return (uint32_t)i + 1;
     }
-    return false;
+    return 0;
 }
 
 /* Removes the triangles gone[] from mesh and the vertices only they used. */
@@ -173,7 +179,8 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
     uint32_t *live = malloc((3 * nt + 1) * sizeof *live); /* per edge: triangles left on it */
     size_t *tri_edge = malloc((3 * nt + 1) * sizeof *tri_edge);
     uint32_t *queue = malloc((4 * nt + 1) * sizeof *queue); /* in once, and once per edge */
-    bool *gone = calloc(nt + 1, sizeof *gone), *fold = calloc(nt + 1, sizeof *fold);
+    bool *gone = calloc(nt + 1, sizeof *gone);
+    uint32_t *fold = calloc(nt + 1, sizeof *fold); /* 1 + the plane a triangle peels off */
     bool *rimv = calloc(mesh->vertex_count + 1, sizeof *rimv); /* the chosen groups' rims */
     if (!done || !group || !pl || !use || !first || !live || !tri_edge || !queue || !gone ||
         !fold || !rimv) {
@@ -184,14 +191,18 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
         double c[3], n[3];
         bool chosen = done[i] == SR_SCAN_LEFT_OPEN && (!how || how[i] == SR_SCAN_BY_FAN);
         size_t count = chosen ? sr_scan_plane_group(mesh, d, i, done, 0, group, c, n) : 0;
+        double span = 0;
         for (size_t k = 0; k < count; k++) {
             const sr_scan_loop *l = &d->loops[group[k]];
+            span += l->span_mm;
             done[group[k]] = SR_SCAN_IN_PLANE;
             for (size_t e = 0; e < l->edges; e++)
                 rimv[d->loop_verts[l->first + e]] = true;
         }
-        if (count > 0 && group_plane(mesh, d, group, count, c, n, &pl[np]))
-            np++;
+        if (count > 0 && group_plane(mesh, d, group, count, c, n, &pl[np])) {
+            pl[np].span_mm2 = span;
+            pl[np++].peeled_mm2 = 0;
+        }
     }
     if (np == 0)
         goto out;
@@ -245,6 +256,9 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
             continue;
         gone[t] = true;
         removed++;
+        double a[3];
+        sr_mesh_tri_normal(mesh, t, a);
+        pl[fold[t] - 1].peeled_mm2 += 0.5 * sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         for (int k = 0; k < 3; k++) {
             size_t e = tri_edge[3 * (size_t)t + k];
             if (--live[e] != 1)
@@ -254,6 +268,11 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
                     queue[nq++] = use[u].t;
         }
     }
+    for (size_t t = 0; rule.capped && t < nt; t++)
+        if (gone[t] && pl[fold[t] - 1].peeled_mm2 > pl[fold[t] - 1].span_mm2) {
+            gone[t] = false; /* more than its openings: a face the scanner saw */
+            removed--;
+        }
     if (removed > 0)
         st = drop(mesh, gone, err);
 out:
@@ -276,28 +295,54 @@ out:
 sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                              size_t *peeled, sr_err *err)
 {
-    return peel(mesh, d, how, (facing_rule){cos(FACING_DEG * M_PI / 180), 2}, peeled, err);
+    return peel(mesh, d, how, (facing_rule){cos(FACING_DEG * M_PI / 180), 2, false}, peeled, err);
 }
 
 sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                                   size_t *peeled, sr_err *err)
 {
     return peel(mesh, d, how,
-                (facing_rule){cos(FACING_DEG * M_PI / 180), cos(FLAT_DEG * M_PI / 180)}, peeled,
-                err);
+                (facing_rule){cos(FACING_DEG * M_PI / 180), cos(FLAT_DEG * M_PI / 180), true},
+                peeled, err);
 }
 
-/* mesh described, closed (every opening) and rid of its strays, in place; bad[0] gets
- * the edges of the result not used twice, once each way, bad[1] the loops lying in a
- * plane closed by a fan (the plane's fill did not fit), bad[2] the rim edges of every
- * loop closed by a fan. On error d and *how are freed. */
-static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **how, size_t bad[3],
-                            sr_err *err)
+/* a plane loop fanned under this share of the largest opening's span is a speck */
+#define SPECK_SHARE 0.01
+
+/* What a closing left wrong, worst first: edges of the result used other than twice
+ * (once each way), loops lying in a plane closed by a fan (the plane's fill did not fit;
+ * specks not counted), and the span of every loop closed by a fan (mm^2: a fan strays
+ * from the part as far as its opening is wide; a base fanned cost a gear 9.9 mm of
+ * Hausdorff, a dozen pinholes fanned cost nothing). */
+typedef struct closing_cost {
+    size_t bad_edges, plane_fans;
+    double fan_mm2;
+} closing_cost;
+
+/* mesh described, closed (every opening) and rid of its strays, in place, with the walls
+ * lost beside its planes hung back first when hang (*hung: the loops so hung); *c gets
+ * what the closing left wrong (closing_cost). On error d and *how are freed. */
+static sr_status close_as(sr_mesh *mesh, bool hang, sr_scan_desc *d, sr_scan_closing **how,
+                          closing_cost *c, size_t *hung_out, sr_err *err)
 {
     *how = NULL;
     sr_status st = sr_scan_describe(mesh, NULL, d, err);
     if (st != SR_OK)
         return st;
+    size_t hung = 0;
+    if (hang)
+        st = sr_scan_hang_curtains(mesh, d, &hung, err);
+    *hung_out = hung;
+    if (st == SR_OK && hung > 0) { /* the walls hung change the loops */
+        sr_scan_desc_release(d);
+        st = sr_scan_describe(mesh, NULL, d, err);
+        if (st != SR_OK)
+            return st;
+    }
+    if (st != SR_OK) {
+        sr_scan_desc_release(d);
+        return st;
+    }
     *how = calloc(d->loop_count + 1, sizeof **how);
     if (!*how)
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
@@ -306,12 +351,18 @@ static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **ho
     size_t *group = st == SR_OK ? malloc((d->loop_count + 1) * sizeof *group) : NULL;
     if (st == SR_OK && !group)
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    bad[1] = bad[2] = 0; /* plane loops fanned: their fill did not fit (the loops' vertices kept) */
+    /* plane loops fanned: their fill did not fit (the loops' vertices kept); a fan of a
+     * speck (under a hundredth of the largest opening's span: a hole's few triangles
+     * left beside a wall hung back) costs the part nothing */
+    double top = 0;
+    for (size_t i = 0; i < d->loop_count; i++)
+        top = d->loops[i].span_mm > top ? d->loops[i].span_mm : top;
+    *c = (closing_cost){0, 0, 0};
     for (size_t i = 0; st == SR_OK && i < d->loop_count; i++) {
-        double c[3], n[3];
-        bad[2] += (*how)[i] == SR_SCAN_BY_FAN ? d->loops[i].edges : 0;
-        bad[1] += (*how)[i] == SR_SCAN_BY_FAN &&
-                  sr_scan_plane_group(mesh, d, i, NULL, 0, group, c, n) > 0;
+        double pc[3], pn[3];
+        c->fan_mm2 += (*how)[i] == SR_SCAN_BY_FAN ? d->loops[i].span_mm : 0;
+        c->plane_fans += (*how)[i] == SR_SCAN_BY_FAN && d->loops[i].span_mm >= SPECK_SHARE * top &&
+                         sr_scan_plane_group(mesh, d, i, NULL, 0, group, pc, pn) > 0;
     }
     free(group);
     if (st == SR_OK)
@@ -325,8 +376,48 @@ static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **ho
         *how = NULL;
         return st;
     }
-    bad[0] = es.boundary_edges + es.nonmanifold_edges + es.misoriented_edges;
+    c->bad_edges = es.boundary_edges + es.nonmanifold_edges + es.misoriented_edges;
     return SR_OK;
+}
+
+/* close_as with the lost walls hung back, kept when that leaves no more edges bad and
+ * fans less than the closing without them (a wall hung from a hole beside a
+ * small face can make that face's fill fail, where its fans cost nothing). */
+static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **how, closing_cost *c,
+                            sr_err *err)
+{
+    sr_mesh plain = {0};
+    if (sr_mesh_copy(&plain, mesh) != SR_OK)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    size_t hung = 0, unused = 0;
+    sr_status st = close_as(mesh, true, d, how, c, &hung, err);
+    if (st == SR_OK && hung > 0) {
+        sr_scan_desc d2 = {0};
+        sr_scan_closing *h2 = NULL;
+        closing_cost c2;
+        st = close_as(&plain, false, &d2, &h2, &c2, &unused, err);
+        if (st == SR_OK && (c2.bad_edges < c->bad_edges ||
+                            (c2.bad_edges == c->bad_edges && c2.fan_mm2 <= c->fan_mm2))) {
+            sr_mesh_release(mesh);
+            *mesh = plain;
+            plain = (sr_mesh){0};
+            sr_scan_desc_release(d);
+            free(*how);
+            *d = d2;
+            *how = h2;
+            *c = c2;
+        } else {
+            sr_scan_desc_release(&d2);
+            free(h2);
+        }
+        if (st != SR_OK) {
+            sr_scan_desc_release(d);
+            free(*how);
+            *how = NULL;
+        }
+    }
+    sr_mesh_release(&plain);
+    return st;
 }
 
 sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closing **how,
@@ -335,13 +426,16 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
     sr_mesh orig = {0};
     sr_scan_desc d = {0};
     sr_scan_closing *h = NULL;
-    size_t bad[3] = {0, 0, 0}, n_kept = 0;
+    closing_cost bad = {0, 0, 0};
+    size_t n_kept = 0;
     sr_status st = sr_mesh_copy(&orig, mesh);
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory closing the scan's openings");
-    st = close_once(mesh, &d, &h, bad, err);
+    st = close_once(mesh, &d, &h, &bad, err);
     sr_scan_closing *h0 = NULL; /* the first closing's, for the passes on the scan as it came */
-    if (st == SR_OK && (bad[0] > 0 || bad[1] > 0)) {
+    const bool plane_failed =
+        bad.plane_fans > 0; /* the rim peel's planes are the first closing's */
+    if (st == SR_OK && (bad.bad_edges > 0 || bad.plane_fans > 0)) {
         h0 = malloc((d.loop_count + 1) * sizeof *h0);
         if (!h0)
             st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
@@ -358,11 +452,15 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
      * fills, no more edges are left bad and fewer rim edges are fanned (peeled up its
      * walls, a rail's whole base was fanned, closer to manifold, and the rail read as
      * not fitting its glide: s1123581p03) */
-    for (int pass = 0; st == SR_OK && (bad[0] > 0 || bad[1] > 0) && pass < 3; pass++) {
+    for (int pass = 0; st == SR_OK && (bad.bad_edges > 0 || bad.plane_fans > 0) && pass < 3;
+         pass++) {
+        if (pass == 2 && !plane_failed)
+            break; /* no plane failed at first: the rim peel has nothing to peel */
         sr_mesh m = {0};
         sr_scan_desc d0 = {0}, d2 = {0};
         sr_scan_closing *h2 = NULL;
-        size_t n = 0, bad2[3] = {0, 0, 0};
+        size_t n = 0;
+        closing_cost bad2 = {0, 0, 0};
         st = sr_mesh_copy(&m, &orig);
         if (st == SR_OK)
             st = sr_scan_describe(&m, NULL, &d0, err);
@@ -372,10 +470,12 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
                              : sr_scan_peel_folds(&m, &d0, h0, &n, err);
         sr_scan_desc_release(&d0);
         if (st == SR_OK && n > 0)
-            st = close_once(&m, &d2, &h2, bad2, err);
-        bool better = pass < 2
-                          ? bad2[0] < bad[0] || (bad2[0] == bad[0] && bad2[1] == 0 && bad[1] > 0)
-                          : bad2[1] == 0 && bad2[0] <= bad[0] && bad2[2] < bad[2];
+            st = close_once(&m, &d2, &h2, &bad2, err);
+        bool better = pass < 2 ? bad2.bad_edges < bad.bad_edges ||
+                                     (bad2.bad_edges == bad.bad_edges && bad2.plane_fans == 0 &&
+                                      bad.plane_fans > 0)
+                               : bad2.plane_fans == 0 && bad2.bad_edges <= bad.bad_edges &&
+                                     bad2.fan_mm2 < bad.fan_mm2;
         if (st == SR_OK && n > 0 && better) {
             sr_mesh_release(mesh);
             *mesh = m;
@@ -386,9 +486,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
             h = h2;
             d2 = (sr_scan_desc){0};
             h2 = NULL;
-            bad[0] = bad2[0];
-            bad[1] = bad2[1];
-            bad[2] = bad2[2];
+            bad = bad2;
             n_kept = n;
         }
         sr_mesh_release(&m);

@@ -45,9 +45,8 @@ bool sr_scan_loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_sca
     return true;
 }
 
-/* Whether every vertex of loop l lies on the plane (c, n) within the tolerances. */
-static bool on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
-                     const double c[3], const double n[3])
+bool sr_scan_loop_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
+                           const double c[3], const double n[3])
 {
     const uint32_t *lv = d->loop_verts + l->first;
     double ss = 0;
@@ -70,7 +69,7 @@ size_t sr_scan_plane_group(const sr_mesh *mesh, const sr_scan_desc *d, size_t i,
 {
     const sr_scan_loop *l = &d->loops[i];
     if (!sr_scan_loop_eligible(l, max_span_mm2) || !sr_scan_loop_plane(mesh, d, l, c, n) ||
-        !on_plane(mesh, d, l, c, n))
+        !sr_scan_loop_on_plane(mesh, d, l, c, n))
         return 0;
     size_t count = 0;
     group[count++] = i;
@@ -80,7 +79,7 @@ size_t sr_scan_plane_group(const sr_mesh *mesh, const sr_scan_desc *d, size_t i,
             sr_scan_loop_eligible(&d->loops[j], max_span_mm2) &&
             sr_scan_loop_plane(mesh, d, &d->loops[j], cj, nj) &&
             fabs(nj[0] * n[0] + nj[1] * n[1] + nj[2] * n[2]) >= SAME_PLANE_COS &&
-            on_plane(mesh, d, &d->loops[j], c, n))
+            sr_scan_loop_on_plane(mesh, d, &d->loops[j], c, n))
             group[count++] = j;
     }
     return count;
