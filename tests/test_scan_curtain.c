@@ -1,14 +1,16 @@
 /*
  * test_scan_curtain.c: sr_scan_hang_curtains (src/mesh/scan_curtain.c) and its use by
- * sr_scan_close_peeling, on a mesh with known answers. A block 20 x 20 x 10 with a
- * square bore 6 x 6 through it (x, y 7..13: 4000 - 360 = 3640 mm^3), the face it stood
- * on (z = 0) left off as a scanner leaves it, and the triangle of the bore's wall
- * x = 7 that runs along that face taken out too (a scanner's hole in the bore's wall at
- * its foot). The bore's mouth then walks up the wall and back: not planar. Hung back,
- * the wall gets exactly that triangle again (one excursion, one triangle, no new
- * vertex: the excursion's foot is the rim's own corner), the mouth lies in the plane,
- * and the closing is the block with its bore open, to the cubic millimetre. A rim that
- * leaves its plane both ways is not hung.
+ * sr_scan_close_peeling, on meshes with known answers. A square tube (a 4-sided solid
+ * of revolution, rings at z = 0, 5 and 10: outer corners 30 from the axis, the bore's
+ * 10: 2 (30^2 - 10^2) 10 = 16000 mm^3), the face it stood on (z = 0) left off as a
+ * scanner leaves it, and a triangle at the foot of one face of the bore taken out too
+ * (a scanner's hole in the bore's wall at its foot). The bore's mouth then walks up the
+ * wall and back: not planar. Hung back, the wall gets exactly that triangle again (one
+ * excursion, one triangle, no new vertex: the excursion's top lies over the rim's own
+ * corner), the mouth lies in the plane, and the closing is the tube with its bore open,
+ * to the cubic millimetre. A rim that leaves its plane both ways is not hung, nor one
+ * whose excursion runs up a face sloping at 45 degrees (the bore's corners 16 from the
+ * axis at z = 0 narrowing to 2 at z = 10: a countersink's cone, not a wall).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -20,19 +22,24 @@
 
 #include <cmocka.h>
 
-#include "bridge/boolean.h"
 #include "mesh/mesh.h"
 #include "mesh/scan_describe.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/open_face.h"
 
-#define BORED_MM3 (20.0 * 20.0 * 10.0 - 6.0 * 6.0 * 10.0)
+#define TUBE_MM3 (2.0 * (30.0 * 30.0 - 10.0 * 10.0) * 10.0)
 
-static void box(sr_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
+static double tube_outer(double theta, size_t ring, void *user)
 {
-    const double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
-    assert_int_equal(sr_shape_box(lo, hi, m, NULL), SR_OK);
+    (void)theta, (void)ring, (void)user;
+    return 30;
+}
+
+static double tube_bore(double theta, size_t ring, void *user)
+{
+    (void)theta;
+    return ((const double *)user)[ring];
 }
 
 /* Removes triangle t of m (the rest keep their order). */
@@ -42,37 +49,29 @@ static void drop_triangle(sr_mesh *m, size_t t)
     m->tri_count--;
 }
 
-/* The first triangle of m lying in the plane x = x0 with two corners at z = 0. */
-static size_t wall_foot(const sr_mesh *m, double x0)
+/* The square tube whose bore's corners lie bore[ring] from the axis at z = 0, 5, 10,
+ * without its base and the foot of one face of its bore. */
+static void tube_scan(const double bore[3], sr_mesh *scan)
 {
-    for (size_t t = 0; t < m->tri_count; t++) {
-        int in = 0, low = 0;
+    const double z[3] = {0, 5, 10};
+    sr_revolve_opts o = {4, 3, z, tube_outer, tube_bore, (void *)bore};
+    assert_int_equal(sr_shape_revolve(&o, scan, NULL), SR_OK);
+    assert_true(test_drop_face_at(scan, 0) > 0);
+    size_t foot = SIZE_MAX; /* a triangle of the bore with two corners at z = 0 */
+    for (size_t t = 0; t < scan->tri_count && foot == SIZE_MAX; t++) {
+        int low = 0, in = 0;
         for (int k = 0; k < 3; k++) {
-            const double *p = m->xyz + 3 * (size_t)m->tri[3 * t + k];
-            in += fabs(p[0] - x0) < 1e-12;
+            const double *p = scan->xyz + 3 * (size_t)scan->tri[3 * t + k];
             low += fabs(p[2]) < 1e-12;
+            in += fabs(p[0]) + fabs(p[1]) < 20;
         }
-        if (in == 3 && low == 2)
-            return t;
+        foot = low == 2 && in == 3 ? t : foot;
     }
-    fail_msg("no triangle of the wall x = %g along z = 0", x0);
-    return 0;
+    assert_true(foot != SIZE_MAX);
+    drop_triangle(scan, foot);
 }
 
-/* The bored block without its base, the foot of the bore's wall x = 7 taken out. */
-static void bored_scan(sr_mesh *scan)
-{
-    sr_mesh block, bore;
-    box(&block, 0, 0, 0, 20, 20, 10);
-    box(&bore, 7, 7, -1, 13, 13, 11);
-    sr_err err = {{0}};
-    assert_int_equal(sr_boolean_difference(&block, &bore, scan, &err), SR_OK);
-    assert_near(sr_mesh_volume(scan), BORED_MM3, 1e-6);
-    assert_true(test_drop_face_at(scan, 0) > 0);
-    drop_triangle(scan, wall_foot(scan, 7));
-    sr_mesh_release(&block);
-    sr_mesh_release(&bore);
-}
+static const double STRAIGHT[3] = {10, 10, 10}, SLOPING[3] = {16, 9, 2};
 
 static bool closed_manifold(const sr_mesh *m)
 {
@@ -85,7 +84,7 @@ static void the_foot_of_a_bore_wall_is_hung_back(void **state)
 {
     (void)state;
     sr_mesh scan;
-    bored_scan(&scan);
+    tube_scan(STRAIGHT, &scan);
     size_t nt = scan.tri_count, nv = scan.vertex_count;
     sr_scan_desc d;
     assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
@@ -110,7 +109,7 @@ static void the_bore_stays_open_when_the_scan_is_closed(void **state)
 {
     (void)state;
     sr_mesh scan;
-    bored_scan(&scan);
+    tube_scan(STRAIGHT, &scan);
     sr_scan_desc d;
     sr_scan_closing *how = NULL;
     size_t peeled = SIZE_MAX;
@@ -120,7 +119,7 @@ static void the_bore_stays_open_when_the_scan_is_closed(void **state)
     for (size_t i = 0; i < d.loop_count; i++)
         assert_int_equal(how[i], SR_SCAN_IN_PLANE); /* a face with a hole, not a fan */
     assert_true(closed_manifold(&scan));
-    assert_near(sr_mesh_volume(&scan), BORED_MM3, 1e-6);
+    assert_near(sr_mesh_volume(&scan), TUBE_MM3, 1e-6);
     free(how);
     sr_scan_desc_release(&d);
     sr_mesh_release(&scan);
@@ -133,7 +132,7 @@ static void a_rim_leaving_its_plane_both_ways_is_not_hung(void **state)
 {
     (void)state;
     sr_mesh scan;
-    bored_scan(&scan);
+    tube_scan(STRAIGHT, &scan);
     sr_scan_desc d;
     assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
     const sr_scan_loop *mouth = d.loops[0].span_mm < d.loops[1].span_mm ? &d.loops[0] : &d.loops[1];
@@ -155,12 +154,29 @@ static void a_rim_leaving_its_plane_both_ways_is_not_hung(void **state)
     sr_mesh_release(&scan);
 }
 
+static void an_excursion_up_a_sloping_face_is_not_hung(void **state)
+{
+    (void)state;
+    sr_mesh scan;
+    tube_scan(SLOPING, &scan);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, 2);
+    size_t nt = scan.tri_count, hung = SIZE_MAX;
+    assert_int_equal(sr_scan_hang_curtains(&scan, &d, &hung, NULL), SR_OK);
+    assert_int_equal(hung, 0);
+    assert_int_equal(scan.tri_count, nt);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&scan);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_foot_of_a_bore_wall_is_hung_back),
         cmocka_unit_test(the_bore_stays_open_when_the_scan_is_closed),
         cmocka_unit_test(a_rim_leaving_its_plane_both_ways_is_not_hung),
+        cmocka_unit_test(an_excursion_up_a_sloping_face_is_not_hung),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

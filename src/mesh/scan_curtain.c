@@ -30,6 +30,14 @@
  * perimeter (a sliver is a wall's hole seen edge on, not a mouth in the face) */
 #define CURTAIN_MIN_ROUNDNESS 0.05
 
+/* An excursion runs up a wall standing on the plane when at WALL_SHARE of its vertices
+ * the scan faces within 30 degrees of sideways to it (cosine with the plane's normal at
+ * most WALL_COS): a bore's, a bolt hole's, a tooth's flank (a slit up a bore that runs
+ * round its top edge too still does). A hole in a countersink beside the face slopes
+ * at 45 degrees: hung, its projection was a lid across the cone, 1.2 mm off the part. */
+#define WALL_COS 0.5
+#define WALL_SHARE 0.75
+
 static double height(const double *p, const double c[3], const double n[3])
 {
     return (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
@@ -153,9 +161,13 @@ static void simplify(const double *q, size_t lo, size_t hi, double tol, bool *ke
  * (a wall's side projects to one point, back and forth with the noise), are the new
  * rim, and each edge of the excursion is fanned to the kept projection before it, each
  * step of the new rim to the excursion's vertex above it. The rim walks a -> b as the
- * scan's triangle on that edge does; the strip walks b -> a. */
+ * scan's triangle on that edge does; the strip walks b -> a. dry: nothing is added,
+ * *walls counts the excursion's vertices (between its feet) where the scan faces
+ * sideways to the plane, *steps all of them (vn: the scan's area normals summed at the
+ * rims' vertices, slot: each vertex's place in vn). */
 static bool hang_one(const sr_mesh *mesh, const uint32_t *w, size_t n, const double c[3],
-                     const double n3[3], size_t base_v, added *a)
+                     const double n3[3], size_t base_v, bool dry, const double *vn,
+                     const uint32_t *slot, size_t *walls, size_t *steps, added *a)
 {
     double *q = malloc(3 * n * sizeof *q);
     bool *keep = calloc(n, sizeof *keep);
@@ -192,13 +204,19 @@ static bool hang_one(const sr_mesh *mesh, const uint32_t *w, size_t n, const dou
         qid[0] = w[0];
         qid[n - 1] = w[n - 1];
     }
-    for (size_t i = 1; ok && i + 1 < n; i++)
+    for (size_t i = 1; ok && dry && i + 1 < n; i++) {
+        const double *v = vn + 3 * (size_t)slot[w[i]];
+        double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        (*steps)++;
+        *walls += len > 0 && fabs(v[0] * n3[0] + v[1] * n3[1] + v[2] * n3[2]) <= WALL_COS * len;
+    }
+    for (size_t i = 1; ok && !dry && i + 1 < n; i++)
         if (keep[i]) {
             qid[i] = (uint32_t)(base_v + a->nv);
             ok = add_vertex(a, q + 3 * i);
         }
     size_t j = 0; /* the kept projection the current edge fans to */
-    for (size_t i = 0; ok && i + 1 < n; i++) {
+    for (size_t i = 0; ok && !dry && i + 1 < n; i++) {
         if (qid[j] != w[i]) /* not the rim vertex itself (the excursion's first) */
             ok = add_tri(a, w[i + 1], w[i], qid[j]);
         if (ok && keep[i + 1]) { /* the new rim steps on under w[i + 1] */
@@ -214,28 +232,33 @@ static bool hang_one(const sr_mesh *mesh, const uint32_t *w, size_t n, const dou
 }
 
 /* Hangs loop l's excursions off the plane (c, n) down to it (vertices of the mesh from
- * base_v on are the added ones). */
-static bool hang(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
-                 const double c[3], const double n[3], size_t base_v, uint32_t *w, added *a)
+ * base_v on are the added ones) when they ran up walls standing on it: WALL_SHARE of
+ * their vertices where the scan faces sideways. 1 hung, 0 not, -1 out of memory. */
+static int hang(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
+                const double c[3], const double n[3], size_t base_v, const double *vn,
+                const uint32_t *slot, uint32_t *w, added *a)
 {
     const uint32_t *lv = d->loop_verts + l->first;
     size_t m = l->edges, s0 = 0;
     while (s0 < m && fabs(height(mesh->xyz + 3 * (size_t)lv[s0], c, n)) > SR_SCAN_PLANE_MAX_MM)
         s0++;
-    for (size_t k = 0; k < m;) { /* k: steps from s0; lv[s0 + k] on the plane */
-        size_t j = k + 1;
-        while (j < m &&
-               fabs(height(mesh->xyz + 3 * (size_t)lv[(s0 + j) % m], c, n)) > SR_SCAN_PLANE_MAX_MM)
-            j++;
-        if (j > k + 1) { /* lv[s0 + k .. s0 + j]: off the plane between (j = m: back at s0) */
-            for (size_t i = k; i <= j; i++)
-                w[i - k] = lv[(s0 + i) % m];
-            if (!hang_one(mesh, w, j - k + 1, c, n, base_v, a))
-                return false;
+    bool wall = true;
+    size_t walls = 0, steps = 0;
+    for (int dry = 1; dry >= 0 && wall; dry--, wall = walls >= WALL_SHARE * (double)steps)
+        for (size_t k = 0; k < m;) { /* k: steps from s0; lv[s0 + k] on the plane */
+            size_t j = k + 1;
+            while (j < m && fabs(height(mesh->xyz + 3 * (size_t)lv[(s0 + j) % m], c, n)) >
+                                SR_SCAN_PLANE_MAX_MM)
+                j++;
+            if (j > k + 1) { /* lv[s0 + k .. s0 + j]: off the plane between (j = m: back at s0) */
+                for (size_t i = k; i <= j; i++)
+                    w[i - k] = lv[(s0 + i) % m];
+                if (!hang_one(mesh, w, j - k + 1, c, n, base_v, dry, vn, slot, &walls, &steps, a))
+                    return -1;
+            }
+            k = j;
         }
-        k = j;
-    }
-    return true;
+    return wall && steps > 0 ? 1 : 0;
 }
 
 sr_status sr_scan_hang_curtains(sr_mesh *mesh, const sr_scan_desc *d, size_t *hung, sr_err *err)
@@ -248,9 +271,32 @@ sr_status sr_scan_hang_curtains(sr_mesh *mesh, const sr_scan_desc *d, size_t *hu
     uint32_t *scratch = malloc((maxe + 2) * sizeof *scratch);
     added a = {0};
     sr_status st = SR_OK;
-    if (!planes || !scratch) {
+    /* the scan's area normals summed at the rims' vertices */
+    uint32_t *slot = malloc((mesh->vertex_count + 1) * sizeof *slot);
+    double *vn = calloc(3 * (d->boundary_edges + 1), sizeof *vn);
+    if (!planes || !scratch || !slot || !vn) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory hanging the scan's lost walls");
         goto out;
+    }
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        slot[v] = UINT32_MAX;
+    size_t ns = 0;
+    for (size_t i = 0; i < nl; i++)
+        for (size_t e = 0; e < d->loops[i].edges; e++) {
+            uint32_t v = d->loop_verts[d->loops[i].first + e];
+            if (slot[v] == UINT32_MAX && ns < d->boundary_edges)
+                slot[v] = (uint32_t)ns++;
+        }
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        const uint32_t *tv = mesh->tri + 3 * t;
+        if (slot[tv[0]] == UINT32_MAX && slot[tv[1]] == UINT32_MAX && slot[tv[2]] == UINT32_MAX)
+            continue;
+        double nt[3];
+        sr_mesh_tri_normal(mesh, t, nt);
+        for (int k = 0; k < 3; k++)
+            if (slot[tv[k]] != UINT32_MAX)
+                for (int j = 0; j < 3; j++)
+                    vn[3 * (size_t)slot[tv[k]] + j] += nt[j];
     }
     for (size_t i = 0; i < nl; i++) { /* the planes of the planar rims */
         const sr_scan_loop *l = &d->loops[i];
@@ -279,11 +325,12 @@ sr_status sr_scan_hang_curtains(sr_mesh *mesh, const sr_scan_desc *d, size_t *hu
         }
         if (best == 0)
             continue;
-        if (!hang(mesh, d, l, planes[pick], planes[pick] + 3, base_v, scratch, &a)) {
+        int h = hang(mesh, d, l, planes[pick], planes[pick] + 3, base_v, vn, slot, scratch, &a);
+        if (h < 0) {
             st = sr_err_set(err, SR_E_NOMEM, "out of memory hanging the scan's lost walls");
             goto out;
         }
-        (*hung)++;
+        *hung += (size_t)h;
     }
     if (a.nt == 0)
         goto out;
@@ -313,6 +360,8 @@ sr_status sr_scan_hang_curtains(sr_mesh *mesh, const sr_scan_desc *d, size_t *hu
 out:
     free(planes);
     free(scratch);
+    free(slot);
+    free(vn);
     free(a.xyz);
     free(a.tri);
     return st;
