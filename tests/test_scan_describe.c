@@ -365,6 +365,60 @@ static void a_stray_triangle_off_the_box_is_dropped(void **state)
     sr_mesh_release(&m);
 }
 
+/* The distance from the vertices of m's triangle t to m's first nt triangles, by brute
+ * force. */
+static double brute_distance(const sr_mesh *m, size_t nt, size_t t)
+{
+    double best = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        const double *p = m->xyz + 3 * (size_t)m->tri[3 * t + k];
+        for (size_t u = 0; u < nt; u++) {
+            double q[3];
+            sr_tri_closest_point(p, m->xyz + 3 * (size_t)m->tri[3 * u],
+                                 m->xyz + 3 * (size_t)m->tri[3 * u + 1],
+                                 m->xyz + 3 * (size_t)m->tri[3 * u + 2], q);
+            double d = sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                            (p[2] - q[2]) * (p[2] - q[2]));
+            best = d < best ? d : best;
+        }
+    }
+    return best;
+}
+
+/* Strays over a dense surface (a 512-sided cylinder r 10, z 0..100: 2048 triangles on
+ * the grid the distances are looked up in) are measured to the nearest triangle however
+ * many cells away it lies, as brute force measures them: one 15 mm out from a wall, one
+ * on the axis inside (about 10 mm from the wall), one 40 mm past the top (off the
+ * grid). */
+static void strays_over_a_dense_surface_are_measured_to_the_nearest_triangle(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    assert_int_equal(sr_shape_cylinder(10, 0, 100, 512, &m, NULL), SR_OK);
+    size_t nt = m.tri_count;
+    const double at[3][3] = {{25, 0, 50}, {0, 0, 50}, {0, 0, 140}};
+    double want[3];
+    for (int k = 0; k < 3; k++) {
+        const double *p = at[k];
+        const double b[3] = {p[0] + 0.1, p[1], p[2]}, c[3] = {p[0], p[1] + 0.1, p[2]};
+        add_triangle(&m, p, b, c);
+        want[k] = brute_distance(&m, nt, nt + (size_t)k);
+    }
+    assert_true(want[0] > 14.9 && want[1] > 9.8 && want[1] < 10 && want[2] > 39.9);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.component_count, 4);
+    assert_int_equal(d.strays, 3);
+    for (int k = 0; k < 3; k++) { /* the ranks tie by area: found by distance */
+        bool found = false;
+        for (size_t c = 1; c < 4; c++)
+            found = found || fabs(d.components[c].distance_mm - want[k]) <= 1e-12;
+        assert_true(found);
+    }
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
 static void a_small_piece_on_the_surface_or_a_large_one_is_kept(void **state)
 {
     (void)state;
@@ -429,6 +483,7 @@ int main(void)
         cmocka_unit_test(two_pyramids_touching_at_a_corner_close_without_a_pinch),
         cmocka_unit_test(an_island_left_in_the_base_is_dropped_not_filled_round),
         cmocka_unit_test(a_stray_triangle_off_the_box_is_dropped),
+        cmocka_unit_test(strays_over_a_dense_surface_are_measured_to_the_nearest_triangle),
         cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),
         cmocka_unit_test(bad_options_are_refused),
     };
