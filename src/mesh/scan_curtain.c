@@ -353,7 +353,8 @@ sr_status sr_scan_hang_curtains(sr_mesh *mesh, const sr_scan_desc *d, size_t *hu
         goto out;
     }
     mesh->tri = tri;
-    memcpy(xyz + 3 * base_v, a.xyz, 3 * a.nv * sizeof *xyz);
+    if (a.nv > 0) /* a wall's foot over the rim's own corners adds no vertex */
+        memcpy(xyz + 3 * base_v, a.xyz, 3 * a.nv * sizeof *xyz);
     memcpy(tri + 3 * mesh->tri_count, a.tri, 3 * a.nt * sizeof *tri);
     mesh->vertex_count = base_v + a.nv;
     mesh->tri_count += a.nt;
