@@ -125,6 +125,22 @@ static void the_bore_stays_open_when_the_scan_is_closed(void **state)
     sr_mesh_release(&scan);
 }
 
+/* Describes scan (two loops) and checks that no loop of it is hung: the mesh unchanged;
+ * releases scan. */
+static void assert_nothing_hung(sr_mesh *scan)
+{
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(scan, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, 2);
+    size_t nt = scan->tri_count, nv = scan->vertex_count, hung = SIZE_MAX;
+    assert_int_equal(sr_scan_hang_curtains(scan, &d, &hung, NULL), SR_OK);
+    assert_int_equal(hung, 0);
+    assert_int_equal(scan->tri_count, nt);
+    assert_int_equal(scan->vertex_count, nv);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(scan);
+}
+
 /* A rim that leaves the plane of the other rim both ways is not hung (a corner of the
  * bore's mouth moved 3 mm below the face: the mouth runs up the wall and down under the
  * face, no wall's foot). */
@@ -145,13 +161,7 @@ static void a_rim_leaving_its_plane_both_ways_is_not_hung(void **state)
     assert_true(v != UINT32_MAX);
     scan.xyz[3 * (size_t)v + 2] = -3;
     sr_scan_desc_release(&d);
-    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
-    size_t nt = scan.tri_count, hung = SIZE_MAX;
-    assert_int_equal(sr_scan_hang_curtains(&scan, &d, &hung, NULL), SR_OK);
-    assert_int_equal(hung, 0);
-    assert_int_equal(scan.tri_count, nt);
-    sr_scan_desc_release(&d);
-    sr_mesh_release(&scan);
+    assert_nothing_hung(&scan);
 }
 
 static void an_excursion_up_a_sloping_face_is_not_hung(void **state)
@@ -159,15 +169,7 @@ static void an_excursion_up_a_sloping_face_is_not_hung(void **state)
     (void)state;
     sr_mesh scan;
     tube_scan(SLOPING, &scan);
-    sr_scan_desc d;
-    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
-    assert_int_equal(d.loop_count, 2);
-    size_t nt = scan.tri_count, hung = SIZE_MAX;
-    assert_int_equal(sr_scan_hang_curtains(&scan, &d, &hung, NULL), SR_OK);
-    assert_int_equal(hung, 0);
-    assert_int_equal(scan.tri_count, nt);
-    sr_scan_desc_release(&d);
-    sr_mesh_release(&scan);
+    assert_nothing_hung(&scan);
 }
 
 int main(void)
