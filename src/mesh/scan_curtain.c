@@ -43,14 +43,20 @@ static double height(const double *p, const double c[3], const double n[3])
     return (p[0] - c[0]) * n[0] + (p[1] - c[1]) * n[1] + (p[2] - c[2]) * n[2];
 }
 
-/* Whether loop l walks through a vertex twice. */
+static int u32_cmp(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Whether loop l walks through a vertex twice (its vertices sorted into scratch). */
 static bool walks_twice(const sr_scan_desc *d, const sr_scan_loop *l, uint32_t *scratch)
 {
     memcpy(scratch, d->loop_verts + l->first, l->edges * sizeof *scratch);
-    for (size_t i = 0; i < l->edges; i++)
-        for (size_t j = i + 1; j < l->edges; j++)
-            if (scratch[i] == scratch[j])
-                return true;
+    qsort(scratch, l->edges, sizeof *scratch, u32_cmp);
+    for (size_t i = 1; i < l->edges; i++)
+        if (scratch[i] == scratch[i - 1])
+            return true;
     return false;
 }
 
