@@ -99,6 +99,10 @@ void cli_scan_summary(const sr_scan_desc *d, const sr_run_scan *rec)
         printf("              dropped %zu stray%s (%zu triangles, %.4g mm²: small pieces off the "
                "part's surface)\n",
                d->strays, d->strays == 1 ? "" : "s", d->stray_triangles, d->stray_area_mm2);
+    if (d->sealed_triangles)
+        printf("              sealed: %zu triangles cut out where the closing left edges used "
+               "other than twice, and closed again\n",
+               d->sealed_triangles);
 }
 
 void cli_run_scan_print(const sr_run_scan *s)
@@ -121,6 +125,10 @@ void cli_run_scan_print(const sr_run_scan *s)
     if (s->strays)
         printf("  strays:      %zu dropped (%zu triangles, %.4g mm²)\n", s->strays,
                s->stray_triangles, s->stray_area_mm2);
+    if (s->sealed_triangles)
+        printf("  sealed:      %zu triangles cut out round the closing's defects and closed "
+               "again\n",
+               s->sealed_triangles);
 }
 
 void json_run_scan(json_out *j, const sr_run_scan *s)
@@ -146,6 +154,8 @@ void json_run_scan(json_out *j, const sr_run_scan *s)
     json_int(j, (int64_t)s->stray_triangles);
     json_key(j, "stray_area_mm2");
     json_number(j, s->stray_area_mm2);
+    json_key(j, "sealed_triangles"); /* cut out round the closing's defects, closed again */
+    json_int(j, (int64_t)s->sealed_triangles);
     json_key(j, "gaps");
     json_array_begin(j);
     for (size_t i = 0; i < s->gap_count; i++) {

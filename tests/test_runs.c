@@ -368,7 +368,8 @@ static void run_round_trip_reads_back_every_field(void **state)
 /* An open scan's gaps recorded apart from the sections: a 10 x 20 x 30 box without its
  * top (one gap: 4 edges, 60 mm of rim, 200 mm², centred at (5, 10, 30), closed in its
  * plane) and a stray triangle 20 mm above it, recorded with the sample's two sections
- * and read back; the sample without a scan record reads back none. */
+ * and 7 triangles sealed (sql/012) and read back; the sample without a scan record reads
+ * back none. */
 static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
 {
     fixture *fx = *state;
@@ -399,6 +400,7 @@ static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
     sr_scan_closing how[1];
     assert_int_equal(d.loop_count, 1);
     assert_int_equal(sr_scan_close_openings_how(&box, &d, 0, NULL, how, NULL), SR_OK);
+    d.sealed_triangles = 7; /* as if the closing had been sealed round a defect */
     assert_int_equal(sr_run_scan_from_desc(&d, how, &s.run.scan, NULL), SR_OK);
     int64_t id = add_ok(fx, &s.run);
     sr_run r;
@@ -417,6 +419,7 @@ static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
     assert_int_equal(r.scan->strays, 1);
     assert_int_equal(r.scan->stray_triangles, 1);
     assert_true(r.scan->open_area_mm2 == 200);
+    assert_int_equal(r.scan->sealed_triangles, 7);
     sr_run_release(&r);
     sr_run_scan_free(s.run.scan);
     s.run.scan = NULL;

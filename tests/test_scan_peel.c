@@ -15,8 +15,10 @@
  * nothing is peeled, the closing keeps it. Three more scraps of the face facing out,
  * petals joined at one point of the opening: the fill cannot wind round them (the face
  * is fanned); sr_scan_peel_plane_rims peels all four scraps and the face then closes in
- * its plane, and the closing by sr_scan_close_peeling restores the notch. A box without
- * its top and no fold: closed at once, nothing peeled.
+ * its plane, and the closing by sr_scan_close_peeling restores the notch. A second
+ * scrap joined to the first at a corner, a tent standing on its edges, is peeled too
+ * (growth through corners). A box without its top and no
+ * fold: closed at once, nothing peeled.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -34,6 +36,7 @@
 #include "mesh/shapes.h"
 #include "reconstruct.h"
 #include "support/assert_near.h"
+#include "support/mesh_edit.h"
 #include "support/open_face.h"
 
 #define BLOCK_MM3 (40.0 * 12.0 * 30.0)
@@ -58,20 +61,8 @@ static uint32_t vertex_at(const sr_mesh *m, const double p[3])
 /* Appends the triangle (m's vertex at, a, b): a and b as new vertices. */
 static void add_at(sr_mesh *m, uint32_t at, const double a[3], const double b[3])
 {
-    sr_mesh t;
-    assert_int_equal(sr_mesh_alloc(&t, 2, 0), SR_OK);
-    memcpy(t.xyz, a, 3 * sizeof(double));
-    memcpy(t.xyz + 3, b, 3 * sizeof(double));
-    uint32_t nv = (uint32_t)m->vertex_count;
-    assert_int_equal(sr_mesh_append(m, &t), SR_OK);
-    sr_mesh_release(&t);
-    uint32_t *tri = realloc(m->tri, 3 * (m->tri_count + 1) * sizeof *tri);
-    assert_non_null(tri);
-    m->tri = tri;
-    tri += 3 * m->tri_count++;
-    tri[0] = at;
-    tri[1] = nv;
-    tri[2] = nv + 1;
+    uint32_t va = test_add_vertex(m, a), vb = test_add_vertex(m, b);
+    test_add_triangle(m, at, va, vb);
 }
 
 /* The notched block without the face it stood on; with a triangle at z = 0 from the
@@ -254,6 +245,38 @@ static void scraps_of_the_base_facing_out_are_peeled_when_the_fill_fails(void **
     sr_mesh_release(&scan);
 }
 
+/* A second scrap lying in the face (facing out too) joined to the first only at its
+ * corner a, with no edge on the rim: a tent stands on it (the two close a tetrahedron),
+ * as the lace of a noisy base left such scraps, strips one sliver wide joined at
+ * vertices. No edge of it is ever left on the rim: only growth through corners reaches
+ * it. */
+static void a_scrap_reached_only_through_corners_is_peeled(void **state)
+{
+    (void)state;
+    sr_mesh scan;
+    notched_scan(&scan, false); /* the first scrap: (corner, b, a) */
+    const double pa[3] = {-10, 2, 0}, pr[3] = {-7, 4, 0}, pp[3] = {-6, 1, 0};
+    uint32_t a = vertex_at(&scan, pa);
+    add_at(&scan, a, pr, pp); /* the second scrap (a, r, p), clockwise from above */
+    uint32_t r = (uint32_t)scan.vertex_count - 2, p = r + 1;
+    const double top[3] = {-23.0 / 3, 7.0 / 3, 2}; /* above the second scrap's centroid */
+    uint32_t q = test_add_vertex(&scan, top);      /* the tent's apex */
+    test_add_triangle(&scan, r, a, q);
+    test_add_triangle(&scan, p, r, q);
+    test_add_triangle(&scan, a, p, q);
+    size_t tris = scan.tri_count;
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&scan, NULL, &d, NULL), SR_OK);
+    size_t n = 0;
+    assert_int_equal(sr_scan_peel_plane_rims(&scan, &d, NULL, &n, NULL), SR_OK);
+    assert_int_equal(n, 2); /* both scraps; the tent stands */
+    assert_int_equal(scan.tri_count, tris - 2);
+    for (size_t t = scan.tri_count - 3; t < scan.tri_count; t++) /* the tent, last */
+        assert_true(scan.xyz[3 * scan.tri[3 * t + 2] + 2] == 2);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&scan);
+}
+
 static void an_open_box_without_folds_is_closed_at_once(void **state)
 {
     (void)state;
@@ -271,6 +294,7 @@ int main(void)
         cmocka_unit_test(a_fold_in_the_base_is_peeled_and_the_notch_restored),
         cmocka_unit_test(a_piece_of_the_base_facing_out_is_kept),
         cmocka_unit_test(scraps_of_the_base_facing_out_are_peeled_when_the_fill_fails),
+        cmocka_unit_test(a_scrap_reached_only_through_corners_is_peeled),
         cmocka_unit_test(an_open_box_without_folds_is_closed_at_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -628,45 +628,48 @@ sr_status sr_scan_describe(const sr_mesh *mesh, const sr_scan_opts *opts, sr_sca
 
 #define USED (UINT32_MAX - 1)
 
+sr_status sr_scan_drop_triangles(sr_mesh *mesh, const bool *gone, sr_err *err)
+{
+    uint32_t *map = malloc((mesh->vertex_count + 1) * sizeof *map);
+    if (!map)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory taking triangles out of the scan");
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        map[v] = UINT32_MAX;
+    size_t nt = 0, nv = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++)
+        if (!gone[t]) {
+            for (int k = 0; k < 3; k++)
+                map[mesh->tri[3 * t + k]] = USED; /* numbered below in vertex order */
+            nt++;
+        }
+    for (size_t v = 0; v < mesh->vertex_count; v++)
+        if (map[v] == USED) {
+            map[v] = (uint32_t)nv;
+            memmove(mesh->xyz + 3 * nv++, mesh->xyz + 3 * v, 3 * sizeof *mesh->xyz);
+        }
+    size_t w = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++)
+        if (!gone[t]) {
+            for (int k = 0; k < 3; k++)
+                mesh->tri[3 * w + k] = map[mesh->tri[3 * t + k]];
+            w++;
+        }
+    mesh->vertex_count = nv;
+    mesh->tri_count = nt;
+    free(map);
+    return SR_OK;
+}
+
 sr_status sr_scan_drop_strays(sr_mesh *mesh, const sr_scan_desc *d, sr_err *err)
 {
     if (d->strays == 0)
         return SR_OK;
-    size_t keep_t = 0;
-    for (size_t t = 0; t < mesh->tri_count; t++)
-        keep_t += !is_stray(d, t);
-    uint32_t *map = malloc((mesh->vertex_count ? mesh->vertex_count : 1) * sizeof *map);
-    if (!map)
+    bool *gone = malloc((mesh->tri_count + 1) * sizeof *gone);
+    if (!gone)
         return sr_err_set(err, SR_E_NOMEM, "out of memory dropping the scan's strays");
-    for (size_t v = 0; v < mesh->vertex_count; v++)
-        map[v] = UINT32_MAX;
-    size_t keep_v = 0;
     for (size_t t = 0; t < mesh->tri_count; t++)
-        if (!is_stray(d, t))
-            for (int k = 0; k < 3; k++)
-                if (map[mesh->tri[3 * t + k]] == UINT32_MAX)
-                    map[mesh->tri[3 * t + k]] = USED; /* numbered below in vertex order */
-    for (size_t v = 0; v < mesh->vertex_count; v++)
-        if (map[v] == USED)
-            map[v] = (uint32_t)keep_v++;
-    sr_mesh out;
-    sr_mesh_init(&out);
-    if (sr_mesh_alloc(&out, keep_v, keep_t) != SR_OK) {
-        free(map);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory dropping the scan's strays");
-    }
-    for (size_t v = 0; v < mesh->vertex_count; v++)
-        if (map[v] != UINT32_MAX)
-            memcpy(out.xyz + 3 * (size_t)map[v], mesh->xyz + 3 * v, 3 * sizeof(double));
-    size_t o = 0;
-    for (size_t t = 0; t < mesh->tri_count; t++)
-        if (!is_stray(d, t)) {
-            for (int k = 0; k < 3; k++)
-                out.tri[3 * o + k] = map[mesh->tri[3 * t + k]];
-            o++;
-        }
-    free(map);
-    sr_mesh_release(mesh);
-    *mesh = out;
-    return SR_OK;
+        gone[t] = is_stray(d, t);
+    sr_status st = sr_scan_drop_triangles(mesh, gone, err);
+    free(gone);
+    return st;
 }

@@ -64,6 +64,8 @@ typedef struct sr_scan_desc {
     size_t stray_triangles;
     double stray_area_mm2;
     bool open; /* any boundary edge */
+    size_t sealed_triangles; /* sr_scan_close_peeling: triangles taken out round the
+                              * closing's defects and closed again (sr_scan_seal) */
 } sr_scan_desc;
 
 /* Describes mesh (validated: indices in range). *out is written on success only and owns
@@ -138,9 +140,19 @@ sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan
  * faces within 80 degrees of either way across it (a wall's, sideways, stays): the
  * scraps of the face the part stood on that the scanner kept (tilted past the cut by the
  * noise, joined to the rim and to one another at vertices), which the plane's fill must
- * cover and cannot wind around. */
+ * cover and cannot wind around. Grown from every such triangle with a corner on the
+ * rim through the corners of those peeled, not only across the edges they leave on
+ * the rim. A plane off which more would come than its openings span is left alone. */
 sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                                   size_t *peeled, sr_err *err);
+
+/* Seals a closed scan's last defects: every edge used other than once each way (where
+ * rims the closing could not fill cleanly met) is cut out with the triangles round its
+ * vertices, out to 0, 1, ... 4 rings until the opening so left closes (as
+ * sr_scan_close_openings closes it, strays dropped) with every edge used once each
+ * way. *cut (may be NULL) gets the triangles taken out: 0 when there was no defect or
+ * no attempt sealed it (mesh then unchanged). SR_E_NOMEM. */
+sr_status sr_scan_seal(sr_mesh *mesh, size_t *cut, sr_err *err);
 
 /* A scan made ready for use: described (default options), every opening closed
  * (sr_scan_close_openings_how), strays dropped; when the result is not closed or a loop
@@ -150,7 +162,8 @@ sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr
  * kept when it leaves fewer edges used other than twice (once each way), or as few and
  * every plane filled. Last, when a plane's fill still failed, the scan as it came is
  * peeled of every scrap lying in those planes (sr_scan_peel_plane_rims), kept when then
- * every plane fills, no more edges are left bad and fewer rim edges are fanned. *out
+ * every plane fills, no more edges are left bad and fewer rim edges are fanned. What
+ * is kept, when edges are still left bad, is sealed (sr_scan_seal; out->sealed_triangles). *out
  * gets the description of the mesh kept (its strays dropped, its loops those closed),
  * *how its loops' closings (malloc'ed, out->loop_count entries), *peeled (may be NULL)
  * the triangles peeled off (0 when the first closing was kept). On error mesh may be

@@ -2,7 +2,8 @@
  * scan_int.h: private to the scan files of src/mesh. scan_plane.c owns the planes of a
  * scan's openings: whether a loop's rim lies in a plane, and the group of loops closed
  * in one plane together (used by scan_close.c, which closes them, and by scan_peel.c,
- * which first peels the folds of the scan lying in them). Pure C on plain arrays.
+ * which first peels the folds of the scan lying in them); scan_describe.c owns taking
+ * triangles out of a scan. Pure C on plain arrays.
  */
 #ifndef SR_SCAN_INT_H
 #define SR_SCAN_INT_H
@@ -39,5 +40,9 @@ bool sr_scan_loop_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_
 size_t sr_scan_plane_group(const sr_mesh *mesh, const sr_scan_desc *d, size_t i,
                            const sr_scan_closing *done, double max_span_mm2, size_t *group,
                            double c[3], double n[3]);
+
+/* Removes the triangles gone[] (one flag per triangle) from mesh, and the vertices only
+ * they used; the rest keep their order (scan_describe.c). SR_E_NOMEM: mesh unchanged. */
+sr_status sr_scan_drop_triangles(sr_mesh *mesh, const bool *gone, sr_err *err);
 
 #endif

@@ -107,6 +107,10 @@ static bool group_plane(const sr_mesh *mesh, const sr_scan_desc *d, const size_t
 typedef struct facing_rule {
     double below, flat;
     bool capped;
+    bool by_vertex; /* grown through corners, not only across edges left on the rim: the
+                     * scraps are joined to the rim and to one another at vertices, and a
+                     * strip of them one sliver wide was seen left between two peeled
+                     * ones, walked out and back by the rim, its fill then failing */
 } facing_rule;
 
 /* 1 + the plane of pl that triangle t lies in facing as rule peels; 0: none. */
@@ -131,39 +135,6 @@ static uint32_t folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np
     return 0;
 }
 
-/* Removes the triangles gone[] from mesh and the vertices only they used. */
-static sr_status drop(sr_mesh *mesh, const bool *gone, sr_err *err)
-{
-    uint32_t *map = malloc((mesh->vertex_count + 1) * sizeof *map);
-    if (!map)
-        return sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
-    for (size_t v = 0; v < mesh->vertex_count; v++)
-        map[v] = UINT32_MAX;
-    size_t nt = 0, nv = 0;
-    for (size_t t = 0; t < mesh->tri_count; t++)
-        if (!gone[t]) {
-            for (int k = 0; k < 3; k++)
-                map[mesh->tri[3 * t + k]] = 0;
-            nt++;
-        }
-    for (size_t v = 0; v < mesh->vertex_count; v++)
-        if (map[v] == 0) {
-            map[v] = (uint32_t)nv;
-            memmove(mesh->xyz + 3 * nv++, mesh->xyz + 3 * v, 3 * sizeof *mesh->xyz);
-        }
-    size_t w = 0;
-    for (size_t t = 0; t < mesh->tri_count; t++)
-        if (!gone[t]) {
-            for (int k = 0; k < 3; k++)
-                mesh->tri[3 * w + k] = map[mesh->tri[3 * t + k]];
-            w++;
-        }
-    mesh->vertex_count = nv;
-    mesh->tri_count = nt;
-    free(map);
-    return SR_OK;
-}
-
 /* sr_scan_peel_folds and sr_scan_peel_plane_rims: the triangles lying in a chosen plane
  * and facing as rule peels, peeled from its rim. */
 static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
@@ -182,8 +153,13 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
     bool *gone = calloc(nt + 1, sizeof *gone);
     uint32_t *fold = calloc(nt + 1, sizeof *fold); /* 1 + the plane a triangle peels off */
     bool *rimv = calloc(mesh->vertex_count + 1, sizeof *rimv); /* the chosen groups' rims */
+    bool *queued = calloc(nt + 1, sizeof *queued);
+    size_t nvt = rule.by_vertex ? mesh->vertex_count : 0; /* by_vertex: each vertex's triangles */
+    size_t *vt_first = calloc(nvt + 2, sizeof *vt_first);
+    uint32_t *vt_fill = calloc(nvt + 1, sizeof *vt_fill);
+    uint32_t *vt = malloc(((rule.by_vertex ? 3 * nt : 0) + 1) * sizeof *vt);
     if (!done || !group || !pl || !use || !first || !live || !tri_edge || !queue || !gone ||
-        !fold || !rimv) {
+        !fold || !rimv || !queued || !vt_first || !vt_fill || !vt) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
         goto out;
     }
@@ -240,16 +216,29 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
         if (stray(d, t) || fill[t] < 3)
             continue;
         fold[t] = folded(mesh, t, pl, np, rule);
-        bool rim = false; /* an edge on a chosen group's rim */
+        bool rim = false; /* an edge on a chosen group's rim (by_vertex: a corner) */
         for (int k = 0; k < 3; k++) {
             size_t e = tri_edge[3 * t + k];
             uint64_t key = use[first[e]].key;
-            rim |= live[e] == 1 && rimv[key >> 32] && rimv[key & UINT32_MAX];
+            rim |= rule.by_vertex ? rimv[mesh->tri[3 * t + k]]
+                                  : live[e] == 1 && rimv[key >> 32] && rimv[key & UINT32_MAX];
         }
-        if (fold[t] && rim)
+        if (fold[t] && rim) {
             queue[nq++] = (uint32_t)t;
+            queued[t] = true;
+        }
     }
     free(fill);
+    if (rule.by_vertex) { /* each vertex's triangles */
+        for (size_t t = 0; t < nt; t++)
+            for (int k = 0; k < 3; k++)
+                vt_first[mesh->tri[3 * t + k] + 1]++;
+        for (size_t v = 0; v < mesh->vertex_count; v++)
+            vt_first[v + 1] += vt_first[v];
+        for (size_t t = 0; t < nt; t++)
+            for (int k = 0; k < 3; k++)
+                vt[vt_first[mesh->tri[3 * t + k]] + vt_fill[mesh->tri[3 * t + k]]++] = (uint32_t)t;
+    }
     while (nq > 0) {
         uint32_t t = queue[--nq];
         if (gone[t])
@@ -261,11 +250,19 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
         pl[fold[t] - 1].peeled_mm2 += 0.5 * sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         for (int k = 0; k < 3; k++) {
             size_t e = tri_edge[3 * (size_t)t + k];
-            if (--live[e] != 1)
+            if (--live[e] != 1 || rule.by_vertex)
                 continue;
             for (size_t u = first[e]; u < first[e + 1]; u++) /* its neighbour now on the rim */
                 if (!gone[use[u].t] && fold[use[u].t])
                     queue[nq++] = use[u].t;
+        }
+        for (int k = 0; rule.by_vertex && k < 3; k++) { /* every triangle at its corners */
+            uint32_t v = mesh->tri[3 * (size_t)t + k];
+            for (size_t j = vt_first[v]; j < vt_first[v + 1]; j++)
+                if (!gone[vt[j]] && fold[vt[j]] && !queued[vt[j]]) {
+                    queued[vt[j]] = true;
+                    queue[nq++] = vt[j];
+                }
         }
     }
     for (size_t t = 0; rule.capped && t < nt; t++)
@@ -274,7 +271,7 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
             removed--;
         }
     if (removed > 0)
-        st = drop(mesh, gone, err);
+        st = sr_scan_drop_triangles(mesh, gone, err);
 out:
     if (st == SR_OK && peeled)
         *peeled = removed;
@@ -289,20 +286,25 @@ out:
     free(gone);
     free(fold);
     free(rimv);
+    free(queued);
+    free(vt_first);
+    free(vt_fill);
+    free(vt);
     return st;
 }
 
 sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                              size_t *peeled, sr_err *err)
 {
-    return peel(mesh, d, how, (facing_rule){cos(FACING_DEG * M_PI / 180), 2, false}, peeled, err);
+    return peel(mesh, d, how, (facing_rule){cos(FACING_DEG * M_PI / 180), 2, false, false}, peeled,
+                err);
 }
 
 sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                                   size_t *peeled, sr_err *err)
 {
     return peel(mesh, d, how,
-                (facing_rule){cos(FACING_DEG * M_PI / 180), cos(FLAT_DEG * M_PI / 180), true},
+                (facing_rule){cos(FACING_DEG * M_PI / 180), cos(FLAT_DEG * M_PI / 180), true, true},
                 peeled, err);
 }
 
@@ -495,6 +497,10 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
     }
     sr_mesh_release(&orig);
     free(h0);
+    size_t sealed = 0;
+    if (st == SR_OK && bad.bad_edges > 0)
+        st = sr_scan_seal(mesh, &sealed, err);
+    d.sealed_triangles = sealed;
     if (st != SR_OK) {
         sr_scan_desc_release(&d);
         free(h);
