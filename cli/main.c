@@ -9,9 +9,25 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "cli.h"
 #include "base/version.h"
+
+/* A big scan's pipeline allocates and frees arrays of tens of megabytes many times
+ * over (each copy, description and closing of the scan); glibc maps each afresh and
+ * the kernel zero-fills its pages again: on a 1.86M-triangle open scan a sixth of the
+ * run went to page faults. Kept on the heap and not trimmed, the blocks are reused:
+ * 41.4 s -> 32.5 s wall, peak memory 524 -> 608 MB (measured on that scan). */
+static void keep_big_blocks(void)
+{
+#ifdef __GLIBC__
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#endif
+}
 
 static const char usage[] =
     "usage: symrec [--db FILE] [--read-only] [--quiet] COMMAND [ARGS...]\n"
@@ -134,6 +150,7 @@ static int global_option(cli_ctx *ctx, int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    keep_big_blocks();
     cli_ctx ctx = {0};
     const char *env = getenv("SYMREC_DB");
     ctx.db_path = env && env[0] ? env : CLI_DEFAULT_DB;

@@ -15,6 +15,9 @@
  * corner, without their bases, are closed in the plane, the corner split in two:
  * closed, no pinch, twice 800 / 3 mm^3. A triangle of the base kept inside the
  * opening (an island) is dropped, not filled round: the box closed, 6000 mm^3.
+ * sr_scan_sort_edges (scan_int.h): 5000 edge records of 40 vertices in a scrambled
+ * order come out as a comparison sort by key then input order puts them; none or one
+ * record is left as it is.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -27,6 +30,7 @@
 
 #include "mesh/mesh.h"
 #include "mesh/scan_describe.h"
+#include "mesh/scan_int.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/open_face.h"
@@ -473,6 +477,47 @@ static void bad_options_are_refused(void **state)
     sr_mesh_release(&m);
 }
 
+typedef struct keyed {
+    uint64_t key; /* lo << 32 | hi */
+    uint32_t seq; /* the input order */
+} keyed;
+
+static int by_key_then_seq(const void *pa, const void *pb)
+{
+    const keyed *a = pa, *b = pb;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return (a->seq > b->seq) - (a->seq < b->seq);
+}
+
+static void edges_sort_by_key_keeping_the_order_of_equal_ones(void **state)
+{
+    (void)state;
+    enum { N = 5000, NV = 40 };
+    keyed *r = malloc(N * sizeof *r), *want = malloc(N * sizeof *want);
+    assert_non_null(r);
+    assert_non_null(want);
+    uint32_t x = 12345; /* a fixed scramble: many keys repeat (40 * 39 / 2 pairs) */
+    for (uint32_t i = 0; i < N; i++) {
+        x = x * 1103515245u + 12345u;
+        uint64_t a = (x >> 8) % NV, b = (x >> 20) % NV;
+        r[i] = (keyed){a < b ? a << 32 | b : b << 32 | a, i};
+    }
+    memcpy(want, r, N * sizeof *r);
+    qsort(want, N, sizeof *want, by_key_then_seq);
+    assert_int_equal(sr_scan_sort_edges(r, N, sizeof *r, NV), SR_OK);
+    for (size_t i = 0; i < N; i++) {
+        assert_true(r[i].key == want[i].key);
+        assert_int_equal(r[i].seq, want[i].seq);
+    }
+    keyed one = {7ull << 32 | 9, 3};
+    assert_int_equal(sr_scan_sort_edges(&one, 1, sizeof one, 10), SR_OK);
+    assert_true(one.key == (7ull << 32 | 9) && one.seq == 3);
+    assert_int_equal(sr_scan_sort_edges(NULL, 0, sizeof one, 10), SR_OK);
+    free(r);
+    free(want);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -486,6 +531,7 @@ int main(void)
         cmocka_unit_test(strays_over_a_dense_surface_are_measured_to_the_nearest_triangle),
         cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),
         cmocka_unit_test(bad_options_are_refused),
+        cmocka_unit_test(edges_sort_by_key_keeping_the_order_of_equal_ones),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

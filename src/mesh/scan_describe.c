@@ -19,17 +19,49 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh/scan_int.h"
+
 typedef struct edge_rec {
-    uint32_t lo, hi;   /* vertex pair, lo < hi */
+    uint64_t key;      /* its vertex pair lo << 32 | hi, lo < hi */
     uint32_t from, to; /* as its triangle walks it */
 } edge_rec;
 
-static int edge_cmp(const void *pa, const void *pb)
+/* One counting pass of sr_scan_sort_edges: recs into tmp by the 32 bits of the key at
+ * shift, stable; count has nv + 1 slots. */
+static void count_pass(const unsigned char *recs, unsigned char *tmp, size_t n, size_t size,
+                       size_t nv, int shift, size_t *count)
 {
-    const edge_rec *a = pa, *b = pb;
-    if (a->lo != b->lo)
-        return a->lo < b->lo ? -1 : 1;
-    return (a->hi > b->hi) - (a->hi < b->hi);
+    memset(count, 0, (nv + 1) * sizeof *count);
+    for (size_t i = 0; i < n; i++) {
+        uint64_t key;
+        memcpy(&key, recs + i * size, sizeof key);
+        count[((key >> shift) & UINT32_MAX) + 1]++;
+    }
+    for (size_t v = 0; v < nv; v++)
+        count[v + 1] += count[v];
+    for (size_t i = 0; i < n; i++) {
+        uint64_t key;
+        memcpy(&key, recs + i * size, sizeof key);
+        memcpy(tmp + count[(key >> shift) & UINT32_MAX]++ * size, recs + i * size, size);
+    }
+}
+
+sr_status sr_scan_sort_edges(void *recs, size_t n, size_t size, size_t nv)
+{
+    if (n < 2)
+        return SR_OK;
+    unsigned char *tmp = malloc(n * size);
+    size_t *count = malloc((nv + 1) * sizeof *count);
+    if (!tmp || !count) {
+        free(tmp);
+        free(count);
+        return SR_E_NOMEM;
+    }
+    count_pass(recs, tmp, n, size, nv, 0, count);  /* by hi */
+    count_pass(tmp, recs, n, size, nv, 32, count); /* by lo, hi's order kept */
+    free(tmp);
+    free(count);
+    return SR_OK;
 }
 
 static uint32_t uf_find(uint32_t *parent, uint32_t x)
@@ -71,14 +103,17 @@ static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out,
     for (size_t t = 0; t < m->tri_count; t++)
         if (!is_stray(d, t))
             for (int k = 0; k < 3; k++) {
-                uint32_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
-                e[n++] = (edge_rec){a < b ? a : b, a < b ? b : a, a, b};
+                uint64_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
+                e[n++] = (edge_rec){a < b ? a << 32 | b : b << 32 | a, (uint32_t)a, (uint32_t)b};
             }
-    qsort(e, n, sizeof *e, edge_cmp);
+    if (sr_scan_sort_edges(e, n, sizeof *e, m->vertex_count) != SR_OK) {
+        free(e);
+        return SR_E_NOMEM;
+    }
     size_t nb = 0;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
-        while (j < n && e[j].lo == e[i].lo && e[j].hi == e[i].hi)
+        while (j < n && e[j].key == e[i].key)
             j++;
         if (j - i == 1)
             e[nb++] = e[i]; /* compacted in place: nb <= i */

@@ -56,14 +56,6 @@ typedef struct edge_use {
     uint32_t t;   /* triangle */
 } edge_use;
 
-static int use_cmp(const void *pa, const void *pb)
-{
-    const edge_use *a = pa, *b = pb;
-    if (a->key != b->key)
-        return a->key < b->key ? -1 : 1;
-    return (a->t > b->t) - (a->t < b->t);
-}
-
 static bool stray(const sr_scan_desc *d, size_t t)
 {
     return t < d->triangles && d->components[d->tri_component[t]].stray;
@@ -190,7 +182,11 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
                 uint64_t a = mesh->tri[3 * t + k], b = mesh->tri[3 * t + (k + 1) % 3];
                 use[nu++] = (edge_use){a < b ? a << 32 | b : b << 32 | a, (uint32_t)t};
             }
-    qsort(use, nu, sizeof *use, use_cmp);
+    st = sr_scan_sort_edges(use, nu, sizeof *use, mesh->vertex_count); /* by key, then t */
+    if (st != SR_OK) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
+        goto out;
+    }
     size_t ne = 0;
     for (size_t u = 0; u < nu; u++) {
         if (u == 0 || use[u].key != use[u - 1].key) {
@@ -454,23 +450,26 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
      * fills, no more edges are left bad and fewer rim edges are fanned (peeled up its
      * walls, a rail's whole base was fanned, closer to manifold, and the rail read as
      * not fitting its glide: s1123581p03) */
+    sr_scan_desc d0 = {0};
+    bool described = false;
     for (int pass = 0; st == SR_OK && (bad.bad_edges > 0 || bad.plane_fans > 0) && pass < 3;
          pass++) {
         if (pass == 2 && !plane_failed)
             break; /* no plane failed at first: the rim peel has nothing to peel */
         sr_mesh m = {0};
-        sr_scan_desc d0 = {0}, d2 = {0};
+        sr_scan_desc d2 = {0};
         sr_scan_closing *h2 = NULL;
         size_t n = 0;
         closing_cost bad2 = {0, 0, 0};
-        st = sr_mesh_copy(&m, &orig);
+        if (!described) /* the scan as it came, described once for every pass */
+            st = sr_scan_describe(&orig, NULL, &d0, err);
+        described = st == SR_OK;
         if (st == SR_OK)
-            st = sr_scan_describe(&m, NULL, &d0, err);
+            st = sr_mesh_copy(&m, &orig);
         if (st == SR_OK)
             st = pass == 2   ? sr_scan_peel_plane_rims(&m, &d0, h0, &n, err)
                  : pass == 1 ? sr_scan_peel_folds(&m, &d0, NULL, &n, err)
                              : sr_scan_peel_folds(&m, &d0, h0, &n, err);
-        sr_scan_desc_release(&d0);
         if (st == SR_OK && n > 0)
             st = close_once(&m, &d2, &h2, &bad2, err);
         bool better = pass < 2 ? bad2.bad_edges < bad.bad_edges ||
@@ -495,6 +494,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
         sr_scan_desc_release(&d2);
         free(h2);
     }
+    sr_scan_desc_release(&d0);
     sr_mesh_release(&orig);
     free(h0);
     size_t sealed = 0;

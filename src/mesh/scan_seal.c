@@ -21,12 +21,6 @@
  * vertices' triangles) up to this many. */
 #define SEAL_MAX_RINGS 4
 
-static int key_cmp(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* How many times the directed edge a -> b is used, in the sorted keys[0..n). */
 static size_t uses(const uint64_t *keys, size_t n, uint64_t a, uint64_t b)
 {
@@ -56,7 +50,10 @@ static size_t mark_defects(const sr_mesh *mesh, bool *bad)
     for (size_t t = 0; t < mesh->tri_count; t++)
         for (int k = 0; k < 3; k++)
             keys[3 * t + k] = (uint64_t)mesh->tri[3 * t + k] << 32 | mesh->tri[3 * t + (k + 1) % 3];
-    qsort(keys, n, sizeof *keys, key_cmp);
+    if (sr_scan_sort_edges(keys, n, sizeof *keys, mesh->vertex_count) != SR_OK) {
+        free(keys);
+        return SIZE_MAX;
+    }
     size_t count = 0;
     for (size_t i = 0; i < n; i++) {
         uint64_t a = keys[i] >> 32, b = keys[i] & UINT32_MAX;
