@@ -137,9 +137,15 @@ static int misfit_axial(const sr_recon_result *r)
 /* Below this fit score the symmetry kind probably does not suit the part. */
 #define POOR_FIT_SCORE 0.5
 
+/* The input's own steps, before the method's phases: reading the mesh (file or
+ * catalogue) and describing and closing it as a scan (cli_scan_input), seconds. */
+typedef struct input_time {
+    double read_s, scan_s;
+} input_time;
+
 static void print_human(const sr_recon_result *r, const sr_run *run, const char *source,
                         const sr_params *p, int64_t run_id, const char *why_no_nominal,
-                        const sr_scan_desc *scan)
+                        const sr_scan_desc *scan, input_time in)
 {
     const sr_alignment *a = &r->alignment;
     printf("reconstruction of %s\n", cli_tx(source));
@@ -227,7 +233,8 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
     for (size_t i = 0, shown = 0; i + 1 < np; i++)
         if (sec[i] >= 0.0005 || i < 2) /* align and slice always; the rest where they ran */
             printf("%s%s %.3f", shown++ ? ", " : "", phase[i], sec[i]);
-    printf(")\n");
+    printf(")\n  input: read %.3f s, described and closed as a scan %.3f s (before the above)\n",
+           in.read_s, in.scan_s);
     cli_nominal_print(run->nominal, why_no_nominal);
     cli_run_advice_print(run);
     if (run_id > 0)
@@ -236,7 +243,7 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
 
 static int print_json(const sr_recon_result *r, const sr_run *run, const char *mesh_file,
                       int64_t instance_id, const char *source, const sr_symmetry *sym,
-                      const sr_params *p, int64_t run_id, const sr_scan_desc *scan)
+                      const sr_params *p, int64_t run_id, const sr_scan_desc *scan, input_time in)
 {
     json_out j;
     json_init(&j, stdout);
@@ -444,6 +451,10 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
         json_key(&j, key);
         json_number(&j, sec[i]);
     }
+    json_key(&j, "read_s"); /* the input's steps, before the method: not in total_s */
+    json_number(&j, in.read_s);
+    json_key(&j, "scan_s");
+    json_number(&j, in.scan_s);
     json_object_end(&j);
     json_object_end(&j);
     return json_finish(&j);
@@ -664,6 +675,8 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
             return CLI_FAIL;
         st = sr_catalog_params_get(cat, params_name ? params_name : "default", &params, &err);
     }
+    input_time in = {0, 0};
+    double t_in = cli_now_s();
     if (st == SR_OK && mesh_file) {
         st = cli_mesh_read(mesh_file, unit, &scan, NULL, &err);
         snprintf(source, sizeof source, "'%s'", mesh_file);
@@ -688,8 +701,11 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_scan_desc scan_desc; /* the input read as a scan; its strays dropped from scan */
     memset(&scan_desc, 0, sizeof scan_desc);
     sr_run_scan *scan_rec = NULL; /* its gaps for the run record (the run's once described) */
+    in.read_s = cli_now_s() - t_in;
+    t_in = cli_now_s();
     if (st == SR_OK)
         st = cli_scan_input(&scan, &scan_desc, &scan_rec, &err);
+    in.scan_s = cli_now_s() - t_in;
     if (st != SR_OK) {
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -782,9 +798,9 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if (rc == CLI_OK) {
         if (json)
             rc = print_json(&r, &run, mesh_file, id, source, &ro.symmetry, &params, run_id,
-                            &scan_desc);
+                            &scan_desc, in);
         else
-            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc);
+            print_human(&r, &run, source, &params, run_id, why_no_nominal, &scan_desc, in);
     }
     free(fit_json);
     sr_run_nominal_free(nominal);

@@ -35,7 +35,7 @@ struct cli_progress {
 static cli_progress *active;
 static pthread_mutex_t active_lock = PTHREAD_MUTEX_INITIALIZER;
 
-static double now_s(void)
+double cli_now_s(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -45,7 +45,7 @@ static double now_s(void)
 /* Draws or prints what is due; p->lock held. */
 static void draw(cli_progress *p)
 {
-    double t = now_s() - p->t0;
+    double t = cli_now_s() - p->t0;
     if (t < p->after || !p->phase[0])
         return;
     if (p->tty) {
@@ -106,7 +106,7 @@ cli_progress *cli_progress_begin(bool quiet, const char *what)
     if (!p)
         return NULL; /* progress is a courtesy: the work goes on without it */
     snprintf(p->what, sizeof p->what, "%s", what);
-    p->t0 = now_s();
+    p->t0 = cli_now_s();
     p->after = 1.0;
     const char *env = getenv("SYMREC_PROGRESS_AFTER");
     if (env && *env) {
@@ -167,7 +167,7 @@ void cli_progress_end(cli_progress *p)
     if (p->tty && p->drawn)
         fputs("\r\033[K", stderr);
     else if (!p->tty && p->printed)
-        fprintf(stderr, "symrec: %s: done in %.1f s\n", p->what, now_s() - p->t0);
+        fprintf(stderr, "symrec: %s: done in %.1f s\n", p->what, cli_now_s() - p->t0);
     fflush(stderr);
     pthread_mutex_destroy(&p->lock);
     pthread_cond_destroy(&p->wake);

@@ -23,6 +23,9 @@
 
 typedef struct cli_progress cli_progress;
 
+/* Seconds on the monotonic clock (for timing a command's own steps). */
+double cli_now_s(void);
+
 /* Starts reporting `what` ("reconstruct"); NULL when quiet (every call below accepts
  * NULL). */
 cli_progress *cli_progress_begin(bool quiet, const char *what);

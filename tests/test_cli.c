@@ -2384,6 +2384,10 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     assert_true(jnum(tm, "align_s") + jnum(tm, "unfold_s") + jnum(tm, "analyse_s") +
                     jnum(tm, "union_s") + jnum(tm, "finish_s") <=
                 jnum(tm, "total_s") + 1e-6);
+    /* the input's own steps, timed apart from the method's: the catalogue's mesh read,
+     * then described as a scan */
+    assert_true(jnum(tm, "read_s") > 0);
+    assert_true(jnum(tm, "scan_s") > 0);
     char ids[32];
     snprintf(ids, sizeof ids, "%ld", id);
 

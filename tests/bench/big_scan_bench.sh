@@ -97,7 +97,8 @@ print(f"  scan: {tri:,} triangles, {g['boundary_edges']} boundary edges in {len(
       f"{g['sealed_triangles']} triangles sealed")
 print(f"  reconstruct: {w:.2f} s wall (scaled target < {target:.1f} s: "
       f"{'met' if w < target else 'MISSED by %.1f s' % (w - target)}); "
-      f"reading and closing the scan {w - t['total_s']:.2f} s, the method {t['total_s']:.2f} s")
+      f"reading {t['read_s']:.2f} s, closing the scan {t['scan_s']:.2f} s, the method "
+      f"{t['total_s']:.2f} s, writing and the rest {w - t['read_s'] - t['scan_s'] - t['total_s']:.2f} s")
 print(f"  peak memory: {k / 1024:.0f} MB = {k * 1024 / 1e6 / mesh_mb:.1f}x the mesh")
 print(f"  sections: {len(r['sections'])}; patch volume {got:.1f} mm3 against {want:.1f} mm3 true "
       f"({100 * (got - want) / want:+.2f} %)")
