@@ -209,6 +209,11 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
         printf("  kept:       %zu recess(es) whose walls all run along the axis's frame "
                "(holes, slots, keyways of the design), not filled\n",
                r->image.features_kept);
+    if (r->method == SR_METHOD_IMAGE && r->image.unbuilt)
+        printf("  not built:  %zu section(s) found missing, about %.1f mm³ by voxels, gave no "
+               "closed patch: not restored and not listed below (the scan may not be closed "
+               "there)\n",
+               r->image.unbuilt, r->image.unbuilt_mm3);
     if (r->section_count == 0) {
         printf("  nothing to repair: no missing section found\n");
     } else {
@@ -300,6 +305,10 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
         json_int(&j, (int64_t)r->image.voxels);
         json_key(&j, "features_kept");
         json_int(&j, (int64_t)r->image.features_kept);
+        json_key(&j, "unbuilt_sections"); /* found by the vote, no patch built: not listed */
+        json_int(&j, (int64_t)r->image.unbuilt);
+        json_key(&j, "unbuilt_mm3");
+        json_number(&j, r->image.unbuilt_mm3);
         json_key(&j, "misfit");
         json_number(&j, r->image.misfit);
         json_key(&j, "poor_fit");
@@ -757,6 +766,10 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     ro.progress = cli_progress_sink(prog);
     st = sr_reconstruct(&scan, &ro, &r, &err);
     cli_progress_end(prog);
+    if (st == SR_OK && r.method == SR_METHOD_IMAGE && r.image.unbuilt) /* even with --json */
+        cli_note("warning: %zu section(s) found missing (about %.1f mm³) gave no closed patch "
+                 "and are not restored: the scan may not be closed there",
+                 r.image.unbuilt, r.image.unbuilt_mm3);
     if (st != SR_OK) {
         free(fit_json);
         cli_outset_abort(&set);

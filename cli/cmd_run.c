@@ -483,6 +483,10 @@ static int print_json(const sr_run *r, bool layers, const sr_inspection_info *in
     for (size_t i = 0; i < r->section_count; i++)
         json_section(j, &r->sections[i]);
     json_array_end(j);
+    json_key(j, "unbuilt_sections"); /* found missing, no closed patch: not restored */
+    json_int(j, (int64_t)r->unbuilt_sections);
+    json_key(j, "unbuilt_mm3");
+    json_number(j, r->unbuilt_mm3);
     json_key(j, "advice");
     json_run_advice(j, r);
     json_key(j, "nominal");
@@ -613,7 +617,13 @@ static bool print_text(const sr_run *r, bool layers, const sr_inspection_info *i
     double missing = 0;
     for (size_t i = 0; i < r->section_count; i++)
         missing += r->sections[i].volume_mm3;
-    if (r->section_count == 0) {
+    if (r->unbuilt_sections)
+        printf("  not built:   %zu section(s) found missing, about %.1f mm³ by voxels, gave no "
+               "closed patch: not restored\n",
+               r->unbuilt_sections, r->unbuilt_mm3);
+    if (r->section_count == 0 && r->unbuilt_sections) {
+        printf("  sections:    none built\n");
+    } else if (r->section_count == 0) {
         printf("  sections:    none (nothing to repair)\n");
     } else {
         printf("  sections:    %zu, missing volume %.1f mm³\n", r->section_count, missing);

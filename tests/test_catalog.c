@@ -657,6 +657,8 @@ static void migration_010_records_how_the_nominal_was_measured(void **state)
     assert_non_null(old.nominal);
     assert_near(old.nominal->nominal_mm3, 100, 0);
     assert_string_equal(old.nominal->method, "");
+    assert_int_equal(old.unbuilt_sections, 0); /* sql/013: none recorded before */
+    assert_true(old.unbuilt_mm3 == 0);
     char how[320];
     sr_run_nominal_method_text(old.nominal, how, sizeof how);
     assert_non_null(strstr(how, "not recorded"));

@@ -2372,6 +2372,8 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     /* the demo scan is clean: nothing crossed, nothing moved */
     assert_int_equal((int)jnum(jget(&rec, "scan_folds"), "crossing_pairs"), 0);
     assert_int_equal((int)jnum(jget(&rec, "scan_folds"), "vertices_moved"), 0);
+    /* every section the vote found was built */
+    assert_int_equal((int)jnum(jget(&rec, "image"), "unbuilt_sections"), 0);
     const jv *secs = jget(&rec, "sections");
     assert_true(secs->count >= 1);
     /* the image method's phases: its vote and clipping inside the analysis, every

@@ -275,6 +275,8 @@ static void run_round_trip_reads_back_every_field(void **state)
     fixture *fx = *state;
     sample s;
     sample_init(&s, fx);
+    s.run.unbuilt_sections = 2; /* sql/013 */
+    s.run.unbuilt_mm3 = 12.5;
     int64_t id = add_ok(fx, &s.run);
     sr_run r;
     sr_err err = {{0}};
@@ -283,6 +285,8 @@ static void run_round_trip_reads_back_every_field(void **state)
                      SR_OK);
     const sr_run *w = &s.run;
     assert_int_equal(r.id, id);
+    assert_int_equal(r.unbuilt_sections, 2);
+    assert_true(r.unbuilt_mm3 == 12.5);
     assert_int_equal(r.instance_id, w->instance_id);
     assert_string_equal(r.part_number, "P-1");
     assert_int_equal(r.symmetry.kind, SR_SYM_AXIAL);
@@ -475,6 +479,8 @@ static void run_failed_record_round_trips_with_nulls(void **state)
     assert_int_equal(r.ok, 0);
     assert_string_equal(r.error, w.error);
     assert_int_equal(r.has_alignment, 0);
+    assert_int_equal(r.unbuilt_sections, 0);
+    assert_true(r.unbuilt_mm3 == 0);
     assert_true(r.fit_quality < 0);
     assert_int_equal(r.symmetry.kind, SR_SYM_GLIDE);
     assert_true(r.symmetry.shift_mm == 12.5);
@@ -511,6 +517,11 @@ static void m_fit(sample *s) { s->run.fit_quality = 1.5; }
 static void m_failed(sample *s) { s->run.ok = 0; }
 static void m_times(sample *s) { snprintf(s->run.finished_at, 32, "2024-02-01T00:00:00Z"); }
 static void m_timings(sample *s) { s->run.timings_json = "{\"align\":"; }
+static void m_unbuilt(sample *s)
+{
+    s->run.unbuilt_sections = 1;
+    s->run.unbuilt_mm3 = NAN;
+}
 static void m_layer_arrays(sample *s) { s->run.damaged_xy = NULL; }
 static void m_layer_z(sample *s) { s->z[1] = NAN; }
 static void m_sec_layers(sample *s) { s->sec[1].layer_first = 5; }
@@ -542,6 +553,7 @@ static const bad_case bad_cases[] = {
     {"failed, no error", m_failed, SR_E_RANGE, "bad error"},
     {"finished first", m_times, SR_E_RANGE, "bad finished_at"},
     {"bad timings", m_timings, SR_E_RANGE, "bad timings_json: not valid JSON"},
+    {"unbuilt volume", m_unbuilt, SR_E_RANGE, "bad unbuilt_mm3"},
     {"layer array", m_layer_arrays, SR_E_RANGE, "bad layers"},
     {"layer z NaN", m_layer_z, SR_E_RANGE, "bad layer_z of layer 1"},
     {"section layers", m_sec_layers, SR_E_RANGE, "bad section 1: layer_last 1 < layer_first 5"},
@@ -884,11 +896,16 @@ static void run_from_result_lays_out_outlines_sections_and_timings(void **state)
     fixture *fx = *state;
     sr_recon_result res;
     fake_result(&res);
+    res.method = SR_METHOD_IMAGE; /* its vote found a section it could not build */
+    res.image.unbuilt = 3;
+    res.image.unbuilt_mm3 = 40;
     sr_params p = {"coarse", 80, 60, 0.9, 0.85, 0.05, 0.1, 1.0, ""};
     sr_symmetry sym = {SR_SYM_AXIAL, 0, 0};
     sr_run run;
     sr_err err = {{0}};
     assert_int_equal(sr_run_from_result(&res, fx->inst[1], &sym, &p, "paper", &run, &err), SR_OK);
+    assert_int_equal(run.unbuilt_sections, 3);
+    assert_true(run.unbuilt_mm3 == 40);
     assert_int_equal(run.instance_id, fx->inst[1]);
     assert_int_equal(run.params.layers, 2);     /* as run: the grid's */
     assert_int_equal(run.params.sectors, 4);

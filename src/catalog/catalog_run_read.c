@@ -37,7 +37,8 @@ static char *column_dup(sqlite3_stmt *stmt, int col, bool *fail)
  * 13 method, 14 alignment, 15 alignment_given, 16 fit_quality, 17 status, 18 error,
  * 19 software_version, 20 started_at, 21 finished_at, 22 restored_mesh_id,
  * 23 timings_json, 24..27 restored mesh vertex_count, tri_count, format, data,
- * 28 the symmetry proposal's fit_json (sql/007_symmetry_proposal.sql; NULL = none). */
+ * 28 the symmetry proposal's fit_json (sql/007_symmetry_proposal.sql; NULL = none); 29,
+ * 30 the sections found and not built (sql/013_unbuilt_sections.sql; 0 = none). */
 static sr_status read_run_row(sr_catalog *cat, int64_t id, unsigned what, sr_run *r,
                               sr_err *err)
 {
@@ -51,7 +52,9 @@ static sr_status read_run_row(sr_catalog *cat, int64_t id, unsigned what, sr_run
         " r.started_at, r.finished_at, r.restored_mesh_id, r.timings_json,"
         " me.vertex_count, me.tri_count, me.format_version,"
         " CASE WHEN ?2 THEN me.data END,"
-        " (SELECT f.fit_json FROM run_symmetry_fit f WHERE f.run_id = r.id)"
+        " (SELECT f.fit_json FROM run_symmetry_fit f WHERE f.run_id = r.id),"
+        " coalesce((SELECT u.sections FROM run_unbuilt u WHERE u.run_id = r.id), 0),"
+        " coalesce((SELECT u.volume_mm3 FROM run_unbuilt u WHERE u.run_id = r.id), 0)"
         " FROM runs r JOIN instances i ON i.id = r.instance_id"
         " JOIN parts p ON p.id = i.part_id"
         " LEFT JOIN meshes me ON me.id = r.restored_mesh_id"
@@ -102,6 +105,8 @@ static sr_status read_run_row(sr_catalog *cat, int64_t id, unsigned what, sr_run
     bool fail = false;
     r->timings_json = column_dup(stmt, 23, &fail);
     r->symmetry_fit_json = column_dup(stmt, 28, &fail);
+    r->unbuilt_sections = (size_t)sqlite3_column_int64(stmt, 29);
+    r->unbuilt_mm3 = sqlite3_column_double(stmt, 30);
     if (fail)
         st = sr_err_set(err, SR_E_NOMEM, "out of memory reading run %lld", (long long)id);
     if (st == SR_OK && (what & SR_RUN_WITH_MESHES) &&

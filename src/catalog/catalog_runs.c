@@ -164,6 +164,9 @@ static sr_status check_run(sr_catalog *cat, const sr_run *run, sr_err *err)
         strcmp(run->finished_at, run->started_at) < 0)
         return sr_err_set(err, SR_E_RANGE, "bad finished_at '%s': before started_at '%s'",
                           run->finished_at, run->started_at);
+    if (!(run->unbuilt_mm3 >= 0) || !isfinite(run->unbuilt_mm3))
+        return sr_err_set(err, SR_E_RANGE, "bad unbuilt_mm3 %g: expected a volume >= 0",
+                          run->unbuilt_mm3);
     st = json_ok(cat, run->timings_json, "timings_json", err);
     if (st == SR_OK)
         st = json_ok(cat, run->symmetry_fit_json, "symmetry_fit_json", err);
@@ -489,6 +492,24 @@ static sr_status insert_symmetry_fit(sr_catalog *cat, const char *fit_json, int6
     return sr_cat_exec(cat, stmt, err, "record a run's symmetry proposal");
 }
 
+/* The sections the run found and could not build (sql/013_unbuilt_sections.sql); no
+ * row when there were none. */
+static sr_status insert_unbuilt(sr_catalog *cat, const sr_run *run, int64_t run_id, sr_err *err)
+{
+    if (run->unbuilt_sections == 0)
+        return SR_OK;
+    sqlite3_stmt *stmt;
+    sr_status st = sr_cat_prepare(
+        cat, "INSERT INTO run_unbuilt (run_id, sections, volume_mm3) VALUES (?1, ?2, ?3)", &stmt,
+        err);
+    if (st != SR_OK)
+        return st;
+    sqlite3_bind_int64(stmt, 1, run_id);
+    sqlite3_bind_int64(stmt, 2, (sqlite3_int64)run->unbuilt_sections);
+    sqlite3_bind_double(stmt, 3, run->unbuilt_mm3);
+    return sr_cat_exec(cat, stmt, err, "record a run's unbuilt sections");
+}
+
 sr_status sr_catalog_run_add(sr_catalog *cat, const sr_run *run, int64_t *out_id, sr_err *err)
 {
     sr_status st = check_run(cat, run, err);
@@ -548,6 +569,8 @@ sr_status sr_catalog_run_add(sr_catalog *cat, const sr_run *run, int64_t *out_id
         st = sr_cat_nominal_insert(cat, run->nominal, run_id, err);
     if (st == SR_OK)
         st = sr_cat_scan_insert(cat, run->scan, run_id, err);
+    if (st == SR_OK)
+        st = insert_unbuilt(cat, run, run_id, err);
     if (st == SR_OK)
         st = sr_cat_commit(cat, err);
     if (st != SR_OK)

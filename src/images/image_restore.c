@@ -509,6 +509,21 @@ static sr_status clip_images(const sr_mesh *aligned, const sr_image *im, const s
     return SR_OK;
 }
 
+/* A section of the vote (box b, voxels of side h) that gave no patch counted in info,
+ * when by its voxels it is at least min_vol: the user is told that damage was found
+ * there and not restored, not shown a part with nothing to repair. */
+static void unbuilt(const local_box *b, double h, double min_vol, sr_image_info *info)
+{
+    size_t n = 0, cells = b->nx * b->ny * b->nz;
+    for (size_t i = 0; i < cells; i++)
+        n += b->sec[i] == 1;
+    double vol = (double)n * h * h * h;
+    if (vol < min_vol)
+        return;
+    info->unbuilt++;
+    info->unbuilt_mm3 += vol;
+}
+
 sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid,
                                const sr_image_opts *opts, sr_section **sections,
                                size_t *count, sr_image_info *info, sr_err *err)
@@ -590,6 +605,7 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
         int glide = opts->symmetry.kind == SR_SYM_GLIDE; /* its hull ends with the part */
         if (np == 0 || sr_img_hull_make(&g, &b, glide ? lo[2] : -HUGE_VAL,
                                         glide ? hi[2] : HUGE_VAL, &hull, &herr) != SR_OK) {
+            unbuilt(&b, g.h, min_vol, info);
             free(b.sec);
             continue; /* no image carries it, or too thin for a hull: not restorable */
         }
@@ -603,6 +619,8 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
             info->axis_pins += pins;
         }
         if (st != SR_OK || q.tri_count == 0) {
+            if (st == SR_OK)
+                unbuilt(&b, g.h, min_vol, info);
             sr_mesh_release(&q);
             free(b.sec);
             continue;

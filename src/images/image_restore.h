@@ -61,6 +61,10 @@ typedef struct sr_image_info {
                                  * (reconstruct.c): the part does not fit the symmetry */
     size_t continued;           /* mirror/glide: sections through the plane carried on
                                  * by continuity along z (reconstruct.c) */
+    size_t unbuilt;             /* sections the vote found that gave no patch: no image
+                                 * carried them, no hull, or the scan's images clipped
+                                 * to nothing closed (a scan not closed there) */
+    double unbuilt_mm3;         /* their volume by voxels */
 } sr_image_info;
 
 /* Runs steps 1-3 and the voxel figures of 5 on the aligned scan. grid gives the layer

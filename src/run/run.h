@@ -168,6 +168,8 @@ typedef struct sr_run {
     sr_mesh restored;           /* scan frame; empty = none */
     sr_run_nominal *nominal;    /* the nominal's second opinion; NULL = none */
     sr_run_scan *scan;          /* the input's openings and strays; NULL = a closed input */
+    size_t unbuilt_sections;    /* found missing, no closed patch built: not in sections */
+    double unbuilt_mm3;         /* their volume by the vote's voxels */
 } sr_run;
 
 /* Frees the heap fields of a run (built by sr_run_from_result or read by

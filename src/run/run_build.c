@@ -169,6 +169,10 @@ sr_status sr_run_from_result(const sr_recon_result *result, int64_t instance_id,
     double q = result->alignment.fit_score;
     run.fit_quality = isnan(q) ? -1 : q < 0 ? 0 : q > 1 ? 1 : q;
     run.ok = 1;
+    if (result->method == SR_METHOD_IMAGE) {
+        run.unbuilt_sections = result->image.unbuilt;
+        run.unbuilt_mm3 = result->image.unbuilt_mm3;
+    }
     snprintf(run.software_version, sizeof run.software_version, "%s", SR_VERSION);
     sr_run_utc_time(0, run.finished_at);
     sr_run_utc_time(-result->timings.total_s, run.started_at);
