@@ -29,6 +29,7 @@
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
 #include "support/heap_stir.h"
+#include "support/open_face.h"
 
 static void box(sr_mesh *m, double x0, double y0, double z0, double x1, double y1, double z1)
 {
@@ -793,18 +794,7 @@ static void a_section_no_patch_is_built_for_is_counted(void **state)
     assert_int_equal(r.image.unbuilt, 0);
     assert_true(r.image.unbuilt_mm3 == 0);
     sr_recon_result_release(&r);
-    size_t kept = 0; /* the back face off */
-    for (size_t t = 0; t < scan.tri_count; t++) {
-        bool back = true;
-        for (int k = 0; k < 3; k++)
-            back = back && scan.xyz[3 * scan.tri[3 * t + k] + 1] == 12;
-        if (!back) {
-            memmove(scan.tri + 3 * kept, scan.tri + 3 * t, 3 * sizeof *scan.tri);
-            kept++;
-        }
-    }
-    assert_true(kept < scan.tri_count);
-    scan.tri_count = kept;
+    assert_int_equal(test_drop_face_on(&scan, 1, 12), 2); /* the back face off */
     reconstruct_aligned(&scan, sym, &r);
     assert_int_equal(r.section_count, 0);
     assert_int_equal(r.image.unbuilt, 1);
