@@ -103,6 +103,10 @@ void cli_scan_summary(const sr_scan_desc *d, const sr_run_scan *rec)
         printf("              sealed: %zu triangles cut out where the closing left edges used "
                "other than twice, and closed again\n",
                d->sealed_triangles);
+    if (d->uncurled_vertices)
+        printf("              untwisted: %zu rim vertices merged where a rim folded over itself "
+               "in its plane\n",
+               d->uncurled_vertices);
 }
 
 void cli_run_scan_print(const sr_run_scan *s)
@@ -129,6 +133,10 @@ void cli_run_scan_print(const sr_run_scan *s)
         printf("  sealed:      %zu triangles cut out round the closing's defects and closed "
                "again\n",
                s->sealed_triangles);
+    if (s->uncurled_vertices)
+        printf("  untwisted:   %zu rim vertices merged where a rim folded over itself in its "
+               "plane\n",
+               s->uncurled_vertices);
 }
 
 void json_run_scan(json_out *j, const sr_run_scan *s)
@@ -156,6 +164,8 @@ void json_run_scan(json_out *j, const sr_run_scan *s)
     json_number(j, s->stray_area_mm2);
     json_key(j, "sealed_triangles"); /* cut out round the closing's defects, closed again */
     json_int(j, (int64_t)s->sealed_triangles);
+    json_key(j, "uncurled_vertices"); /* merged where a rim twisted in its plane */
+    json_int(j, (int64_t)s->uncurled_vertices);
     json_key(j, "gaps");
     json_array_begin(j);
     for (size_t i = 0; i < s->gap_count; i++) {

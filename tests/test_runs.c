@@ -405,6 +405,7 @@ static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
     assert_int_equal(d.loop_count, 1);
     assert_int_equal(sr_scan_close_openings_how(&box, &d, 0, NULL, how, NULL), SR_OK);
     d.sealed_triangles = 7; /* as if the closing had been sealed round a defect */
+    d.uncurled_vertices = 3; /* and a rim untwisted */
     assert_int_equal(sr_run_scan_from_desc(&d, how, &s.run.scan, NULL), SR_OK);
     int64_t id = add_ok(fx, &s.run);
     sr_run r;
@@ -424,6 +425,7 @@ static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
     assert_int_equal(r.scan->stray_triangles, 1);
     assert_true(r.scan->open_area_mm2 == 200);
     assert_int_equal(r.scan->sealed_triangles, 7);
+    assert_int_equal(r.scan->uncurled_vertices, 3);
     sr_run_release(&r);
     sr_run_scan_free(s.run.scan);
     s.run.scan = NULL;

@@ -172,16 +172,7 @@ static sr_status plane_fill(const sr_mesh *mesh, const sr_scan_desc *d, const si
 {
     *done = false;
     double e1[3], e2[3];
-    double ax[3] = {fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0};
-    e1[0] = ax[1] * n[2] - ax[2] * n[1]; /* e1 = ax x n, e2 = n x e1 */
-    e1[1] = ax[2] * n[0] - ax[0] * n[2];
-    e1[2] = ax[0] * n[1] - ax[1] * n[0];
-    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    for (int k = 0; k < 3; k++)
-        e1[k] /= l1;
-    e2[0] = n[1] * e1[2] - n[2] * e1[1];
-    e2[1] = n[2] * e1[0] - n[0] * e1[2];
-    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+    sr_scan_plane_frame(n, e1, e2);
     size_t pts = 0;
     for (size_t i = 0; i < count; i++)
         pts += d->loops[group[i]].edges;

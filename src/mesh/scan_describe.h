@@ -66,6 +66,8 @@ typedef struct sr_scan_desc {
     bool open; /* any boundary edge */
     size_t sealed_triangles; /* sr_scan_close_peeling: triangles taken out round the
                               * closing's defects and closed again (sr_scan_seal) */
+    size_t uncurled_vertices; /* sr_scan_close_peeling: rim vertices merged where a rim
+                               * twisted over itself in its plane (sr_scan_uncurl_rims) */
 } sr_scan_desc;
 
 /* Describes mesh (validated: indices in range). *out is written on success only and owns
@@ -145,6 +147,18 @@ sr_status sr_scan_peel_folds(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan
  * the rim. A plane off which more would come than its openings span is left alone. */
 sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                                   size_t *peeled, sr_err *err);
+
+/* Undoes the twists of the rims of the planes whose fill did not fit (the groups, as
+ * sr_scan_close_openings makes them, whose first loop how says was fanned, or with how
+ * NULL every plane's group; d describes
+ * mesh): where two edges of one rim a few steps apart (at most 6 vertices between them)
+ * cross in the plane, the rim having folded back over itself, the vertices between
+ * them, when they lie within the crossing edges' length of the crossing, are merged
+ * into one there, and the triangles left degenerate go (with the vertices only they
+ * used). *merged (may be NULL) gets the vertices merged away; when it is not 0, d no
+ * longer describes mesh. SR_E_NOMEM: mesh may be changed. (scan_uncurl.c) */
+sr_status sr_scan_uncurl_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
+                              size_t *merged, sr_err *err);
 
 /* Seals a closed scan's last defects: every edge used other than once each way (where
  * rims the closing could not fill cleanly met) is cut out with the triangles round its

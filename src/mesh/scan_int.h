@@ -28,6 +28,10 @@ bool sr_scan_loop_eligible(const sr_scan_loop *l, double max_span_mm2);
 bool sr_scan_loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
                         double c[3], double n[3]);
 
+/* Two unit vectors e1, e2 spanning the plane with unit normal n (e1 = a coordinate axis
+ * not near n, crossed with n; e2 = n x e1): the plane's (u, v) frame. */
+void sr_scan_plane_frame(const double n[3], double e1[3], double e2[3]);
+
 /* Whether every vertex of loop l lies on the plane (c, n) within the tolerances above. */
 bool sr_scan_loop_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
                            const double c[3], const double n[3]);

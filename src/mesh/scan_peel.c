@@ -418,6 +418,52 @@ static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **ho
     return st;
 }
 
+/* close_once, and when a plane's fill still failed, the scan as given untwisted
+ * (sr_scan_uncurl_rims, on every plane's rims) and closed again, kept when that is
+ * better: fewer edges left bad, or as few and fewer plane loops fanned. *uncurled gets
+ * the vertices merged away in what is kept. */
+static sr_status close_untwisting(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **h,
+                                  closing_cost *c, size_t *uncurled, sr_err *err)
+{
+    sr_mesh m = {0};
+    sr_scan_desc dm = {0}, d2 = {0};
+    sr_scan_closing *h2 = NULL;
+    closing_cost c2 = {0, 0, 0};
+    size_t merged = 0;
+    *uncurled = 0;
+    sr_status st = sr_mesh_copy(&m, mesh);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory closing the scan's openings");
+    st = close_once(mesh, d, h, c, err);
+    if (st == SR_OK && c->plane_fans > 0) {
+        st = sr_scan_describe(&m, NULL, &dm, err);
+        if (st == SR_OK)
+            st = sr_scan_uncurl_rims(&m, &dm, NULL, &merged, err);
+        if (st == SR_OK && merged > 0)
+            st = close_once(&m, &d2, &h2, &c2, err);
+        if (st == SR_OK && merged > 0 &&
+            (c2.bad_edges < c->bad_edges ||
+             (c2.bad_edges == c->bad_edges && c2.plane_fans < c->plane_fans))) {
+            sr_mesh_release(mesh);
+            *mesh = m;
+            m = (sr_mesh){0};
+            sr_scan_desc_release(d);
+            free(*h);
+            *d = d2;
+            *h = h2;
+            d2 = (sr_scan_desc){0};
+            h2 = NULL;
+            *c = c2;
+            *uncurled = merged;
+        }
+    }
+    sr_mesh_release(&m);
+    sr_scan_desc_release(&dm);
+    sr_scan_desc_release(&d2);
+    free(h2);
+    return st;
+}
+
 sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closing **how,
                                 size_t *peeled, sr_err *err)
 {
@@ -449,13 +495,17 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
      * peeled off their rims, whichever way it faces, kept only when then every plane
      * fills, no more edges are left bad and fewer rim edges are fanned (peeled up its
      * walls, a rail's whole base was fanned, closer to manifold, and the rail read as
-     * not fitting its glide: s1123581p03) */
+     * not fitting its glide: s1123581p03). Before them all, when a plane's fill failed,
+     * the rims of those planes untwisted alone (sr_scan_uncurl_rims), kept as the peels
+     * are; each peel's closing is itself untwisted when a plane still fails
+     * (close_untwisting). */
     sr_scan_desc d0 = {0};
     bool described = false;
-    for (int pass = 0; st == SR_OK && (bad.bad_edges > 0 || bad.plane_fans > 0) && pass < 3;
+    size_t uncurled = 0;
+    for (int pass = -1; st == SR_OK && (bad.bad_edges > 0 || bad.plane_fans > 0) && pass < 3;
          pass++) {
-        if (pass == 2 && !plane_failed)
-            break; /* no plane failed at first: the rim peel has nothing to peel */
+        if ((pass == 2 || pass < 0) && !plane_failed)
+            continue; /* no plane failed at first: nothing to untwist, no rim to peel */
         sr_mesh m = {0};
         sr_scan_desc d2 = {0};
         sr_scan_closing *h2 = NULL;
@@ -469,9 +519,12 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
         if (st == SR_OK)
             st = pass == 2   ? sr_scan_peel_plane_rims(&m, &d0, h0, &n, err)
                  : pass == 1 ? sr_scan_peel_folds(&m, &d0, NULL, &n, err)
-                             : sr_scan_peel_folds(&m, &d0, h0, &n, err);
+                 : pass == 0 ? sr_scan_peel_folds(&m, &d0, h0, &n, err)
+                             : sr_scan_uncurl_rims(&m, &d0, h0, &n, err);
+        size_t un = pass < 0 ? n : 0;
         if (st == SR_OK && n > 0)
-            st = close_once(&m, &d2, &h2, &bad2, err);
+            st = pass < 0 ? close_once(&m, &d2, &h2, &bad2, err)
+                          : close_untwisting(&m, &d2, &h2, &bad2, &un, err);
         bool better = pass < 2 ? bad2.bad_edges < bad.bad_edges ||
                                      (bad2.bad_edges == bad.bad_edges && bad2.plane_fans == 0 &&
                                       bad.plane_fans > 0)
@@ -488,7 +541,8 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
             d2 = (sr_scan_desc){0};
             h2 = NULL;
             bad = bad2;
-            n_kept = n;
+            n_kept = pass < 0 ? 0 : n;
+            uncurled = un;
         }
         sr_mesh_release(&m);
         sr_scan_desc_release(&d2);
@@ -501,6 +555,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
     if (st == SR_OK && bad.bad_edges > 0)
         st = sr_scan_seal(mesh, &sealed, err);
     d.sealed_triangles = sealed;
+    d.uncurled_vertices = uncurled;
     if (st != SR_OK) {
         sr_scan_desc_release(&d);
         free(h);

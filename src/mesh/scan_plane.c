@@ -45,6 +45,20 @@ bool sr_scan_loop_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_sca
     return true;
 }
 
+void sr_scan_plane_frame(const double n[3], double e1[3], double e2[3])
+{
+    double ax[3] = {fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0};
+    e1[0] = ax[1] * n[2] - ax[2] * n[1];
+    e1[1] = ax[2] * n[0] - ax[0] * n[2];
+    e1[2] = ax[0] * n[1] - ax[1] * n[0];
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int k = 0; k < 3; k++)
+        e1[k] /= l1;
+    e2[0] = n[1] * e1[2] - n[2] * e1[1];
+    e2[1] = n[2] * e1[0] - n[0] * e1[2];
+    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
 bool sr_scan_loop_on_plane(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l,
                            const double c[3], const double n[3])
 {

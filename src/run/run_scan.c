@@ -17,7 +17,8 @@ sr_status sr_run_scan_from_desc(const sr_scan_desc *d, const sr_scan_closing *ho
                                 sr_run_scan **out, sr_err *err)
 {
     *out = NULL;
-    if (!d || (d->loop_count == 0 && d->strays == 0 && d->sealed_triangles == 0))
+    if (!d || (d->loop_count == 0 && d->strays == 0 && d->sealed_triangles == 0 &&
+               d->uncurled_vertices == 0))
         return SR_OK;
     sr_run_scan *s = calloc(1, sizeof *s);
     sr_run_scan_gap *g = calloc(d->loop_count ? d->loop_count : 1, sizeof *g);
@@ -35,6 +36,7 @@ sr_status sr_run_scan_from_desc(const sr_scan_desc *d, const sr_scan_closing *ho
     s->open_share = d->open_share;
     s->stray_area_mm2 = d->stray_area_mm2;
     s->sealed_triangles = d->sealed_triangles;
+    s->uncurled_vertices = d->uncurled_vertices;
     for (size_t i = 0; i < d->loop_count; i++) {
         const sr_scan_loop *l = &d->loops[i];
         g[i].edges = l->edges;
