@@ -175,6 +175,8 @@ static int list_row(const sr_run_summary *s, void *user)
         json_number(j, s->missing_volume_mm3);
         json_key(j, "process");
         json_string(j, s->process[0] ? s->process : NULL);
+        json_key(j, "unbuilt_sections"); /* found missing, no closed patch: not restored */
+        json_int(j, (int64_t)s->unbuilt_sections);
         json_object_end(j);
         return 0;
     }
@@ -187,7 +189,10 @@ static int list_row(const sr_run_summary *s, void *user)
     cli_table_cell(t, "%s", s->method);
     cli_table_cell(t, "%zu", s->section_count);
     cli_table_cell(t, "%.1f", s->missing_volume_mm3);
-    cli_table_cell(t, "%s", s->ok ? "ok" : "failed");
+    if (s->ok && s->unbuilt_sections) /* a loss found and not restored: said where listed */
+        cli_table_cell(t, "ok, %zu not built", s->unbuilt_sections);
+    else
+        cli_table_cell(t, "%s", s->ok ? "ok" : "failed");
     cli_table_cell(t, "%s", s->process[0] ? s->process : "-");
     return 0;
 }

@@ -2405,6 +2405,7 @@ static void reconstruct_of_an_instance_records_a_run_that_run_list_and_show_retu
     assert_string_equal(jstr(row, "part_number"), "SR-SHAFT-01");
     assert_string_equal(jstr(row, "status"), "ok");
     assert_int_equal((size_t)jnum(row, "sections"), secs->count);
+    assert_int_equal((int)jnum(row, "unbuilt_sections"), 0); /* every section found built */
     double total = 0;
     for (size_t i = 0; i < secs->count; i++)
         total += jnum(&secs->items[i], "volume_mm3");

@@ -720,6 +720,26 @@ static void run_list_is_newest_first_with_summaries(void **state)
     assert_string_equal(got.v[0].process, "");
 }
 
+static void run_list_counts_the_sections_not_built(void **state)
+{
+    fixture *fx = *state;
+    sample s;
+    sample_init(&s, fx);
+    s.run.unbuilt_sections = 3; /* sql/013: found missing, no closed patch */
+    s.run.unbuilt_mm3 = 40;
+    int64_t with = add_ok(fx, &s.run);
+    sample_release(&s);
+    int64_t without = add_at(fx, fx->inst[1], "2023-01-01T00:00:00Z", false);
+    collected got = {0};
+    sr_err err = {{0}};
+    assert_int_equal(sr_catalog_run_list(fx->cat, NULL, collect, &got, &err), SR_OK);
+    assert_int_equal(got.count, 2);
+    for (size_t i = 0; i < got.count; i++) {
+        assert_true(got.v[i].id == with || got.v[i].id == without);
+        assert_int_equal(got.v[i].unbuilt_sections, got.v[i].id == with ? 3 : 0);
+    }
+}
+
 static void run_list_filters_by_instance_and_part(void **state)
 {
     fixture *fx = *state;
@@ -1071,6 +1091,7 @@ int main(void)
         T(run_add_rolls_back_every_row_when_a_late_step_fails),
         T(run_add_on_a_read_only_catalogue_fails_cleanly),
         T(run_list_is_newest_first_with_summaries),
+        T(run_list_counts_the_sections_not_built),
         T(run_list_filters_by_instance_and_part),
         T(run_list_of_an_unknown_part_is_not_found),
         T(run_count_counts_runs),

@@ -415,7 +415,8 @@ sr_status sr_catalog_run_list(sr_catalog *cat, const sr_run_filter *filter, sr_r
         " (SELECT count(*) FROM sections s WHERE s.run_id = r.id),"
         " (SELECT coalesce(sum(s.volume_mm3), 0) FROM sections s WHERE s.run_id = r.id),"
         " coalesce((SELECT a.process FROM advice a JOIN sections s ON s.id = a.section_id"
-        "           WHERE a.run_id = r.id AND s.section_index = 0 ORDER BY a.id LIMIT 1), '')"
+        "           WHERE a.run_id = r.id AND s.section_index = 0 ORDER BY a.id LIMIT 1), ''),"
+        " coalesce((SELECT u.sections FROM run_unbuilt u WHERE u.run_id = r.id), 0)"
         " FROM runs r JOIN instances i ON i.id = r.instance_id"
         " JOIN parts p ON p.id = i.part_id"
         " LEFT JOIN materials m ON m.id = p.material_id"
@@ -450,6 +451,7 @@ sr_status sr_catalog_run_list(sr_catalog *cat, const sr_run_filter *filter, sr_r
         s.section_count = (size_t)sqlite3_column_int64(stmt, 11);
         s.missing_volume_mm3 = sqlite3_column_double(stmt, 12);
         sr_cat_column_text(stmt, 13, s.process, sizeof s.process);
+        s.unbuilt_sections = (size_t)sqlite3_column_int64(stmt, 14);
         if (fn(&s, user))
             break;
     }

@@ -56,6 +56,7 @@ typedef struct sr_run_summary {
     size_t section_count;
     double missing_volume_mm3;  /* sum of the sections' volumes */
     char process[64];           /* the advice for the largest section ("" = none) */
+    size_t unbuilt_sections;    /* found missing, no closed patch built (run_unbuilt) */
 } sr_run_summary;
 
 typedef struct sr_run_filter {

@@ -150,13 +150,12 @@ sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr
 
 /* Undoes the twists of the rims of the planes whose fill did not fit (the groups, as
  * sr_scan_close_openings makes them, whose first loop how says was fanned, or with how
- * NULL every plane's group; d describes
- * mesh): where two edges of one rim a few steps apart (at most 6 vertices between them)
- * cross in the plane, the rim having folded back over itself, the vertices between
- * them, when they lie within the crossing edges' length of the crossing, are merged
- * into one there, and the triangles left degenerate go (with the vertices only they
- * used). *merged (may be NULL) gets the vertices merged away; when it is not 0, d no
- * longer describes mesh. SR_E_NOMEM: mesh may be changed. (scan_uncurl.c) */
+ * NULL every plane's group; d describes mesh): where two edges of one rim a few steps
+ * apart (at most 6 vertices between them) cross in the plane, the rim having folded
+ * back over itself, the vertices between them are merged into one at the crossing. The
+ * triangles left degenerate go (with the vertices only they used). *merged
+ * (may be NULL) gets the vertices merged away; when it is not 0, d no longer describes
+ * mesh. SR_E_NOMEM: mesh may be changed. (scan_uncurl.c) */
 sr_status sr_scan_uncurl_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                               size_t *merged, sr_err *err);
 

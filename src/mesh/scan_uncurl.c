@@ -17,7 +17,8 @@
 #include "mesh/scan_int.h"
 
 /* A twist spans at most this many rim vertices between the two edges that cross: the
- * rim's own scale (its noise folding an edge or two over), not a bay of the outline. */
+ * rim's own scale (its noise folding an edge or a few over, or tangling where scraps of
+ * the face it stood on were kept), not a bay of the outline. */
 #define CURL_VERTICES 6
 
 /* Where segments a-b and c-d cross properly in the plane: true, with the parameters
@@ -33,12 +34,6 @@ static bool crossing(const double a[2], const double b[2], const double c[2], co
     *s = (w[0] * q[1] - w[1] * q[0]) / den;
     *t = (w[0] * r[1] - w[1] * r[0]) / den;
     return *s > 0 && *s < 1 && *t > 0 && *t < 1;
-}
-
-static double dist3(const double *a, const double *b)
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 /* The twists of loop l (plane frame e1, e2), each merged into to[] (a vertex's
@@ -62,26 +57,20 @@ static size_t uncurl_loop(double *xyz, const sr_scan_desc *d, const sr_scan_loop
             continue;
         for (size_t k = 2; k <= CURL_VERTICES; k++) {
             size_t j = (i + k) % m, j1 = (j + 1) % m;
+            bool free_walk = true; /* none of the walk's vertices merged already */
+            for (size_t u = 1; u <= k && free_walk; u++)
+                free_walk = to[w[(i + u) % m]] == w[(i + u) % m];
+            if (!free_walk)
+                break;
             double s, t;
             if (!crossing(uv + 2 * i, uv + 2 * i1, uv + 2 * j, uv + 2 * j1, &s, &t))
                 continue;
             const double *a = xyz + 3 * (size_t)w[i], *b = xyz + 3 * (size_t)w[i1];
             const double *c = xyz + 3 * (size_t)w[j], *dd = xyz + 3 * (size_t)w[j1];
-            double x[3];
-            for (int q = 0; q < 3; q++)
-                x[q] = 0.5 * (a[q] + s * (b[q] - a[q]) + c[q] + t * (dd[q] - c[q]));
-            /* the vertices merged lie within the crossing edges' own length of it */
-            double reach = fmax(dist3(a, b), dist3(c, dd));
-            bool near = true;
-            for (size_t u = 1; u <= k && near; u++) {
-                uint32_t v = w[(i + u) % m];
-                near = to[v] == v && dist3(xyz + 3 * (size_t)v, x) <= reach;
-            }
-            if (!near)
-                break;
             uint32_t keep = w[i1];
             for (int q = 0; q < 3; q++)
-                xyz[3 * (size_t)keep + q] = x[q];
+                xyz[3 * (size_t)keep + q] =
+                    0.5 * (a[q] + s * (b[q] - a[q]) + c[q] + t * (dd[q] - c[q]));
             for (size_t u = 2; u <= k; u++) {
                 to[w[(i + u) % m]] = keep;
                 merged++;
