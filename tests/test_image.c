@@ -567,6 +567,38 @@ static void glide_rack_restores_its_first_tooth_broken_off(void **state)
     sr_mesh_release(&scan);
 }
 
+/* A chip of the rack's core at the -x side's lower end (x -5.5..-2, z -6..-1): the
+ * image from the middle's side carries the +x side's first tooth (z = 0) onto -x at
+ * z = -6, where the -x pattern has no tooth (its first is at z = 6). That phantom tooth
+ * (4 x 4 x 10 mm) joins the chip's core and was built with it (+76 %). The intact
+ * upper end shows the pattern stopping short (its own phantom, of weak evidence alone,
+ * is bounded by the core's face and not built), so the weak evidence inside the
+ * chip's section is judged too: the phantom's voxels nearest the core's intact face
+ * (a face of the frame going on away from the loss) go, the chip's own (nearest its
+ * cut, lying in no face of the part) stay. */
+static void glide_rack_chipped_at_its_end_builds_no_phantom_tooth(void **state)
+{
+    (void)state;
+    sr_mesh intact, chip, scan;
+    rack(&intact);
+    box(&chip, -5.5, -1, -6, -2, 11, -1);
+    minus(&intact, &chip, &scan);
+    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
+    assert_true(fabs(want - 150) < 1e-6);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_GLIDE, 0, 6.0};
+    reconstruct_aligned(&scan, sym, &r);
+    print_message("end chip beside a phantom tooth: %zu section(s), %.1f of %.1f mm^3\n",
+                  r.section_count, r.patch_volume_mm3, want);
+    assert_int_equal(r.section_count, 1);
+    assert_true(r.patch_volume_mm3 >= 0.97 * want);
+    assert_true(r.patch_volume_mm3 <= 1.25 * want);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&chip);
+    sr_mesh_release(&scan);
+}
+
 /* A fracture face as a noisy scan has it: a plane 10 x 10 mm of facets half a millimetre
  * across (x = 3 + tan(deg) (z - 5) over y, z 0..10, facing +x), every vertex moved by
  * N(0, 0.03 mm) along x (a fixed draw), and the voxels on its outside labelled 1. */
@@ -821,6 +853,7 @@ int main(void)
         cmocka_unit_test(end_chip_across_the_axis_leaves_no_seam),
         cmocka_unit_test(glide_rack_keeps_its_ends_and_restores_a_chip_at_the_first_tooth),
         cmocka_unit_test(glide_rack_restores_its_first_tooth_broken_off),
+        cmocka_unit_test(glide_rack_chipped_at_its_end_builds_no_phantom_tooth),
         cmocka_unit_test(a_noisy_fracture_is_told_from_a_face_of_the_frame),
         cmocka_unit_test(one_thread_and_two_give_the_same_result),
         cmocka_unit_test(a_micrometre_crossing_is_moved_apart_not_filled),

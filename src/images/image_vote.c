@@ -146,6 +146,7 @@ void sr_vote_result_release(sr_vote_result *r)
     free(r->label);
     free(r->voxels);
     free(r->weak_only);
+    free(r->weak);
     free(r->at);
     memset(r, 0, sizeof *r);
 }
@@ -442,6 +443,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
 {
     sr_image *im = NULL;
     size_t n = 0;
+    memset(out, 0, sizeof *out);
     sr_status st = sr_images_of(sym, &im, &n, err);
     if (st != SR_OK)
         return st;
@@ -584,8 +586,21 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         st = keep_large(at, &at_n, label, ncomp, min_voxels,
                         sym->kind == SR_SYM_GLIDE ? strong : NULL, out, err);
     free(strong);
+    if (st == SR_OK && sym->kind == SR_SYM_GLIDE) {
+        out->weak = malloc((at_n ? at_n : 1) * sizeof *out->weak);
+        if (!out->weak)
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+        for (size_t q = 0; out->weak && q < at_n; q++)
+            out->weak[q] = (m[at[q]] & 5) == 4;
+    }
     free(m);
     if (st != SR_OK) {
+        free(out->weak); /* what keep_large or the weak flags wrote */
+        free(out->voxels);
+        free(out->weak_only);
+        out->weak = NULL;
+        out->voxels = NULL;
+        out->weak_only = NULL;
         free(at);
         free(label);
         return st;

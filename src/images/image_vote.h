@@ -62,6 +62,8 @@ typedef struct sr_vote_result {
     uint8_t *weak_only;  /* per section: 1 = a glide core of weak evidence alone (the
                           * image from the middle's side): an end of the pattern or a
                           * feature of the ends broken off; the caller decides */
+    uint8_t *weak;       /* glide (else NULL): per voxel of at (index q), 1 when only the
+                          * image from the middle's side said material there */
     int misfit_located;  /* 1: misfit_where holds where the median image's misfit lies */
     double misfit_where[4]; /* the central 80 % of those voxels: distance from the axis
                              * (axial) or the plane (planar) from, to; z from, to (mm,
@@ -74,7 +76,8 @@ typedef struct sr_vote_result {
 /* Votes, opens and groups (see above). scan's bit 0 is the occupancy; z_lo..z_hi the
  * part's extent along z (glide validity); min_voxels: sections with fewer voxels after
  * the opening are dropped; threads: the vote's threads (0: OpenMP's default, all
- * cores), the result the same for any number. *out only on success. */
+ * cores), the result the same for any number. *out is zeroed first and filled only on
+ * success. */
 sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double z_lo,
                           double z_hi, size_t min_voxels, int threads, sr_vote_result *out,
                           sr_err *err);

@@ -68,6 +68,16 @@ int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const sr_vote_res
 int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
                             const sr_symmetry *sym, double noise_mm);
 
+/* Glide: the regions of weak evidence inside the sections that also hold strong
+ * evidence (vr->weak; 26-connected, at least min_voxels), each parted between the
+ * design and the fracture by the scan's surface facing it (section_kind.c); the
+ * voxels going with the design, when at least min_voxels, are taken out of their
+ * section (label -1, its voxel count lowered). Returns how many regions lost voxels; 0
+ * when vr has no weak flags or memory runs out (nothing taken). Call it only where the
+ * pattern is seen to stop short of an end (image_restore.c). */
+size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_result *vr,
+                                size_t min_voxels, const sr_symmetry *sym, double noise_mm);
+
 /* ---- figures (image_figures.c) ---- */
 
 /* s's depth_max_mm, depth_mean_mm and area_mm2 from the section's voxels in b; left as
