@@ -4,7 +4,8 @@
 # and its noisy scan with SYMREC, and scores the files written with ../shared/eval/runparts
 # --strict (patch file volume within 5 %, fill outside the intact part <= 3 %, missed
 # <= 5 %, restored mean <= 0.05 mm and max <= 1 mm). Without a sample it checks seed 777's
-# parts 3,4,5,6,7,8,13,14 of 16 (two per family, none of them `hard`); the Makefile adds
+# parts 3,4,5,6,7,8,13,14 of 16 (two per family, none of them `hard`; make check takes one
+# per family, 3,4,5,6); the Makefile adds
 # the parts of fresh seeds that once failed (a class fixed stays fixed). The old form
 # `check_generated.sh SYMREC SEED [INDICES] [COUNT]` still checks one sample.
 # `check_generated.sh --draw-only SEED:INDICES:COUNT ...` only draws the samples (make
