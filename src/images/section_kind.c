@@ -394,25 +394,16 @@ static size_t claim(const sr_mesh *m, const sr_voxels *g, int *label, int probe,
         }
     }
     free(f);
-    size_t nx = g->nx, ny = g->ny, nz = g->nz;
     while (head < tail) {
         size_t v = queue[head++];
         int kind = label[v];
         design += kind == probe + 1;
-        long i = (long)(v % nx), j = (long)((v / nx) % ny), k = (long)(v / (nx * ny));
-        for (long dk = -1; dk <= 1; dk++)
-            for (long dj = -1; dj <= 1; dj++)
-                for (long di = -1; di <= 1; di++) {
-                    long ii = i + di, jj = j + dj, kk = k + dk;
-                    if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
-                        kk >= (long)nz)
-                        continue;
-                    size_t w = sr_voxel_index(g, (size_t)ii, (size_t)jj, (size_t)kk);
-                    if (label[w] != probe)
-                        continue;
-                    label[w] = kind;
-                    queue[tail++] = w;
-                }
+        size_t nb[26], nn = sr_voxel_neighbours26(g, v, nb);
+        for (size_t q = 0; q < nn; q++)
+            if (label[nb[q]] == probe) {
+                label[nb[q]] = kind;
+                queue[tail++] = nb[q];
+            }
     }
     return design;
 }
@@ -429,7 +420,7 @@ size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_re
         free(region);
         return 0;
     }
-    size_t nx = g->nx, ny = g->ny, nz = g->nz, dropped = 0;
+    size_t dropped = 0;
     int probe = (int)vr->sections + 1; /* labels no section has: probe .. probe + 2 */
     for (size_t s = 1; s <= vr->sections; s++) {
         if (vr->weak_only && vr->weak_only[s - 1])
@@ -446,20 +437,12 @@ size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_re
             while (top) {
                 size_t v = stack[--top];
                 region[n++] = v;
-                long i = (long)(v % nx), j = (long)((v / nx) % ny), k = (long)(v / (nx * ny));
-                for (long dk = -1; dk <= 1; dk++)
-                    for (long dj = -1; dj <= 1; dj++)
-                        for (long di = -1; di <= 1; di++) {
-                            long ii = i + di, jj = j + dj, kk = k + dk;
-                            if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
-                                kk >= (long)nz)
-                                continue;
-                            size_t w = sr_voxel_index(g, (size_t)ii, (size_t)jj, (size_t)kk);
-                            if (vr->label[w] != WEAK_REGION)
-                                continue;
-                            vr->label[w] = probe;
-                            stack[top++] = w;
-                        }
+                size_t nb[26], nn = sr_voxel_neighbours26(g, v, nb);
+                for (size_t q = 0; q < nn; q++)
+                    if (vr->label[nb[q]] == WEAK_REGION) {
+                        vr->label[nb[q]] = probe;
+                        stack[top++] = nb[q];
+                    }
             }
             size_t design = n < min_voxels ? 0
                                            : claim(m, g, vr->label, probe, region, n, stack, sym,

@@ -56,6 +56,24 @@ static inline long sr_voxels_locate(const sr_voxels *g, const double p[3])
     return (long)sr_voxel_index(g, i, j, k);
 }
 
+/* The voxels round v inside the grid (face, edge and corner neighbours: up to 26) into
+ * out, k then j then i ascending; returns how many. */
+static inline size_t sr_voxel_neighbours26(const sr_voxels *g, size_t v, size_t out[26])
+{
+    size_t nx = g->nx, ny = g->ny, nz = g->nz, n = 0;
+    long i = (long)(v % nx), j = (long)((v / nx) % ny), k = (long)(v / (nx * ny));
+    for (long dk = -1; dk <= 1; dk++)
+        for (long dj = -1; dj <= 1; dj++)
+            for (long di = -1; di <= 1; di++) {
+                long ii = i + di, jj = j + dj, kk = k + dk;
+                if ((di | dj | dk) == 0 || ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx ||
+                    jj >= (long)ny || kk >= (long)nz)
+                    continue;
+                out[n++] = sr_voxel_index(g, (size_t)ii, (size_t)jj, (size_t)kk);
+            }
+    return n;
+}
+
 void sr_voxels_release(sr_voxels *g);
 
 #endif
