@@ -317,7 +317,6 @@ static int labelled_neighbour(const sr_voxels *g, const int *label, size_t v)
 static sr_status group_cores(const sr_voxels *g, const uint8_t *m, const size_t *at, size_t at_n,
                              int *label, size_t *ncomp, sr_err *err)
 {
-    size_t nx = g->nx, ny = g->ny, nz = g->nz, sz = nx * ny;
     size_t cap = 1024, nc = 0;
     size_t *stack = malloc(cap * sizeof *stack);
     if (!stack)
@@ -332,27 +331,20 @@ static sr_status group_cores(const sr_voxels *g, const uint8_t *m, const size_t 
         label[v0] = (int)nc;
         while (top) {
             size_t v = stack[--top];
-            size_t i = v % nx, j = (v / nx) % ny, k = v / sz;
-            for (int dk = -1; dk <= 1; dk++)
-                for (int dj = -1; dj <= 1; dj++)
-                    for (int di = -1; di <= 1; di++) {
-                        long ii = (long)i + di, jj = (long)j + dj, kk = (long)k + dk;
-                        if (ii < 0 || jj < 0 || kk < 0 || ii >= (long)nx || jj >= (long)ny ||
-                            kk >= (long)nz)
-                            continue;
-                        size_t w = sr_voxel_index(g, (size_t)ii, (size_t)jj, (size_t)kk);
-                        if (!(m[w] & 2) || label[w])
-                            continue;
-                        label[w] = (int)nc;
-                        size_t *grown = sr_grow(stack, top, &cap, sizeof *stack);
-                        if (!grown) {
-                            free(stack);
-                            return sr_err_set(err, SR_E_NOMEM,
-                                              "out of memory grouping missing voxels");
-                        }
-                        stack = grown;
-                        stack[top++] = w;
-                    }
+            size_t nb[26], nn = sr_voxel_neighbours26(g, v, nb);
+            for (size_t e = 0; e < nn; e++) {
+                size_t w = nb[e];
+                if (!(m[w] & 2) || label[w])
+                    continue;
+                label[w] = (int)nc;
+                size_t *grown = sr_grow(stack, top, &cap, sizeof *stack);
+                if (!grown) {
+                    free(stack);
+                    return sr_err_set(err, SR_E_NOMEM, "out of memory grouping missing voxels");
+                }
+                stack = grown;
+                stack[top++] = w;
+            }
         }
     }
     free(stack);
