@@ -1,7 +1,8 @@
 /*
  * test_image.c: the image method (src/images/) on shapes with known answers: the
  * occupancy of a box, a mirror part's chip restored exactly (the patch is the chip and
- * no more, the restored part the intact one), nothing on intact parts, a wrong order
+ * no more, the restored part the intact one), a loss that took a place and its mirror
+ * both built from its voxels, nothing on intact parts, a wrong order
  * that fills nothing, a bolt hole of an axial part kept, a shaft's end chip across the
  * axis restored without a seam on it, and a glide rack whose
  * pattern's ends are kept while a chip at its first tooth is restored; the same
@@ -130,6 +131,42 @@ static void mirror_chip_is_restored_exactly(void **state)
     sr_recon_result_release(&r);
     sr_mesh_release(&intact);
     sr_mesh_release(&bite);
+    sr_mesh_release(&scan);
+}
+
+/* Two bites at overlapping mirror places: the +x one (z 10..20) and the -x one (z 16..26,
+ * offset in x and y) both hold the place that is the other's mirror, z 16..20, which no
+ * image carries. It is built from its voxels: the restored part is the intact block to
+ * 1 % of the loss (the voxels' steps at its open top face), where the images alone
+ * left 240 mm^3 out; it is counted, and the two sections stay two. */
+static void a_loss_on_both_sides_of_the_mirror_is_built(void **state)
+{
+    (void)state;
+    sr_mesh intact, a, b, half = {0}, scan = {0};
+    box(&intact, -20, 0, 0, 20, 12, 30);
+    box(&a, 6, 7, 10, 14, 20, 20);   /* 8 x 5 x 10 of the block */
+    box(&b, -16, 5, 16, -8, 20, 26); /* 8 x 7 x 10 */
+    minus(&intact, &a, &half);
+    minus(&half, &b, &scan);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
+    reconstruct_aligned(&scan, sym, &r);
+    assert_int_equal(r.section_count, 2);
+    assert_int_equal(r.image.both_sides, 2); /* the place and its mirror */
+    assert_int_equal(r.restored_by_union, 1);
+    assert_true(sr_mesh_is_closed(&r.restored));
+    double want = sr_mesh_volume(&intact);
+    assert_true(fabs(r.restored_volume_mm3 - want) <= 0.01 * (want - sr_mesh_volume(&scan)));
+    /* outside the block: only the voxels' steps at its top face (4.1 mm^3 measured) */
+    sr_mesh out = {0};
+    minus(&r.restored, &intact, &out);
+    assert_true(sr_mesh_volume(&out) <= 0.01 * (want - sr_mesh_volume(&scan)));
+    sr_mesh_release(&out);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&a);
+    sr_mesh_release(&b);
+    sr_mesh_release(&half);
     sr_mesh_release(&scan);
 }
 
@@ -842,6 +879,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(voxels_of_a_box_are_the_centres_inside_it),
         cmocka_unit_test(mirror_chip_is_restored_exactly),
+        cmocka_unit_test(a_loss_on_both_sides_of_the_mirror_is_built),
         cmocka_unit_test(intact_block_has_no_section),
         cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
         cmocka_unit_test(two_damages_a_turn_apart_are_both_restored_whole),

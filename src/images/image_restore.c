@@ -593,11 +593,16 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
     size_t n_im = 0;
     size_t ns = 0;
     sr_section *sec = calloc(vr.sections ? vr.sections : 1, sizeof *sec);
-    if (!sec) {
+    sr_mesh *fill = calloc(vr.sections ? vr.sections : 1, sizeof *fill);
+    if (!sec || !fill) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory for %zu sections", vr.sections);
         goto done;
     }
-    st = sr_images_of(&opts->symmetry, &im, &n_im, err);
+    /* a mirror's loss that took both sides: no image carries it */
+    st = sr_img_both_sides_lost(aligned, &g, &vr, min_voxels, &opts->symmetry, opts->noise_mm, fill,
+                                &info->both_sides, err);
+    if (st == SR_OK)
+        st = sr_images_of(&opts->symmetry, &im, &n_im, err);
     for (size_t s = 1; st == SR_OK && s <= vr.sections; s++) {
         local_box b = {0};
         sr_mesh hull = {0}, q = {0};
@@ -627,6 +632,18 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
             st = sr_axis_seam_close(&q, aligned, AXIS_RING * g.h, &pins, err);
             info->axis_pins += pins;
         }
+        if (st == SR_OK && q.tri_count > 0 && fill[s - 1].tri_count > 0) {
+            sr_mesh u = {0};
+            sr_err ferr = {{0}};
+            if (boolean_mending(SR_BOOLEAN_UNION, &q, "section's image", &fill[s - 1],
+                                "loss on both sides", &u, &info->mended_tris, &ferr) == SR_OK &&
+                u.tri_count > 0) {
+                sr_mesh_release(&q);
+                q = u;
+            } else {
+                sr_mesh_release(&u);
+            }
+        }
         if (st != SR_OK || q.tri_count == 0) {
             if (st == SR_OK)
                 unbuilt(&b, g.h, min_vol, info);
@@ -654,6 +671,9 @@ sr_status sr_image_reconstruct(const sr_mesh *aligned, const sr_layer_grid *grid
         ns++;
     }
 done:
+    for (size_t s = 0; fill && s < vr.sections; s++)
+        sr_mesh_release(&fill[s]);
+    free(fill);
     free(im);
     sr_vote_result_release(&vr);
     sr_voxels_release(&g);

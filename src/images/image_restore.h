@@ -65,6 +65,8 @@ typedef struct sr_image_info {
                                  * carried them, no hull, or the scan's images clipped
                                  * to nothing closed (a scan not closed there) */
     double unbuilt_mm3;         /* their volume by voxels */
+    size_t both_sides;          /* mirror: regions lost on both sides of the plane, built
+                                 * from their voxels (images_int.h) */
 } sr_image_info;
 
 /* Runs steps 1-3 and the voxel figures of 5 on the aligned scan. grid gives the layer

@@ -8,12 +8,14 @@
  *                    (sr_image_reconstruct, sr_image_patch_alone, sr_image_uncross)
  *   section_box.c    one section's voxels in a local box with its band, and its hull
  *   section_kind.c   a recess of the design, and a glide's core bounded by a fracture
+ *   both_sides_lost.c a mirror's loss that took a place and its image both
  *   image_figures.c  a section's figures: from its voxels (depth, lost area) and from
  *                    its patch (sr_image_section_figures)
  */
 #ifndef SR_IMAGES_INT_H
 #define SR_IMAGES_INT_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -68,6 +70,15 @@ int sr_img_design_recess(const sr_mesh *m, const sr_voxels *g, const sr_vote_res
 int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
                             const sr_symmetry *sym, double noise_mm);
 
+/* The share (by area) of the scan's facets facing the voxels labelled s that is
+ * fracture: without a twin under the symmetry's images, and not along the frame (with
+ * continued, only faces of the frame that go on as faces of the part away from every
+ * loss count as the design's). dense: triangles longer than a pitch looked at in
+ * parts (a thin region beside a coarse mesh's large faces). 0 when no facet faces
+ * them; -1 when out of memory. */
+double sr_img_fracture_share(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
+                             const sr_symmetry *sym, double noise_mm, bool continued, bool dense);
+
 /* Glide: the regions of weak evidence inside the sections that also hold strong
  * evidence (vr->weak; 26-connected, at least min_voxels), each parted between the
  * design and the fracture by the scan's surface facing it (section_kind.c); the
@@ -77,6 +88,20 @@ int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *lab
  * pattern is seen to stop short of an end (image_restore.c). */
 size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_result *vr,
                                 size_t min_voxels, const sr_symmetry *sym, double noise_mm);
+
+/* ---- a loss on both sides of a mirror (both_sides_lost.c) ---- */
+
+/* Mirror: the places the scan and its image both lack between a section's image and a
+ * fracture whose image is a section (both_sides_lost.c says how they are found), in
+ * 26-connected regions of at least min_voxels whose facing faces are mostly fracture:
+ * each region's closed mesh (its voxels grown by one into the material round it)
+ * added to fill[s - 1] for the section s it joins (fill: vr->sections meshes, empty
+ * or holding earlier pieces). *regions counts them. vr's labels are as they were on
+ * return. Anything but a mirror: nothing. SR_E_NOMEM only; a region whose mesh does
+ * not close is left out. */
+sr_status sr_img_both_sides_lost(const sr_mesh *m, const sr_voxels *g, sr_vote_result *vr,
+                                 size_t min_voxels, const sr_symmetry *sym, double noise_mm,
+                                 sr_mesh *fill, size_t *regions, sr_err *err);
 
 /* ---- figures (image_figures.c) ---- */
 

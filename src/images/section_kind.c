@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "images/image_vote.h"
 #include "images/images_int.h"
@@ -207,15 +208,49 @@ static double continued_area(const frame_face *ff, size_t n, int key, double at,
     return area;
 }
 
+/* The points one facet of triangle a, b, c stands for: its centroid (parts 1), or with
+ * parts k > 1 the centroids of the k * k triangles of its barycentric grid, numbered
+ * 0 .. k * k - 1. */
+static void part_centroid(const double *a, const double *b, const double *c, size_t k, size_t idx,
+                          double p[3])
+{
+    if (k == 1) {
+        for (int d = 0; d < 3; d++)
+            p[d] = (a[d] + b[d] + c[d]) / 3;
+        return;
+    }
+    /* row i holds 2 (k - i) - 1 triangles: k - i pointing up, k - i - 1 down */
+    size_t i = 0;
+    while (idx >= 2 * (k - i) - 1) {
+        idx -= 2 * (k - i) - 1;
+        i++;
+    }
+    double u, w; /* barycentric weights of b and c at the small triangle's centroid */
+    if (idx < k - i) {
+        size_t j = idx;
+        u = ((double)i + 1.0 / 3) / (double)k;
+        w = ((double)j + 1.0 / 3) / (double)k;
+    } else {
+        size_t j = idx - (k - i);
+        u = ((double)i + 2.0 / 3) / (double)k;
+        w = ((double)j + 2.0 / 3) / (double)k;
+    }
+    for (int d = 0; d < 3; d++)
+        p[d] = a[d] + u * (b[d] - a[d]) + w * (c[d] - a[d]);
+}
+
+#define DENSE_MAX_PARTS 64 /* a triangle looked at in at most 64 x 64 parts */
+
 static bool judge_facets(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
-                         const sr_symmetry *sym, double noise_mm, bool continued, facet **out,
-                         size_t *count)
+                         const sr_symmetry *sym, double noise_mm, bool continued, bool dense,
+                         facet **out, size_t *count)
 {
     sr_image *im = NULL;
     size_t n_im = 0;
     if (sr_images_of(sym, &im, &n_im, NULL) != SR_OK)
         return false;
-    facet *f = malloc((m->tri_count + 1) * sizeof *f);
+    size_t cap = m->tri_count + 1;
+    facet *f = malloc(cap * sizeof *f);
     frame_face *ff = continued ? malloc((m->tri_count + 1) * sizeof *ff) : NULL;
     if (!f || (continued && !ff)) {
         free(im);
@@ -232,32 +267,61 @@ static bool judge_facets(const sr_mesh *m, const sr_voxels *g, const int *label,
         double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
         if (!(len > 0))
             continue;
-        facet *x = &f[nf];
-        for (int k = 0; k < 3; k++) {
-            x->n[k] = nv[k] / len;
-            x->p[k] = (a[k] + b[k] + c[k]) / 3;
-        }
-        double q[3] = {x->p[0] + x->n[0] * g->h, x->p[1] + x->n[1] * g->h,
-                       x->p[2] + x->n[2] * g->h};
+        double un[3] = {nv[0] / len, nv[1] / len, nv[2] / len}, cen[3];
+        part_centroid(a, b, c, 1, 0, cen);
+        double q[3] = {cen[0] + un[0] * g->h, cen[1] + un[1] * g->h, cen[2] + un[2] * g->h};
         long vi = sr_voxels_locate(g, q);
         if (vi < 0 || label[vi] != s) {
             bool away = vi < 0 || label[vi] <= 0; /* facing no loss at all */
             for (int ax = 0; continued && away && ax < 3; ax++)
-                if (fabs(x->n[ax]) > cos(FRAME_DEG * M_PI / 180.0))
-                    ff[nff++] = (frame_face){2 * ax + (x->n[ax] < 0), x->p[ax], 0.5 * len};
-            continue;
+                if (fabs(un[ax]) > cos(FRAME_DEG * M_PI / 180.0))
+                    ff[nff++] = (frame_face){2 * ax + (un[ax] < 0), cen[ax], 0.5 * len};
+            if (!dense)
+                continue;
         }
-        x->outside = (size_t)vi;
-        x->area = 0.5 * len;
+        /* dense: a triangle longer than a pitch is looked at in parts, each facing its
+         * own voxel (a coarse mesh's plane chip is a few triangles, whose centroids
+         * face no thin region beside them) */
+        double e_max = 0;
         const double *v[3] = {a, b, c};
-        x->inv_h2 = 0;
+        double inv_h2 = 0;
         for (int i = 0; i < 3; i++) {
             const double *p = v[(i + 1) % 3], *o = v[(i + 2) % 3];
             double e2 = (p[0] - o[0]) * (p[0] - o[0]) + (p[1] - o[1]) * (p[1] - o[1]) +
                         (p[2] - o[2]) * (p[2] - o[2]);
-            x->inv_h2 += e2 / (len * len); /* height h_i = len / |opposite edge| */
+            e_max = fmax(e_max, sqrt(e2));
+            inv_h2 += e2 / (len * len); /* height h_i = len / |opposite edge| */
         }
-        nf++;
+        size_t k = 1;
+        if (dense && e_max > g->h)
+            k = (size_t)fmin(DENSE_MAX_PARTS, ceil(e_max / g->h));
+        for (size_t part = 0; part < k * k; part++) {
+            double p[3];
+            part_centroid(a, b, c, k, part, p);
+            if (k > 1 || dense) {
+                double qq[3] = {p[0] + un[0] * g->h, p[1] + un[1] * g->h, p[2] + un[2] * g->h};
+                vi = sr_voxels_locate(g, qq);
+                if (vi < 0 || label[vi] != s)
+                    continue;
+            }
+            if (nf + 1 >= cap) {
+                facet *f2 = realloc(f, 2 * cap * sizeof *f2);
+                if (!f2) {
+                    free(im);
+                    free(f);
+                    free(ff);
+                    return false;
+                }
+                f = f2;
+                cap *= 2;
+            }
+            facet *x = &f[nf++];
+            memcpy(x->n, un, sizeof un);
+            memcpy(x->p, p, sizeof x->p);
+            x->outside = (size_t)vi;
+            x->area = 0.5 * len / (double)(k * k);
+            x->inv_h2 = inv_h2 * (double)(k * k);
+        }
     }
     qsort(f, nf, sizeof *f, facet_x_cmp);
     if (continued)
@@ -320,20 +384,27 @@ static bool judge_facets(const sr_mesh *m, const sr_voxels *g, const int *label,
     return true;
 }
 
-int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
-                            const sr_symmetry *sym, double noise_mm)
+double sr_img_fracture_share(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
+                             const sr_symmetry *sym, double noise_mm, bool continued, bool dense)
 {
     facet *f = NULL;
     size_t nf = 0;
-    if (!judge_facets(m, g, label, s, sym, noise_mm, false, &f, &nf))
-        return 1; /* built: a loss left out is the worse mistake */
+    if (!judge_facets(m, g, label, s, sym, noise_mm, continued, dense, &f, &nf))
+        return -1;
     double total = 0, fracture = 0;
     for (size_t i = 0; i < nf; i++) {
         total += f[i].area;
         fracture += f[i].fracture ? f[i].area : 0;
     }
     free(f);
-    return total > 0 && fracture >= FRACTURE_SHARE * total;
+    return total > 0 ? fracture / total : 0;
+}
+
+int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
+                            const sr_symmetry *sym, double noise_mm)
+{
+    double share = sr_img_fracture_share(m, g, label, s, sym, noise_mm, false, false);
+    return share < 0 /* built: a loss left out is the worse mistake */ || share >= FRACTURE_SHARE;
 }
 
 /* A glide's pattern ends on each side at its own place: at an end, the image from the
@@ -366,7 +437,7 @@ static size_t claim(const sr_mesh *m, const sr_voxels *g, int *label, int probe,
 {
     facet *f = NULL;
     size_t nf = 0;
-    if (!judge_facets(m, g, label, probe, sym, noise_mm, true, &f, &nf))
+    if (!judge_facets(m, g, label, probe, sym, noise_mm, true, false, &f, &nf))
         return SIZE_MAX;
     size_t head = 0, tail = 0, design = 0;
     /* the fracture's seeds first: the voxels its facets face */
