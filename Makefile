@@ -46,7 +46,7 @@ LDLIBS := -fopenmp -lOpenMeshCore -lOpenMeshTools -ltinygltf -lpolyclipping -lsq
 ifeq ($(config),release)
   OPT := -O2 -DNDEBUG
 else ifeq ($(config),sanitize)
-  OPT := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+  OPT := -O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
   LDFLAGS += -fsanitize=address,undefined
 else ifeq ($(config),debug)
   OPT := -O1 -g
@@ -224,7 +224,9 @@ layers:
 
 # The CLI tests with every CLI run under Memcheck, and the unit tests of the CGAL
 # bridge (booleans, stacked patch meshes) under it whole: the CGAL units carry no
-# sanitizer instrumentation, so this is where their memory use is checked.
+# sanitizer instrumentation, so this is where their memory use is checked. It checks
+# the release build, the one users run (test has compiled its library already; a debug
+# build of its own took a minute of the stage, its runs no faster to check).
 # The CLI cases that run whole reconstructions of damaged parts or the demo are left to
 # the sanitized stage (under Memcheck each is 50x slower: 16 min for all of them, 4.5 min
 # for the instance run alone; a failed run's, that fails only when it writes, 7 min);
@@ -233,13 +235,17 @@ layers:
 # (compare_registers_*: 120 s under Memcheck) run under ASan, as do those that only
 # need a reconstruction to read from (export_run_*, json_names_agree_*), and the
 # symmetry fits of test_symmetry_fit and test_cli_symmetry (three or four alignments each).
-# So do the catalogue's listings and the usage errors (a dozen or more CLI runs each,
-# 15-60 s apiece under Memcheck, 320 s in all; C and SQLite only, their leaks caught by
-# LeakSanitizer there), and the refusal of a mesh read whole and found not closed (its
-# reading is the refusals' of garbage and truncated files, which stay under Memcheck).
+# So do the catalogue's listings and the usage errors, the rules, parameters and
+# history (a dozen or more CLI runs each, 10-60 s apiece under Memcheck, 440 s in all;
+# C and SQLite only, their leaks caught by LeakSanitizer there), and the refusal of a
+# mesh read whole and found not closed (its reading is the refusals' of garbage and
+# truncated files, which stay under Memcheck).
 # The CGAL union's heap-independence (twelve unions, each after stirring the heap: 3.5
 # min under Memcheck, whose allocator lays the heap out its own way anyway) runs under ASan.
 VALGRIND_SKIP := part_add_refuses_a_mesh_that_is_not_a_closed_solid,a_union_does_not_follow_the_heap,\
+rules_set_errors_change_nothing,rules_add_enable_and_disable,rules_list_show_and_set,\
+params_list_show_and_set,history_refuses_bad_filters,history_filters_return_exactly_the_runs_made,\
+run_commands_refuse_wrong_ids_and_filters,\
 part_list_filters_by_name_number_and_material,strings_are_escaped_in_json,\
 instance_add_list_and_show,part_show_by_number_and_by_id,part_add_refuses_an_unknown_extension,\
 bad_numbers_are_usage_errors_naming_the_option,unknown_options_are_usage_errors,\
@@ -255,11 +261,16 @@ toothed_wheel_is_*,angle_bracket_is_mirror,bumped_bar_is_a_glide_*,the_fit_is_de
 symfit_part_*,symmetry_of_a_mesh_file_is_proposed,reconstruct_symmetry_auto_*,\
 inspect_records_the_verdict_*,a_scan_in_another_frame_is_registered_*
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite
+VALGRIND_TESTS := test_cli test_boolean test_stack_mesh
+comma := ,
+empty :=
+space := $(empty) $(empty)
 valgrind: deps
-	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=debug all tests-built
-	$(Q)SYMREC_BIN=build/debug/symrec SYMREC_WRAP="$(VALGRIND)" SYMREC_TEST_WRAP="$(VALGRIND)" \
+	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all \
+	  $(VALGRIND_TESTS:%=build/release/tests/%)
+	$(Q)SYMREC_BIN=build/release/symrec SYMREC_WRAP="$(VALGRIND)" SYMREC_TEST_WRAP="$(VALGRIND)" \
 	  SYMREC_TEST_SKIP="$(VALGRIND_SKIP)" SYMREC_CLI_SHARDS=6 \
-	  sh tests/run_tests.sh build/debug test_cli,test_boolean,test_stack_mesh
+	  sh tests/run_tests.sh build/release $(subst $(space),$(comma),$(VALGRIND_TESTS))
 
 # Accuracy on generated parts: a fixed sample of ../shared/partgen (one per family)
 # reconstructed posed and noisy by the release binary, scored by ../shared/eval/runparts

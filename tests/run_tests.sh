@@ -20,8 +20,9 @@
 # posed: the posed parts' robust cases; rest: all others).
 # With SYMREC_ACCURACY_BUILD=DIR (make test: the release build) the shards run DIR's
 # optimised test_accuracy, and BUILD_DIR's own (sanitized) one runs the smoke shard:
-# the paper method on all nine parts and the robust method on the posed shaft, bracket
-# and rail (one per kind of symmetry).
+# the paper method on seven of the nine parts (not the keyed shaft and the gear, the
+# slowest under ASan) and the robust method on the posed shaft, bracket and rail (one
+# per kind of symmetry).
 #
 # Without NAMES, two more jobs run in the same queue: the browser check of the HTML
 # report (tests/browser/run_check.sh; node and Debian's chromium-headless-shell, which
@@ -161,8 +162,9 @@ job_list | xargs -P "$jobs" -L 1 sh -c '
     [ -f "$bin" ] && [ -x "$bin" ] || exit 0
     # the slowest noisy scans, apart from the others
     slow="bushing_gouged_scan_*,spur_gear_broken_tooth_scan_*,u_clamp_broken_arm_scan_*"
-    # under ASan: the paper method on every part, the robust one on one part of each
-    # kind of symmetry (about 4 min)
+    # under ASan: the paper method on every part but the two slowest there (the keyed
+    # shaft's 24 s, the gear's 16 s; both run optimised in the rest shard), the robust
+    # one on one part of each kind of symmetry (about 35 s)
     smoke="*_reconstructs_within_measured_bounds,shaft_chipped_shoulder_posed_robust_*"
     smoke="$smoke,bracket_broken_ear_posed_robust_*,rail_glide_chipped_posed_robust_*"
     case $tag in
@@ -170,7 +172,7 @@ job_list | xargs -P "$jobs" -L 1 sh -c '
         scan2) SYMREC_TEST_FILTER="*_scan_*"; SYMREC_TEST_SKIP=$slow ;;
         posed) SYMREC_TEST_FILTER="*_posed_robust_*" ;;
         rest)  SYMREC_TEST_SKIP="*_robust_restored_within_bounds" ;;
-        smoke) SYMREC_TEST_FILTER="$smoke" ;;
+        smoke) SYMREC_TEST_FILTER="$smoke"; SYMREC_TEST_SKIP="keyed_shaft_dent_*,spur_gear_broken_tooth_*" ;;
         shard*) SYMREC_TEST_SHARD="${tag#shard}/$cli_shards"; export SYMREC_TEST_SHARD ;;
     esac
     export SYMREC_TEST_FILTER SYMREC_TEST_SKIP
