@@ -162,9 +162,9 @@ job_list | xargs -P "$jobs" -L 1 sh -c '
     [ -f "$bin" ] && [ -x "$bin" ] || exit 0
     # the slowest noisy scans, apart from the others
     slow="bushing_gouged_scan_*,spur_gear_broken_tooth_scan_*,u_clamp_broken_arm_scan_*"
-    # under ASan: the paper method on every part but the two slowest there (the keyed
-    # shaft's 24 s, the gear's 16 s; both run optimised in the rest shard), the robust
-    # one on one part of each kind of symmetry (about 35 s)
+    # under ASan: the paper method on every part but the two slowest there (24 s for
+    # the keyed shaft, 16 s for the gear; both run optimised in the rest shard), the
+    # robust one on one part of each kind of symmetry (about 35 s)
     smoke="*_reconstructs_within_measured_bounds,shaft_chipped_shoulder_posed_robust_*"
     smoke="$smoke,bracket_broken_ear_posed_robust_*,rail_glide_chipped_posed_robust_*"
     case $tag in
