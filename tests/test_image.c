@@ -612,7 +612,9 @@ static void glide_rack_restores_its_first_tooth_broken_off(void **state)
  * is bounded by the core's face and not built), so the weak evidence inside the
  * chip's section is judged too: the phantom's voxels nearest the core's intact face
  * (a face of the frame going on away from the loss) go, the chip's own (nearest its
- * cut, lying in no face of the part) stay. */
+ * cut, lying in no face of the part) stay. The section's hull, convex and reaching
+ * past its voxels, still took the phantom's foot (+13 %) until the voxels the vote
+ * left out were cut out of the section's images (image_restore.c, cut_design_out). */
 static void glide_rack_chipped_at_its_end_builds_no_phantom_tooth(void **state)
 {
     (void)state;
@@ -628,8 +630,7 @@ static void glide_rack_chipped_at_its_end_builds_no_phantom_tooth(void **state)
     print_message("end chip beside a phantom tooth: %zu section(s), %.1f of %.1f mm^3\n",
                   r.section_count, r.patch_volume_mm3, want);
     assert_int_equal(r.section_count, 1);
-    assert_true(r.patch_volume_mm3 >= 0.97 * want);
-    assert_true(r.patch_volume_mm3 <= 1.25 * want);
+    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.03 * want);
     sr_recon_result_release(&r);
     sr_mesh_release(&intact);
     sr_mesh_release(&chip);

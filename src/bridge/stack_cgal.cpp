@@ -54,10 +54,21 @@ struct Soup {
     std::vector<uint32_t> tri;
     uint32_t vertex(const Point &p, double z)
     {
-        xyz.push_back(CGAL::to_double(p.x().exact()));
-        xyz.push_back(CGAL::to_double(p.y().exact()));
+        xyz.push_back(nearest(p.x()));
+        xyz.push_back(nearest(p.y()));
         xyz.push_back(z);
         return (uint32_t)(xyz.size() / 3 - 1);
+    }
+    /* The double nearest a coordinate: its interval's when that is a single double (an
+     * input point's, which holds the exact value), else rounded from the exact value.
+     * The same for the same exact point either way (identical points weld); computing
+     * every corner's exact value took a third of a mirror's plane continuation. */
+    static double nearest(const K::FT &c)
+    {
+        const auto &iv = c.approx();
+        if (iv.inf() == iv.sup())
+            return iv.inf();
+        return CGAL::to_double(c.exact());
     }
     void triangle(uint32_t a, uint32_t b, uint32_t c)
     {

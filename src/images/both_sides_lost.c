@@ -16,7 +16,7 @@
  * side of the plane, or to a wall whose image is intact. Each 26-connected region of
  * such voxels is built when the scan's faces facing it and its mirror are mostly
  * fracture (section_kind.c, faces of the frame that go on away from the losses being
- * the design's): a stack of its voxel layers, grown by one voxel into the material
+ * the design's): a stack of its voxel layers, grown by two voxels into the material
  * round it so the union with the patch and the scan leaves no seam. (A thin wedge open
  * to a face of the part, whose lines along the axes leave through that face, is not
  * found: a generated bracket's two box chips leave one 1.2 mm deep under its base.)
@@ -27,9 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bridge/polygon.h"
 #include "images/images_int.h"
-#include "robust/stack_mesh.h"
 
 enum { CANDIDATE = 1, SEEN = 2, GROWN = 4, FRESH = 8, NEXT = 16 };
 
@@ -134,63 +132,6 @@ static void mark_runs(const sr_voxels *g, const int *label, const int d[3], cons
             }
 }
 
-/* One layer's voxels of the region (mark & GROWN in layer k) as a region of the plane:
- * a rectangle per run along x, united. */
-static sr_status layer_region(const sr_voxels *g, const uint8_t *mark, size_t k,
-                              const size_t box[6], sr_poly2 *out, sr_err *err)
-{
-    sr_poly2 raw;
-    sr_poly2_init(&raw);
-    double h = g->h;
-    sr_status st = SR_OK;
-    for (size_t j = box[1]; st == SR_OK && j <= box[4]; j++) {
-        size_t i = box[0];
-        while (i <= box[3]) {
-            if (!(mark[sr_voxel_index(g, i, j, k)] & GROWN)) {
-                i++;
-                continue;
-            }
-            size_t i0 = i;
-            while (i <= box[3] && (mark[sr_voxel_index(g, i, j, k)] & GROWN))
-                i++;
-            double x0 = g->origin[0] + ((double)i0 - 0.5) * h,
-                   x1 = g->origin[0] + ((double)i - 0.5) * h,
-                   y0 = g->origin[1] + ((double)j - 0.5) * h, y1 = y0 + h;
-            double xy[8] = {x0, y0, x1, y0, x1, y1, x0, y1};
-            st = sr_poly2_add_contour(&raw, xy, 4, err);
-            if (st != SR_OK)
-                break;
-        }
-    }
-    if (st == SR_OK)
-        st = sr_poly2_boolean(SR_POLY_UNION, &raw, NULL, out, err);
-    sr_poly2_release(&raw);
-    return st;
-}
-
-/* The closed mesh of the region's GROWN voxels in box[] (a stack of its layers). */
-static sr_status region_mesh(const sr_voxels *g, const uint8_t *mark, const size_t box[6],
-                             sr_mesh *out, sr_err *err)
-{
-    size_t layers = box[5] - box[2] + 1;
-    sr_poly2 *reg = calloc(layers, sizeof *reg);
-    double *z = malloc((layers + 1) * sizeof *z);
-    sr_status st = reg && z ? SR_OK : sr_err_set(err, SR_E_NOMEM, "out of memory");
-    for (size_t l = 0; st == SR_OK && l < layers; l++) {
-        sr_poly2_init(&reg[l]);
-        st = layer_region(g, mark, box[2] + l, box, &reg[l], err);
-    }
-    for (size_t l = 0; st == SR_OK && l <= layers; l++)
-        z[l] = g->origin[2] + ((double)(box[2] + l) - 0.5) * g->h;
-    if (st == SR_OK)
-        st = sr_stack_mesh_pulled_in(reg, z, layers, out, err);
-    for (size_t l = 0; reg && l < layers; l++)
-        sr_poly2_release(&reg[l]);
-    free(reg);
-    free(z);
-    return st;
-}
-
 static void box_add(size_t box[6], size_t v, const sr_voxels *g)
 {
     size_t ijk[3] = {v % g->nx, (v / g->nx) % g->ny, v / (g->nx * g->ny)};
@@ -269,7 +210,7 @@ static sr_status build_region(const sr_mesh *m, const sr_voxels *g, sr_vote_resu
     free(votes);
     sr_status st = SR_OK;
     if (*sec > 0)
-        st = region_mesh(g, mark, box, out, err);
+        st = sr_img_marked_mesh(g, mark, GROWN, box, out, err);
     for (size_t k = box[2]; k <= box[5]; k++)
         for (size_t j = box[1]; j <= box[4]; j++)
             for (size_t i = box[0]; i <= box[3]; i++)

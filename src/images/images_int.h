@@ -9,6 +9,7 @@
  *   section_box.c    one section's voxels in a local box with its band, and its hull
  *   section_kind.c   a recess of the design, and a glide's core bounded by a fracture
  *   both_sides_lost.c a mirror's loss that took a place and its image both
+ *   voxel_mesh.c     a set of the grid's voxels as a closed mesh
  *   image_figures.c  a section's figures: from its voxels (depth, lost area) and from
  *                    its patch (sr_image_section_figures)
  */
@@ -82,10 +83,12 @@ double sr_img_fracture_share(const sr_mesh *m, const sr_voxels *g, const int *la
 /* Glide: the regions of weak evidence inside the sections that also hold strong
  * evidence (vr->weak; 26-connected, at least min_voxels), each parted between the
  * design and the fracture by the scan's surface facing it (section_kind.c); the
- * voxels going with the design, when at least min_voxels, are taken out of their
- * section (label -1, its voxel count lowered). Returns how many regions lost voxels; 0
- * when vr has no weak flags or memory runs out (nothing taken). Call it only where the
- * pattern is seen to stop short of an end (image_restore.c). */
+ * voxels standing in front of a face of the design, when enough go with it (at least
+ * min_voxels), are taken out of their section (label -1, its voxel count lowered; no
+ * image builds there: image_restore.c cuts them out of the section's images). Returns
+ * how many regions lost voxels; 0 when vr has no weak flags or memory runs out
+ * (nothing taken). Call it only where the pattern is seen to stop short of an end
+ * (image_restore.c). */
 size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_result *vr,
                                 size_t min_voxels, const sr_symmetry *sym, double noise_mm);
 
@@ -94,7 +97,7 @@ size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_re
 /* Mirror: the places the scan and its image both lack between a section's image and a
  * fracture whose image is a section (both_sides_lost.c says how they are found), in
  * 26-connected regions of at least min_voxels whose facing faces are mostly fracture:
- * each region's closed mesh (its voxels grown by one into the material round it)
+ * each region's closed mesh (its voxels grown by two into the material round it)
  * added to fill[s - 1] for the section s it joins (fill: vr->sections meshes, empty
  * or holding earlier pieces). *regions counts them. vr's labels are as they were on
  * return. Anything but a mirror: nothing. SR_E_NOMEM only; a region whose mesh does
@@ -102,6 +105,14 @@ size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_re
 sr_status sr_img_both_sides_lost(const sr_mesh *m, const sr_voxels *g, sr_vote_result *vr,
                                  size_t min_voxels, const sr_symmetry *sym, double noise_mm,
                                  sr_mesh *fill, size_t *regions, sr_err *err);
+
+/* ---- a set of voxels as a mesh (voxel_mesh.c) ---- */
+
+/* The closed mesh of the voxels in box[] (grid indices: i0, j0, k0, i1, j1, k1,
+ * inclusive) whose mark has any of bits set: their cubes, united. SR_E_NOMEM, or the
+ * stack's error when it does not close; *out only on success. */
+sr_status sr_img_marked_mesh(const sr_voxels *g, const uint8_t *mark, uint8_t bits,
+                             const size_t box[6], sr_mesh *out, sr_err *err);
 
 /* ---- figures (image_figures.c) ---- */
 

@@ -416,11 +416,16 @@ int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *lab
  * beyond falls past the end): judged whole, the chip was missed (-17 %). So its voxels
  * are parted (claim): those standing in front of a face of the frame that faces them
  * and goes on as a face of the part away from the loss (the intact face a phantom tooth
- * would stand on) go with the design, as do those nearer to these than to a fracture
- * facing the region; the rest stay. A face of the frame that does not go on (a cut
- * along an axis, a test's box chip) is a fracture here. (Tried: the nearest facet alone
- * left a third of the phantom built; faces of the frame counted as design whether or
- * not they went on dropped a rack's chip cut along the frame.) */
+ * would stand on) go with the design; the rest stay. Those only nearer to these than
+ * to a fracture facing the region count towards the design's share (the region is
+ * parted only when enough goes), but stay: behind every face of the design they are
+ * the chip's own material by a corner or along a face of the frame (dropped, a
+ * generated rack's end chip lost the corner of its core, 1.2 mm, and another 1.7 mm of
+ * its depth, which the section's hull took back only where it reached). A face of the
+ * frame that does not go on (a cut along an axis, a test's box chip) is a fracture
+ * here. (Tried: the nearest facet alone left a third of the phantom built; faces of the
+ * frame counted as design whether or not they went on dropped a rack's chip cut along
+ * the frame.) */
 #define WEAK_REGION INT_MIN /* a weak voxel of the section looked at, not yet grouped */
 
 /* The voxels labelled probe (n of them, region[]) that go with the design: those
@@ -428,9 +433,9 @@ int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *lab
  * the part away from every loss (past its plane, half a pitch or more, along its
  * outward normal), then those nearer (in 26-connected steps through the region) to
  * them or to such a face than to a fracture facing the region (fracture first at equal
- * steps; a voxel neither reaches stays). Relabelled probe + 1, the others probe + 2 or
- * left; returns how many went with the design, or SIZE_MAX when out of memory. queue
- * has room for n. */
+ * steps; a voxel neither reaches stays). Relabelled probe + 1 (in front of a face) or
+ * probe + 3 (nearer to one), the others probe + 2 or left; returns how many went with
+ * the design, or SIZE_MAX when out of memory. queue has room for n. */
 static size_t claim(const sr_mesh *m, const sr_voxels *g, int *label, int probe,
                     const size_t *region, size_t n, size_t *queue, const sr_symmetry *sym,
                     double noise_mm)
@@ -468,11 +473,11 @@ static size_t claim(const sr_mesh *m, const sr_voxels *g, int *label, int probe,
     while (head < tail) {
         size_t v = queue[head++];
         int kind = label[v];
-        design += kind == probe + 1;
+        design += kind == probe + 1 || kind == probe + 3;
         size_t nb[26], nn = sr_voxel_neighbours26(g, v, nb);
         for (size_t q = 0; q < nn; q++)
             if (label[nb[q]] == probe) {
-                label[nb[q]] = kind;
+                label[nb[q]] = kind == probe + 2 ? kind : probe + 3;
                 queue[tail++] = nb[q];
             }
     }
@@ -482,7 +487,7 @@ static size_t claim(const sr_mesh *m, const sr_voxels *g, int *label, int probe,
 size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_result *vr,
                                 size_t min_voxels, const sr_symmetry *sym, double noise_mm)
 {
-    if (!vr->weak || vr->sections == 0 || vr->sections >= (size_t)INT_MAX - 3)
+    if (!vr->weak || vr->sections == 0 || vr->sections >= (size_t)INT_MAX - 4)
         return 0;
     size_t *stack = malloc((vr->at_count + 1) * sizeof *stack);
     size_t *region = malloc((vr->at_count + 1) * sizeof *region);
@@ -492,7 +497,7 @@ size_t sr_img_drop_phantom_ends(const sr_mesh *m, const sr_voxels *g, sr_vote_re
         return 0;
     }
     size_t dropped = 0;
-    int probe = (int)vr->sections + 1; /* labels no section has: probe .. probe + 2 */
+    int probe = (int)vr->sections + 1; /* labels no section has: probe .. probe + 3 */
     for (size_t s = 1; s <= vr->sections; s++) {
         if (vr->weak_only && vr->weak_only[s - 1])
             continue; /* a core of weak evidence alone: judged whole (image_restore.c) */
