@@ -19,6 +19,7 @@
 #include "bridge/mend.h"
 #include "images/plane_continuation.h"
 #include "robust/region_sections.h"
+#include "mesh/mesh_shells.h"
 #include "mesh/shapes.h"
 #include "reconstruct_int.h"
 #include "run/params_default.h"
@@ -103,6 +104,7 @@ void sr_recon_result_release(sr_recon_result *r)
 /* the farthest a vertex of a noisy scan moves to undo a fold (a fold of noise on a
  * sliver needs about twice the noise) */
 #define UNFOLD_MAX_MM 0.1
+#define SLIVER_SHELL_MM3 1e-3 /* a closed shell enclosing less is a sliver, not part */
 /* Image method: the scan's share missing from its images that no damage explains
  * (noise, facets, the grid's rounding) below which the fit is good */
 #define POOR_FIT_FLOOR 0.05
@@ -297,6 +299,17 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         } else {
             sr_mesh_release(&unfolded);
         }
+        /* closed slivers the scan's closing or its unfolding left (a base fill meeting
+         * a rim a few micrometres off its plane): no union takes a mesh with one, and
+         * the sections' patches were lost (a pulley's open scan: a shell of 6 triangles,
+         * 1e-5 mm3, cost it its 4.5 cm3 chip); a scan of nothing but slivers is left
+         * for the method to refuse */
+        size_t shells = 0,
+               slivers_closed = sr_mesh_count_small_shells(scan, SLIVER_SHELL_MM3, &shells);
+        if (slivers_closed > 0 && slivers_closed < shells &&
+            (scan == &unfolded || sr_mesh_copy(&unfolded, scan_in) == SR_OK) &&
+            sr_mesh_drop_small_shells(&unfolded, SLIVER_SHELL_MM3, NULL, NULL) == SR_OK)
+            scan = &unfolded;
         r.timings.unfold_s = now_s() - tu;
     }
 

@@ -3,7 +3,7 @@
  * Known answers from boxes: a 10 mm cube holding a 2 mm cubic void (a shell turned
  * inward, -8 mm^3) loses the void when the limit allows it and keeps it otherwise;
  * solid shells are never removed, whatever their size; vertices only the void used are
- * gone and the rest keeps its order; bad limits are refused.
+ * gone and the rest keeps its order; bad limits are refused; small shells are counted.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -108,6 +108,29 @@ static void bad_limit_is_refused_and_empty_mesh_is_fine(void **state)
     sr_mesh_release(&m);
 }
 
+/* The shells enclosing less than a limit, counted (solid or void): the cube with its
+ * 8 mm^3 void and a 0.001 mm^3 fleck (three shells) has one below 0.01 mm^3, two below
+ * 10; the mesh is unchanged. */
+static void small_shells_are_counted(void **state)
+{
+    (void)state;
+    sr_mesh m, fleck;
+    cube_with_void(&m);
+    box(&fleck, 20, 20.1);
+    assert_int_equal(sr_mesh_append(&m, &fleck), SR_OK);
+    size_t nt = m.tri_count, shells = 0;
+    assert_int_equal(sr_mesh_count_small_shells(&m, 0.01, &shells), 1);
+    assert_int_equal(shells, 3);
+    assert_int_equal(sr_mesh_count_small_shells(&m, 10.0, NULL), 2);
+    assert_int_equal(sr_mesh_count_small_shells(&m, 1e-4, NULL), 0);
+    assert_int_equal(m.tri_count, nt);
+    sr_mesh empty = {0};
+    assert_int_equal(sr_mesh_count_small_shells(&empty, 1.0, &shells), 0);
+    assert_int_equal(shells, 0);
+    sr_mesh_release(&m);
+    sr_mesh_release(&fleck);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -115,6 +138,7 @@ int main(void)
         cmocka_unit_test(void_above_the_limit_is_kept),
         cmocka_unit_test(solid_shells_are_never_dropped),
         cmocka_unit_test(bad_limit_is_refused_and_empty_mesh_is_fine),
+        cmocka_unit_test(small_shells_are_counted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,6 +8,7 @@
 #include "mesh/mesh_shells.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -30,20 +31,18 @@ static void join(uint32_t *parent, uint32_t a, uint32_t b)
         parent[a] = b;
 }
 
-/* Drops every shell that is a void no larger than max_void_mm3 or a solid smaller
- * than min_solid_mm3; report counts what was dropped. */
-static sr_status drop_shells(sr_mesh *mesh, double max_void_mm3, double min_solid_mm3,
-                             sr_void_report *report, sr_err *err)
+/* Each vertex's shell (find(parent, v), its lowest vertex) and each root's signed
+ * volume (volume[root]): both malloc'ed into *parent_out and *volume_out; false when out
+ * of memory. */
+static bool shells_of(const sr_mesh *mesh, uint32_t **parent_out, double **volume_out)
 {
     size_t nv = mesh->vertex_count, nt = mesh->tri_count;
-    if (nt == 0)
-        return SR_OK;
-    uint32_t *parent = malloc(nv * sizeof *parent);
-    double *volume = calloc(nv, sizeof *volume);
+    uint32_t *parent = malloc((nv ? nv : 1) * sizeof *parent);
+    double *volume = calloc(nv ? nv : 1, sizeof *volume);
     if (!parent || !volume) {
         free(parent);
         free(volume);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory finding a mesh's shells");
+        return false;
     }
     for (size_t v = 0; v < nv; v++)
         parent[v] = (uint32_t)v;
@@ -68,6 +67,23 @@ static sr_status drop_shells(sr_mesh *mesh, double max_void_mm3, double min_soli
                                        a[2] * (b[0] * d[1] - b[1] * d[0])) /
                                       6.0;
     }
+    *parent_out = parent;
+    *volume_out = volume;
+    return true;
+}
+
+/* Drops every shell that is a void no larger than max_void_mm3 or a solid smaller
+ * than min_solid_mm3; report counts what was dropped. */
+static sr_status drop_shells(sr_mesh *mesh, double max_void_mm3, double min_solid_mm3,
+                             sr_void_report *report, sr_err *err)
+{
+    size_t nv = mesh->vertex_count, nt = mesh->tri_count;
+    if (nt == 0)
+        return SR_OK;
+    uint32_t *parent = NULL;
+    double *volume = NULL;
+    if (!shells_of(mesh, &parent, &volume))
+        return sr_err_set(err, SR_E_NOMEM, "out of memory finding a mesh's shells");
     /* a shell's root is its lowest vertex; every vertex of a triangle finds it */
     int *drop = calloc(nv, sizeof *drop); /* per root: 1 = a void to remove */
     if (!drop) {
@@ -152,4 +168,30 @@ sr_status sr_mesh_drop_small_shells(sr_mesh *mesh, double min_volume_mm3,
         return sr_err_set(err, SR_E_RANGE, "bad smallest shell %g mm^3: expected 0 or more",
                           min_volume_mm3);
     return drop_shells(mesh, min_volume_mm3, min_volume_mm3, report, err);
+}
+
+size_t sr_mesh_count_small_shells(const sr_mesh *mesh, double min_volume_mm3, size_t *shells)
+{
+    uint32_t *parent = NULL;
+    double *volume = NULL;
+    if (shells)
+        *shells = 0;
+    if (mesh->tri_count == 0)
+        return 0;
+    if (!shells_of(mesh, &parent, &volume))
+        return SIZE_MAX;
+    size_t small = 0, all = 0;
+    for (size_t t = 0; t < mesh->tri_count; t++) {
+        uint32_t r = find(parent, mesh->tri[3 * t]);
+        if (volume[r] != INFINITY) { /* each shell counted once: its root marked */
+            small += fabs(volume[r]) < min_volume_mm3;
+            all++;
+            volume[r] = INFINITY;
+        }
+    }
+    free(parent);
+    free(volume);
+    if (shells)
+        *shells = all;
+    return small;
 }

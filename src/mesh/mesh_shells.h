@@ -34,4 +34,8 @@ sr_status sr_mesh_drop_voids(sr_mesh *mesh, double max_void_mm3, sr_void_report 
 sr_status sr_mesh_drop_small_shells(sr_mesh *mesh, double min_volume_mm3,
                                     sr_void_report *report, sr_err *err);
 
+/* How many shells enclose less than min_volume_mm3 in magnitude, solid or void, and
+ * (shells, may be NULL) how many there are; SIZE_MAX when out of memory. */
+size_t sr_mesh_count_small_shells(const sr_mesh *mesh, double min_volume_mm3, size_t *shells);
+
 #endif
