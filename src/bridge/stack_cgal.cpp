@@ -59,9 +59,9 @@ struct Soup {
         xyz.push_back(z);
         return (uint32_t)(xyz.size() / 3 - 1);
     }
-    /* The double nearest a coordinate: its interval's when that is a single double (an
-     * input point's, which holds the exact value), else rounded from the exact value.
-     * The same for the same exact point either way (identical points weld); computing
+    /* A coordinate as a double: its interval's when that is a single double (an input
+     * point's: exactly its value), else converted from the exact value as before. The
+     * same for the same exact point either way (identical points weld); converting
      * every corner's exact value took a third of a mirror's plane continuation. */
     static double nearest(const K::FT &c)
     {
