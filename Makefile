@@ -280,9 +280,10 @@ valgrind: deps
 # sleeve's bore chip and a pulley's rim read as designed pockets, a noisy strip's glide
 # shift at the scan's lower bound, a noisy strip whose folded slivers the mender filled
 # flat across a chip, a noisy rack's pattern end whose facets noise tilted off the frame
-# built as a phantom tooth).
+# built as a phantom tooth), and an open scan of a gear whose base's scraps, peeled, left
+# its rim off the plane, fanned across the bore.
 PARTGEN_SAMPLES := 777:3,4,5,6:16 1202:2:24 271828:9:24 55441:13:24 \
-  987654:0,13:24 2718:7,20:24 8128:7:24 41207:7:8
+  987654:0,13:24 2718:7,20:24 8128:7:24 41207:7:8 16180:5:16:open
 partgen-check: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
 	$(Q)sh tests/partgen/check_generated.sh build/release/symrec $(PARTGEN_SAMPLES)

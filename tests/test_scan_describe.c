@@ -335,6 +335,40 @@ static void an_island_left_in_the_base_is_dropped_not_filled_round(void **state)
     sr_mesh_release(&m);
 }
 
+/* A box with one triangle of a side left out: a loop of three edges is closed by the
+ * triangle it bounds, as it was (no vertex made at its centroid, no plane to fill), and
+ * the box holds its volume again. */
+static void a_triangle_left_out_is_put_back_as_it_was(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(0, &m);
+    size_t tris = m.tri_count, verts = m.vertex_count;
+    uint32_t gone[3];
+    memcpy(gone, m.tri + 3 * (tris - 1), sizeof gone);
+    m.tri_count--; /* the last triangle left out */
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.loop_count, 1);
+    assert_int_equal(d.loops[0].edges, 3);
+    sr_scan_closing how[1] = {SR_SCAN_LEFT_OPEN};
+    size_t closed = 0;
+    assert_int_equal(sr_scan_close_openings_how(&m, &d, 0, &closed, how, NULL), SR_OK);
+    assert_int_equal(closed, 1);
+    assert_int_equal(how[0], SR_SCAN_IN_PLANE);
+    assert_int_equal(m.tri_count, tris);
+    assert_int_equal(m.vertex_count, verts);
+    uint32_t *t = m.tri + 3 * (tris - 1); /* the same triangle, the same way round */
+    int k = t[0] == gone[0] ? 0 : t[1] == gone[0] ? 1 : 2;
+    assert_int_equal(t[k], gone[0]);
+    assert_int_equal(t[(k + 1) % 3], gone[1]);
+    assert_int_equal(t[(k + 2) % 3], gone[2]);
+    assert_true(sr_mesh_is_closed(&m));
+    assert_near(sr_mesh_volume(&m), 6000, 1e-9);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
 static void a_stray_triangle_off_the_box_is_dropped(void **state)
 {
     (void)state;
@@ -527,6 +561,7 @@ int main(void)
         cmocka_unit_test(rims_crossing_in_their_plane_are_cut_where_they_cross),
         cmocka_unit_test(two_pyramids_touching_at_a_corner_close_without_a_pinch),
         cmocka_unit_test(an_island_left_in_the_base_is_dropped_not_filled_round),
+        cmocka_unit_test(a_triangle_left_out_is_put_back_as_it_was),
         cmocka_unit_test(a_stray_triangle_off_the_box_is_dropped),
         cmocka_unit_test(strays_over_a_dense_surface_are_measured_to_the_nearest_triangle),
         cmocka_unit_test(a_small_piece_on_the_surface_or_a_large_one_is_kept),

@@ -122,6 +122,24 @@ static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *
     return ok;
 }
 
+/* A loop of three edges (a triangle the scan lacks: a pinhole, or a sliver of a wall
+ * beside the face it stood on, seen edge on) closed by that triangle, walked against
+ * the rim. Such a sliver lies within the noise of the face's plane and joined its
+ * group, and its rim, crossing the face's own in the plane, made the face's fill wind
+ * twice along it: the face was fanned from its centroid, across a fork's gap
+ * (s46368p10, open: 1.4 mm). */
+static bool close_triangle(const sr_scan_desc *d, const sr_scan_loop *l, grow *g)
+{
+    if (!grow_room(g, 0, 1))
+        return false;
+    const uint32_t *lv = d->loop_verts + l->first;
+    uint32_t *t = g->tri + 3 * g->nt++;
+    t[0] = lv[2];
+    t[1] = lv[1];
+    t[2] = lv[0];
+    return true;
+}
+
 static int key_cmp(const void *a, const void *b)
 {
     uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
@@ -163,46 +181,70 @@ static bool fill_fits(const uint32_t *tri, size_t nt, const uint32_t *rim, size_
     return ok && border == nrim;
 }
 
-/* Closes the loops group[0..count) (all on the plane c, n) by the triangulation of the
- * region they bound. *done false (g unchanged in its counts) when the triangulation
- * gives nothing usable (then the caller fans them); SR_E_NOMEM. */
-static sr_status plane_fill(const sr_mesh *mesh, const sr_scan_desc *d, const size_t *group,
-                            size_t count, const double c[3], const double n[3], size_t base_v,
-                            grow *g, bool *done, sr_err *err)
+/* A cycle of a plane's rims narrower than this on average (twice its area over its
+ * perimeter, mm) is a petal: the walk out along a wall's bottom row of needles and back
+ * along the next, from a corner they fan from, lying within the noise of the face the
+ * part stood on. Closed alone (a fan), not outlined for the face's fill: there it wound
+ * the face twice or not at all along the needles, the fill could not meet the rim, and
+ * the face was fanned from its centroid, across a fork's gap (s46368p10, open: 1.4 mm)
+ * and over a clamp's foot holes. Fanned from its own centroid: zipped side to side
+ * instead, its diagonals ran where the needles' own edges run, used four times (a
+ * lever's and a plate's open scans lost their sections). */
+#define PETAL_WIDTH_MM SR_SCAN_PLANE_RMS_MM
+
+/* The simple cycles of loop l's walk appended to cyc (cycle k: cs[k] .. cs[k+1]-1,
+ * cs[nc] on entry the next free place), cut where the walk passes a vertex twice as
+ * fan does (stack: room for its edges); returns the cycles now in cs. */
+static size_t walk_cycles(const sr_scan_desc *d, const sr_scan_loop *l, uint32_t *stack,
+                          uint32_t *cyc, size_t *ncv, size_t *cs, size_t nc)
 {
-    *done = false;
-    double e1[3], e2[3];
-    sr_scan_plane_frame(n, e1, e2);
-    size_t pts = 0;
-    for (size_t i = 0; i < count; i++)
-        pts += d->loops[group[i]].edges;
-    double *uv = malloc(2 * pts * sizeof *uv);
-    size_t *start = malloc((count + 1) * sizeof *start);
-    uint32_t *vid = malloc(pts * sizeof *vid);
-    if (!uv || !start || !vid) {
-        free(uv);
-        free(start);
-        free(vid);
-        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    }
-    size_t p = 0;
-    for (size_t i = 0; i < count; i++) {
-        const sr_scan_loop *l = &d->loops[group[i]];
-        start[i] = p;
-        for (size_t e = 0; e < l->edges; e++, p++) {
-            vid[p] = d->loop_verts[l->first + e];
-            const double *q = mesh->xyz + 3 * (size_t)vid[p];
-            double r[3] = {q[0] - c[0], q[1] - c[1], q[2] - c[2]};
-            uv[2 * p] = r[0] * e1[0] + r[1] * e1[1] + r[2] * e1[2];
-            uv[2 * p + 1] = r[0] * e2[0] + r[1] * e2[1] + r[2] * e2[2];
+    const uint32_t *lv = d->loop_verts + l->first;
+    size_t top = 0;
+    for (size_t e = 0; e <= l->edges; e++) {
+        size_t j = 0;
+        if (e < l->edges)
+            while (j < top && stack[j] != lv[e])
+                j++;
+        if (e == l->edges || j < top) { /* back at stack[j]: stack[j..top) closes there */
+            if (top - j >= 3) {
+                memcpy(cyc + *ncv, stack + j, (top - j) * sizeof *cyc);
+                *ncv += top - j;
+                cs[++nc] = *ncv;
+            }
+            top = j;
         }
+        if (e < l->edges)
+            stack[top++] = lv[e];
     }
-    start[count] = p;
+    return nc;
+}
+
+/* Rims crossing one another more often than this (a constant plus a share of their
+ * points) are a tangle of scraps, not the outline of a face with a fold here and there:
+ * the generated parts' bases filled with up to one crossing in five points; a
+ * 658,000-triangle spline's base, left in 4,938 scraps, crossed three times per point,
+ * and its groups, each seeding another when its fill failed, took minutes. */
+#define TANGLE_CROSSINGS 64
+#define TANGLE_PER_POINT 0.5
+
+/* The fill of the outlines (count loops of uv, start, vid: pts points, in the plane's
+ * frame c, e1, e2) with the petals (cycles petal[0..npetal) of cyc, cs) fanned alone:
+ * appended to g when the triangulation meets every outline edge once the other way
+ * (*done), else nothing (*tangled when the rims cross too often to try); SR_E_NOMEM. */
+static sr_status fill_outlines(const sr_mesh *mesh, const double c[3], const double e1[3],
+                               const double e2[3], const double *uv, const size_t *start,
+                               size_t count, const uint32_t *vid, size_t pts, const uint32_t *cyc,
+                               const size_t *cs, const size_t *petal, size_t npetal, size_t base_v,
+                               grow *g, bool *done, bool *tangled, sr_err *err)
+{
     sr_planar_fill_out fo = {0};
     uint32_t *fid = NULL, *rim = NULL, *mtri = NULL;
     double *acc = NULL;
     sr_err ferr;
-    sr_status st = sr_planar_fill(uv, start, count, &fo, &ferr);
+    sr_status st = SR_OK;
+    size_t most = TANGLE_CROSSINGS + (size_t)(TANGLE_PER_POINT * (double)pts);
+    *tangled = sr_scan_rim_crossings(uv, start, count, most) > most;
+    st = *tangled ? SR_E_INVALID : sr_planar_fill(uv, start, count, &fo, &ferr);
     if (st == SR_E_NOMEM) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
         goto out;
@@ -282,6 +324,11 @@ static sr_status plane_fill(const sr_mesh *mesh, const sr_scan_desc *d, const si
         }
     g->nv += nx;
     g->nt += nt;
+    for (size_t k = 0; k < npetal; k++)
+        if (!fan_cycle(mesh, cyc + cs[petal[k]], cs[petal[k] + 1] - cs[petal[k]], base_v, g)) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            goto out;
+        }
     *done = true;
 out:
     sr_planar_fill_free(&fo);
@@ -289,6 +336,73 @@ out:
     free(rim);
     free(mtri);
     free(acc);
+    return st;
+}
+
+/* Closes the loops group[0..count) (all on the plane c, n) by the triangulation of the
+ * region they bound. *done false (g unchanged in its counts) when the triangulation
+ * gives nothing usable (then the caller fans them), *tangled true too when the rims
+ * cross one another too often to try it; SR_E_NOMEM. */
+static sr_status plane_fill(const sr_mesh *mesh, const sr_scan_desc *d, const size_t *group,
+                            size_t count, const double c[3], const double n[3], size_t base_v,
+                            grow *g, bool *done, bool *tangled, sr_err *err)
+{
+    *done = false;
+    *tangled = false;
+    double e1[3], e2[3];
+    sr_scan_plane_frame(n, e1, e2);
+    size_t all = 0;
+    for (size_t i = 0; i < count; i++)
+        all += d->loops[group[i]].edges;
+    /* the loops' walks cut into simple cycles (cyc, cycle k: cs[k] .. cs[k+1]-1), each
+     * an outline for the fill or a petal closed alone */
+    uint32_t *cyc = malloc((all + 1) * sizeof *cyc), *stack = malloc((all + 1) * sizeof *stack);
+    size_t *cs = malloc((all + 2) * sizeof *cs), *petal = malloc((all + 1) * sizeof *petal);
+    double *uv = malloc(2 * (all + 1) * sizeof *uv);
+    size_t *start = malloc((all + 2) * sizeof *start);
+    uint32_t *vid = malloc((all + 1) * sizeof *vid);
+    sr_status st = SR_OK;
+    if (!cyc || !stack || !cs || !petal || !uv || !start || !vid) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        goto out;
+    }
+    size_t ncyc = 0, ncv = 0;
+    cs[0] = 0;
+    for (size_t i = 0; i < count; i++)
+        ncyc = walk_cycles(d, &d->loops[group[i]], stack, cyc, &ncv, cs, ncyc);
+    /* the cycles narrower than a petal closed alone, the others outlined */
+    size_t p = 0, loops = 0, npetal = 0;
+    for (size_t k = 0; k < ncyc; k++) {
+        size_t first = p;
+        double area = 0, perimeter = 0;
+        for (size_t q = cs[k]; q < cs[k + 1]; q++, p++) {
+            vid[p] = cyc[q];
+            const double *x = mesh->xyz + 3 * (size_t)vid[p];
+            double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+            uv[2 * p] = r[0] * e1[0] + r[1] * e1[1] + r[2] * e1[2];
+            uv[2 * p + 1] = r[0] * e2[0] + r[1] * e2[1] + r[2] * e2[2];
+        }
+        for (size_t q = first; q < p; q++) {
+            size_t q2 = q + 1 < p ? q + 1 : first;
+            area += uv[2 * q] * uv[2 * q2 + 1] - uv[2 * q2] * uv[2 * q + 1];
+            perimeter += hypot(uv[2 * q2] - uv[2 * q], uv[2 * q2 + 1] - uv[2 * q + 1]);
+        }
+        if (fabs(area) < PETAL_WIDTH_MM * perimeter) { /* 2 x area / perimeter: its width */
+            petal[npetal++] = k;
+            p = first;
+            continue;
+        }
+        start[loops++] = first;
+    }
+    start[loops] = p;
+    if (loops > 0) /* else petals only: fanned instead */
+        st = fill_outlines(mesh, c, e1, e2, uv, start, loops, vid, p, cyc, cs, petal, npetal,
+                           base_v, g, done, tangled, err);
+out:
+    free(cyc);
+    free(stack);
+    free(cs);
+    free(petal);
     free(uv);
     free(start);
     free(vid);
@@ -568,6 +682,18 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_
             vcomp[mesh->tri[3 * t + k]] = (uint32_t)d->tri_component[t];
     for (size_t i = 0; i < d->loop_count && st == SR_OK; i++) {
         const sr_scan_loop *l = &d->loops[i];
+        uint32_t comp = vcomp[d->loop_verts[l->first]];
+        if (done[i] != SR_SCAN_LEFT_OPEN || l->edges != 3 ||
+            !sr_scan_loop_eligible(l, max_span_mm2) ||
+            (comp < d->component_count && d->components[comp].triangles < 2))
+            continue; /* a lone triangle's rim: an island, a stray */
+        if (!close_triangle(d, l, &g))
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+        done[i] = SR_SCAN_IN_PLANE;
+        n_closed++;
+    }
+    for (size_t i = 0; i < d->loop_count && st == SR_OK; i++) {
+        const sr_scan_loop *l = &d->loops[i];
         if (done[i] != SR_SCAN_LEFT_OPEN || !sr_scan_loop_eligible(l, max_span_mm2))
             continue;
         double c[3], n[3];
@@ -575,11 +701,20 @@ sr_status sr_scan_close_openings_how(sr_mesh *mesh, sr_scan_desc *d, double max_
         size_t count = sr_scan_plane_group(mesh, d, i, done, max_span_mm2, group, c, n);
         if (count > 0) {
             count = drop_islands(mesh, d, group, count, c, n, vcomp, done, &n_closed);
-            st = plane_fill(mesh, d, group, count, c, n, nv, &g, &filled, err);
+            bool tangled = false;
+            st = plane_fill(mesh, d, group, count, c, n, nv, &g, &filled, &tangled, err);
             if (filled) {
                 for (size_t k = 0; k < count; k++)
                     done[group[k]] = SR_SCAN_IN_PLANE;
                 n_closed += count;
+            }
+            /* a tangle's scraps are fanned now, each: as seeds of groups of their own
+             * they would each be tried in the same tangle again */
+            for (size_t k = 1; st == SR_OK && tangled && k < count; k++) {
+                if (!fan(mesh, d, &d->loops[group[k]], nv, &g))
+                    st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+                done[group[k]] = SR_SCAN_BY_FAN;
+                n_closed++;
             }
         }
         if (st == SR_OK && !filled) {

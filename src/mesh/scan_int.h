@@ -45,6 +45,13 @@ size_t sr_scan_plane_group(const sr_mesh *mesh, const sr_scan_desc *d, size_t i,
                            const sr_scan_closing *done, double max_span_mm2, size_t *group,
                            double c[3], double n[3]);
 
+/* How many times the edges of the closed loops in uv (loop c: points start[c] ..
+ * start[c+1]-1, u and v interleaved, the closing edge implied) cross one another
+ * properly in the plane, counted up to limit + 1 (then it stops); limit + 1 also when
+ * there is no memory to count (rim_crossings.c). */
+size_t sr_scan_rim_crossings(const double *uv, const size_t *start, size_t loop_count,
+                             size_t limit);
+
 /* Sorts n records of `size` bytes, each led by a uint64_t key lo << 32 | hi of two
  * vertex indices below nv, by key; records with equal keys keep their order. Linear in
  * n + nv (two counting passes, hi then lo), where a comparison sort of the five

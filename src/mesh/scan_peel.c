@@ -309,12 +309,12 @@ sr_status sr_scan_peel_plane_rims(sr_mesh *mesh, const sr_scan_desc *d, const sr
 
 /* What a closing left wrong, worst first: edges of the result used other than twice
  * (once each way), loops lying in a plane closed by a fan (the plane's fill did not fit;
- * specks not counted), and the span of every loop closed by a fan (mm^2: a fan strays
- * from the part as far as its opening is wide; a base fanned cost a gear 9.9 mm of
- * Hausdorff, a dozen pinholes fanned cost nothing). */
+ * specks not counted) with their span, and the span of every loop closed by a fan
+ * (mm^2: a fan strays from the part as far as its opening is wide; a base fanned cost a
+ * gear 9.9 mm of Hausdorff, a dozen pinholes fanned cost nothing). */
 typedef struct closing_cost {
     size_t bad_edges, plane_fans;
-    double fan_mm2;
+    double fan_mm2, plane_fan_mm2;
 } closing_cost;
 
 /* mesh described, closed (every opening) and rid of its strays, in place, with the walls
@@ -355,12 +355,14 @@ static sr_status close_as(sr_mesh *mesh, bool hang, sr_scan_desc *d, sr_scan_clo
     double top = 0;
     for (size_t i = 0; i < d->loop_count; i++)
         top = d->loops[i].span_mm > top ? d->loops[i].span_mm : top;
-    *c = (closing_cost){0, 0, 0};
+    *c = (closing_cost){0, 0, 0, 0};
     for (size_t i = 0; st == SR_OK && i < d->loop_count; i++) {
         double pc[3], pn[3];
         c->fan_mm2 += (*how)[i] == SR_SCAN_BY_FAN ? d->loops[i].span_mm : 0;
-        c->plane_fans += (*how)[i] == SR_SCAN_BY_FAN && d->loops[i].span_mm >= SPECK_SHARE * top &&
+        bool plane_fan = (*how)[i] == SR_SCAN_BY_FAN && d->loops[i].span_mm >= SPECK_SHARE * top &&
                          sr_scan_plane_group(mesh, d, i, NULL, 0, group, pc, pn) > 0;
+        c->plane_fans += plane_fan;
+        c->plane_fan_mm2 += plane_fan ? d->loops[i].span_mm : 0;
     }
     free(group);
     if (st == SR_OK)
@@ -428,7 +430,7 @@ static sr_status close_untwisting(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closin
     sr_mesh m = {0};
     sr_scan_desc dm = {0}, d2 = {0};
     sr_scan_closing *h2 = NULL;
-    closing_cost c2 = {0, 0, 0};
+    closing_cost c2 = {0, 0, 0, 0};
     size_t merged = 0;
     *uncurled = 0;
     sr_status st = sr_mesh_copy(&m, mesh);
@@ -470,7 +472,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
     sr_mesh orig = {0};
     sr_scan_desc d = {0};
     sr_scan_closing *h = NULL;
-    closing_cost bad = {0, 0, 0};
+    closing_cost bad = {0, 0, 0, 0};
     size_t n_kept = 0;
     sr_status st = sr_mesh_copy(&orig, mesh);
     if (st != SR_OK)
@@ -489,8 +491,11 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
     /* not closed, or a plane's fill failed (its loops fanned, over the folds): the folds
      * peeled off the planes whose fill failed, then off every plane (a fill that fits
      * may still run along a fold's edge); kept when fewer edges are left used other
-     * than twice, or as few and every plane then filled (a peel that leaves some plane
-     * fanned still was seen to cost a spline's restoration 2.9 mm of Hausdorff); last,
+     * than twice, or as few and every plane then filled, the span fanned falling by at
+     * least half the span the planes fanned (a peel that leaves some plane fanned still
+     * was seen to cost a spline's restoration 2.9 mm of Hausdorff; one that lifted a
+     * gear's base rim off its plane was not counted a plane fanned, and its fan across
+     * the bore cost 1.4 mm: s16180p05, open); last,
      * when a plane's fill still fails, every scrap lying in the planes whose fill failed
      * peeled off their rims, whichever way it faces, kept only when then every plane
      * fills, no more edges are left bad and fewer rim edges are fanned (peeled up its
@@ -510,7 +515,7 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
         sr_scan_desc d2 = {0};
         sr_scan_closing *h2 = NULL;
         size_t n = 0;
-        closing_cost bad2 = {0, 0, 0};
+        closing_cost bad2 = {0, 0, 0, 0};
         if (!described) /* the scan as it came, described once for every pass */
             st = sr_scan_describe(&orig, NULL, &d0, err);
         described = st == SR_OK;
@@ -527,7 +532,8 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
                           : close_untwisting(&m, &d2, &h2, &bad2, &un, err);
         bool better = pass < 2 ? bad2.bad_edges < bad.bad_edges ||
                                      (bad2.bad_edges == bad.bad_edges && bad2.plane_fans == 0 &&
-                                      bad.plane_fans > 0)
+                                      bad.plane_fans > 0 &&
+                                      bad2.fan_mm2 < bad.fan_mm2 - 0.5 * bad.plane_fan_mm2)
                                : bad2.plane_fans == 0 && bad2.bad_edges <= bad.bad_edges &&
                                      bad2.fan_mm2 < bad.fan_mm2;
         if (st == SR_OK && n > 0 && better) {

@@ -8,6 +8,9 @@
 # per family, 3,4,5,6); the Makefile adds
 # the parts of fresh seeds that once failed (a class fixed stays fixed). The old form
 # `check_generated.sh SYMREC SEED [INDICES] [COUNT]` still checks one sample.
+# A sample SEED:INDICES:COUNT:open is checked on open scans instead: each part's noisy
+# scan opened as a scanner delivers it by tests/partgen/open_scan.py (seed 4242, into
+# build/partgen-SEED-COUNT-open) and reconstructed from open_scan.stl.
 # `check_generated.sh --draw-only SEED:INDICES:COUNT ...` only draws the samples (make
 # check runs it in the background at idle priority from its start, so the drawing uses
 # the CPU the other stages leave idle and partgen-check finds its parts made).
@@ -48,6 +51,8 @@ for spec in "$@"; do
     rest=${spec#*:}
     only=${rest%%:*}
     count=${rest#*:}
+    inputs="damaged_scan.stl damaged_posed.stl"
+    case $count in *:open) count=${count%:open}; inputs=open_scan.stl ;; esac
     case "$seed$count" in ''|*[!0-9]*)
         echo "partgen_check  FAILED: '$spec' is not SEED:INDICES:COUNT"; exit 1 ;;
     esac
@@ -58,13 +63,25 @@ for spec in "$@"; do
             { echo "partgen_check  FAILED: partgen --seed $seed did not draw the sample (see $dir.log)"; exit 1; }
     fi
     names=$(for i in $(echo "$only" | tr ',' ' '); do ls "$dir" | grep "^s${seed}p$(printf %02d "$i")_"; done | paste -sd, -)
-    echo "$seed $dir $names" >>"$logs/samples"
+    if [ "$inputs" = open_scan.stl ]; then
+        # the scans as a scanner delivers them (tests/partgen/open_scan.py, its seed fixed)
+        open=$dir-open
+        for name in $(echo "$names" | tr ',' ' '); do
+            [ -f "$open/$name/open_scan.stl" ] && continue
+            /usr/bin/python3 "$(dirname "$0")/open_scan.py" "$dir/$name" --out "$open" --seed 4242 \
+                >>"$open.log" 2>&1 ||
+                { echo "partgen_check  FAILED: open_scan.py did not open $name (see $open.log)"; exit 1; }
+        done
+        dir=$open
+    fi
+    echo "$seed $dir $names $inputs" >>"$logs/samples"
 done
 $draw_only && exit 0
 
 # The queue: one job per part and input, the noisy scans first.
-for input in damaged_scan.stl damaged_posed.stl; do
-    while read -r seed dir names; do
+for input in damaged_scan.stl open_scan.stl damaged_posed.stl; do
+    while read -r seed dir names inputs; do
+        case " $inputs " in *" $input "*) ;; *) continue ;; esac
         for name in $(echo "$names" | tr ',' ' '); do echo "$dir $name $input"; done
     done <"$logs/samples"
 done | xargs -P 2 -L 1 sh -c '
@@ -76,8 +93,8 @@ done | xargs -P 2 -L 1 sh -c '
 ' sh "$logs" "$symrec" "$runparts"
 
 rc=0
-while read -r seed dir names; do
-    for input in damaged_posed.stl damaged_scan.stl; do
+while read -r seed dir names inputs; do
+    for input in $inputs; do
         pass=0 fail=0 secs=0 bad=
         for name in $(echo "$names" | tr ',' ' '); do
             out=$logs/$name.$input.txt
