@@ -341,12 +341,6 @@ void cli_scan_summary(const sr_scan_desc *d, const sr_run_scan *rec);
  * the caller) is the description before; *rec (sr_run_scan_free; NULL for a closed
  * input without strays) the run's record of its gaps. On failure both are untouched. */
 sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_run_scan **rec, sr_err *err);
-/* Balls round the gaps of the scan d describes (its mesh scan, closed) that rec says
- * were closed by fans, for sr_recon_opts.gap_balls: x, y, z of the rim's centroid and
- * the farthest rim vertex's distance from it, mm; malloc'ed, *count of them (NULL, 0
- * when none or out of memory: then no gap is told apart, nothing else changes). */
-double *cli_scan_gap_balls(const sr_mesh *scan, const sr_scan_desc *d, const sr_run_scan *rec,
-                           size_t *count);
 /* The run record's scan gaps as `run show` prints them (nothing when s is NULL). */
 void cli_run_scan_print(const sr_run_scan *s);
 

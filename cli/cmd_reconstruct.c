@@ -214,10 +214,6 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
                "closed patch: not restored and not listed below (the scan may not be closed "
                "there)\n",
                r->image.unbuilt, r->image.unbuilt_mm3);
-    if (r->gap_sections)
-        printf("  scan gaps:  %zu section(s) lying inside gaps of the scan closed by fans: "
-               "the fans' sag, not damage; not listed below\n",
-               r->gap_sections);
     if (r->section_count == 0) {
         printf("  nothing to repair: no missing section found\n");
     } else {
@@ -313,9 +309,6 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
         json_int(&j, (int64_t)r->image.unbuilt);
         json_key(&j, "unbuilt_mm3");
         json_number(&j, r->image.unbuilt_mm3);
-        json_key(&j, "gap_sections"); /* inside the scan's fanned gaps: not listed */
-        json_int(&j, (int64_t)r->gap_sections);
-
         json_key(&j, "misfit");
         json_number(&j, r->image.misfit);
         json_key(&j, "poor_fit");
@@ -717,14 +710,11 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_scan_desc scan_desc; /* the input read as a scan; its strays dropped from scan */
     memset(&scan_desc, 0, sizeof scan_desc);
     sr_run_scan *scan_rec = NULL; /* its gaps for the run record (the run's once described) */
-    double *gap_balls = NULL;     /* round its gaps closed by fans (sr_recon_opts) */
     in.read_s = cli_now_s() - t_in;
     t_in = cli_now_s();
     if (st == SR_OK)
         st = cli_scan_input(&scan, &scan_desc, &scan_rec, &err);
     in.scan_s = cli_now_s() - t_in;
-    if (st == SR_OK)
-        ro.gap_balls = gap_balls = cli_scan_gap_balls(&scan, &scan_desc, scan_rec, &ro.gap_count);
     if (st != SR_OK) {
         sr_catalog_close(cat);
         sr_mesh_release(&scan);
@@ -757,7 +747,6 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         sr_scan_desc_release(&scan_desc);
         sr_run_scan_free(scan_rec);
-        free(gap_balls);
         return CLI_FAIL;
     }
     char *fit_json = NULL;
@@ -767,7 +756,6 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         sr_scan_desc_release(&scan_desc);
         sr_run_scan_free(scan_rec);
-        free(gap_balls);
         return CLI_FAIL;
     }
     cli_note("reconstructing %s (%zu triangles)...", cli_tx(source), scan.tri_count);
@@ -789,7 +777,6 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         sr_scan_desc_release(&scan_desc);
         sr_run_scan_free(scan_rec);
-        free(gap_balls);
         return cli_fail(st, &err);
     }
     sr_run_nominal *nominal = NULL;
@@ -836,7 +823,6 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     sr_mesh_release(&scan);
     sr_scan_desc_release(&scan_desc);
     sr_run_scan_free(scan_rec);
-    free(gap_balls);
     sr_catalog_close(cat);
     return rc;
 }

@@ -9,7 +9,6 @@
  */
 #include <stdio.h>
 #include <stdlib.h>
-#include <math.h>
 #include <string.h>
 
 #include "cli.h"
@@ -247,37 +246,6 @@ void json_scan(json_out *j, const sr_scan_desc *d)
     json_number(j, d->stray_area_mm2);
     json_object_end(j);
     json_object_end(j);
-}
-
-double *cli_scan_gap_balls(const sr_mesh *scan, const sr_scan_desc *d, const sr_run_scan *rec,
-                           size_t *count)
-{
-    *count = 0;
-    if (!rec || !d || rec->gap_count != d->loop_count)
-        return NULL;
-    double *balls = malloc(4 * (d->loop_count + 1) * sizeof *balls);
-    if (!balls)
-        return NULL;
-    for (size_t i = 0; i < d->loop_count; i++) {
-        if (strcmp(rec->gaps[i].closed_by, "fan") != 0)
-            continue;
-        const sr_scan_loop *l = &d->loops[i];
-        double *b = balls + 4 * *count, r2 = 0;
-        for (int k = 0; k < 3; k++)
-            b[k] = l->centre[k];
-        for (size_t e = 0; e < l->edges; e++) {
-            const double *q = scan->xyz + 3 * (size_t)d->loop_verts[l->first + e];
-            double dx = q[0] - b[0], dy = q[1] - b[1], dz = q[2] - b[2];
-            r2 = fmax(r2, dx * dx + dy * dy + dz * dz);
-        }
-        b[3] = sqrt(r2);
-        (*count)++;
-    }
-    if (*count == 0) {
-        free(balls);
-        return NULL;
-    }
-    return balls;
 }
 
 sr_status cli_scan_input(sr_mesh *scan, sr_scan_desc *out, sr_run_scan **rec, sr_err *err)

@@ -253,56 +253,6 @@ static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
     return SR_OK;
 }
 
-/* A patch of a section whose every vertex lies inside one of the scan's gaps closed by
- * a fan (the fan's ball grown by GAP_MARGIN_PITCHES voxels: a patch is its image
- * clipped to the voxels' hull grown by HULL_GROW pitches, whose corners reach that far
- * on a diagonal) is the fan sagging below the
- * surface round it, where the symmetry's image carries on over the hole: a scan gap,
- * not damage (a castellated nut's open scan: a fan across a hole by a merlon's corner,
- * 1.3 mm^3 listed as a second section, +5.7 % of the loss). Such sections are taken out
- * of r, counted in r->gap_sections. */
-#define GAP_MARGIN_PITCHES 9.0
-
-static bool inside_gap(const sr_recon_opts *opts, const double inv[12], const sr_mesh *patch,
-                       double margin)
-{
-    for (size_t b = 0; b < opts->gap_count; b++) {
-        const double *ball = opts->gap_balls + 4 * b;
-        double reach = ball[3] + margin;
-        size_t v = 0;
-        for (; v < patch->vertex_count; v++) {
-            double p[3];
-            sr_xform_apply(inv, patch->xyz + 3 * v, p);
-            double dx = p[0] - ball[0], dy = p[1] - ball[1], dz = p[2] - ball[2];
-            if (dx * dx + dy * dy + dz * dz > reach * reach)
-                break;
-        }
-        if (v == patch->vertex_count && v > 0)
-            return true;
-    }
-    return false;
-}
-
-static void drop_gap_sections(const sr_recon_opts *opts, sr_recon_result *r)
-{
-    if (opts->gap_count == 0 || !opts->gap_balls)
-        return;
-    double inv[12];
-    sr_xform_rigid_inverse(inv, r->alignment.xform); /* patches: aligned -> scan frame */
-    double pitch = r->method == SR_METHOD_IMAGE ? r->image.pitch_mm : 0;
-    size_t kept = 0;
-    for (size_t i = 0; i < r->section_count; i++) {
-        sr_section *s = &r->sections[i];
-        if (inside_gap(opts, inv, &s->patch, GAP_MARGIN_PITCHES * pitch)) {
-            r->gap_sections++;
-            sr_mesh_release(&s->patch);
-            continue;
-        }
-        r->sections[kept++] = *s;
-    }
-    r->section_count = kept;
-}
-
 sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, sr_recon_result *out,
                          sr_err *err)
 {
@@ -456,7 +406,6 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     }
     r.timings.patch_s = now_s() - t;
     t = now_s();
-    drop_gap_sections(opts, &r);
 
     phase(opts, "union");
     /* the aligned copy is done with: free it before the restored mesh is made */

@@ -57,11 +57,6 @@ typedef struct sr_recon_opts {
     int threads;                /* image: threads of the vote; 0 = all cores. The result
                                  * is the same for any number */
     const sr_progress *progress; /* told each phase as it starts; NULL = nobody */
-    const double *gap_balls;     /* gap_count balls (x, y, z, radius; scan frame, mm) round
-                                 * the scan's gaps closed by fans from their centroids: a
-                                 * section whose patch lies inside one is that gap's fan
-                                 * below the surface, not damage (sr_recon_result.gaps) */
-    size_t gap_count;
 } sr_recon_opts;
 
 /* Seconds per phase. analyse_s covers every method's finding of the sections (for the
@@ -100,8 +95,6 @@ typedef struct sr_recon_result {
     size_t unfold_sliver_tris;  /* folded slivers' triangles gone (needles collapsed) */
     size_t unfold_vertices;     /* scan vertices moved to unfold them */
     double unfold_max_mm;       /* the farthest one moved */
-    size_t gap_sections;        /* sections inside the scan's fanned gaps: not listed, not
-                                 * restored (opts.gap_balls) */
     sr_recon_timings timings;
 } sr_recon_result;
 

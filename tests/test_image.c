@@ -134,44 +134,6 @@ static void mirror_chip_is_restored_exactly(void **state)
     sr_mesh_release(&scan);
 }
 
-/* A dent 2 x 0.6 x 2 mm (2.4 mm^3) in the face y = 0 of the block, where a scan's gap
- * was closed by a fan that sagged: with a ball round that gap (sr_recon_opts.gap_balls)
- * it is the gap's, not damage, and not listed; without one, or with the ball elsewhere,
- * it is a section. A bite beside it, larger than the ball, stays listed with it. */
-static void a_dent_inside_a_fanned_gap_is_not_listed(void **state)
-{
-    (void)state;
-    sr_mesh intact, dent, bite, dented, scan;
-    box(&intact, -20, 0, 0, 20, 12, 30);
-    box(&dent, 13, -1, 10, 15, 0.6, 12);
-    box(&bite, 12, 7, 18, 25, 20, 26); /* 320 mm^3 */
-    minus(&intact, &dent, &dented);
-    minus(&dented, &bite, &scan);
-    const double round_dent[4] = {14, 0, 11, 1.6}, far[4] = {-14, 0, 11, 1.6};
-    const double *balls[3] = {NULL, round_dent, far};
-    const size_t want_sections[3] = {2, 1, 2}, want_gaps[3] = {0, 1, 0};
-    for (int k = 0; k < 3; k++) {
-        sr_recon_opts o;
-        memset(&o, 0, sizeof o);
-        o.symmetry = (sr_symmetry){SR_SYM_MIRROR, 0, 0};
-        o.have_alignment = 1;
-        sr_xform_identity(o.alignment.xform);
-        o.gap_balls = balls[k];
-        o.gap_count = balls[k] ? 1 : 0;
-        sr_recon_result r;
-        assert_int_equal(sr_reconstruct(&scan, &o, &r, NULL), SR_OK);
-        assert_int_equal(r.section_count, want_sections[k]);
-        assert_int_equal(r.gap_sections, want_gaps[k]);
-        assert_true(fabs(r.sections[0].volume_mm3 - 320) <= 0.005 * 320); /* largest first */
-        sr_recon_result_release(&r);
-    }
-    sr_mesh_release(&intact);
-    sr_mesh_release(&dent);
-    sr_mesh_release(&bite);
-    sr_mesh_release(&dented);
-    sr_mesh_release(&scan);
-}
-
 /* Two bites at overlapping mirror places: the +x one (z 10..20) and the -x one (z 16..26,
  * offset in x and y) both hold the place that is the other's mirror, z 16..20, which no
  * image carries. It is built from its voxels: the restored part is the intact block to
@@ -988,7 +950,6 @@ int main(void)
         cmocka_unit_test(intact_block_has_no_section),
         cmocka_unit_test(cyclic_wrong_order_fills_nothing_and_right_order_restores),
         cmocka_unit_test(a_closed_sliver_inside_the_scan_loses_no_section),
-        cmocka_unit_test(a_dent_inside_a_fanned_gap_is_not_listed),
         cmocka_unit_test(two_damages_a_turn_apart_are_both_restored_whole),
         cmocka_unit_test(a_web_of_another_order_is_kept_and_located),
         cmocka_unit_test(axial_bolt_hole_is_kept),
