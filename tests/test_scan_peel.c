@@ -202,7 +202,8 @@ static void a_piece_of_the_base_facing_out_is_kept(void **state)
  * opening runs out along it and back, a cycle 0.01 mm wide in the plane (a fork's
  * open scan kept four such at one corner of its base: s46368p10). Outlined for the
  * face's fill it wound the face twice along itself and the face was fanned from its
- * centroid; closed alone, the face fills in its plane at once. */
+ * centroid; closed alone (zipped: no vertex made), the face fills in its plane at
+ * once. */
 static void a_needle_on_the_rim_is_closed_alone_and_the_face_in_its_plane(void **state)
 {
     (void)state;
@@ -220,8 +221,10 @@ static void a_needle_on_the_rim_is_closed_alone_and_the_face_in_its_plane(void *
     assert_int_equal(d.loop_count, 1);      /* through the corner twice */
     assert_int_equal(d.loops[0].edges, 10); /* 7 round the face, 3 round the needle */
     sr_scan_closing how[1];
+    size_t verts = scan.vertex_count;
     assert_int_equal(sr_scan_close_openings_how(&scan, &d, 0, NULL, how, NULL), SR_OK);
     assert_int_equal(how[0], SR_SCAN_IN_PLANE);
+    assert_int_equal(scan.vertex_count, verts); /* the needle zipped shut, no centroid */
     assert_true(closed_manifold(&scan));
     assert_near(sr_mesh_volume(&scan), BLOCK_MM3 - NOTCH_MM3, 1e-3);
     sr_scan_desc_release(&d);

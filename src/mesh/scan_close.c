@@ -187,10 +187,64 @@ static bool fill_fits(const uint32_t *tri, size_t nt, const uint32_t *rim, size_
  * part stood on. Closed alone (a fan), not outlined for the face's fill: there it wound
  * the face twice or not at all along the needles, the fill could not meet the rim, and
  * the face was fanned from its centroid, across a fork's gap (s46368p10, open: 1.4 mm)
- * and over a clamp's foot holes. Fanned from its own centroid: zipped side to side
- * instead, its diagonals ran where the needles' own edges run, used four times (a
- * lever's and a plate's open scans lost their sections). */
+ * and over a clamp's foot holes. Zipped side to side (zip_cycle), else fanned from its
+ * own centroid. */
 #define PETAL_WIDTH_MM SR_SCAN_PLANE_RMS_MM
+
+static double dist2(const sr_mesh *mesh, uint32_t a, uint32_t b)
+{
+    const double *p = mesh->xyz + 3 * (size_t)a, *q = mesh->xyz + 3 * (size_t)b;
+    return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+           (p[2] - q[2]) * (p[2] - q[2]);
+}
+
+/* Whether a-b is an edge of the scan (keys: its edges lo << 32 | hi, n of them, sorted). */
+static bool scan_edge(const uint64_t *keys, size_t n, uint32_t a, uint32_t b)
+{
+    uint64_t k = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+    return has_key(keys, n, k);
+}
+
+/* A petal cyc[0..n) (walked out from cyc[0] and back) closed by zipping its two sides
+ * together from cyc[0], each step across the shorter diagonal that is no edge of the
+ * scan (keys, nk: its edges sorted): n - 2 thin triangles within the sliver. A fan from
+ * its centroid reaches along a long petal and crossed what lies beside it (a nut's hole
+ * by a merlon then read as a section); a diagonal along a needle's own edge would use
+ * that edge four times. False, g unchanged, when no step can be taken that way. */
+static bool zip_cycle(const sr_mesh *mesh, const uint32_t *cyc, size_t n, const uint64_t *keys,
+                      size_t nk, grow *g)
+{
+    if (n < 3 || !grow_room(g, 0, n - 2) || (n > 3 && scan_edge(keys, nk, cyc[1], cyc[n - 1])))
+        return false;
+    uint32_t *t = g->tri + 3 * g->nt;
+    size_t lo = 1, hi = n - 1;
+    t[0] = cyc[1]; /* the rim walks cyc[0] -> cyc[1] and cyc[n-1] -> cyc[0] */
+    t[1] = cyc[0];
+    t[2] = cyc[n - 1];
+    t += 3;
+    while (hi - lo > 1) {
+        bool up_ok = hi - lo == 2 || !scan_edge(keys, nk, cyc[lo + 1], cyc[hi]);
+        bool down_ok = hi - lo == 2 || !scan_edge(keys, nk, cyc[lo], cyc[hi - 1]);
+        if (!up_ok && !down_ok)
+            return false; /* g->nt not moved: the triangles written are dropped */
+        bool up = up_ok && (!down_ok ||
+                            dist2(mesh, cyc[lo + 1], cyc[hi]) <= dist2(mesh, cyc[lo], cyc[hi - 1]));
+        if (up) {
+            t[0] = cyc[lo + 1];
+            t[1] = cyc[lo];
+            t[2] = cyc[hi];
+            lo++;
+        } else {
+            t[0] = cyc[lo];
+            t[1] = cyc[hi];
+            t[2] = cyc[hi - 1];
+            hi--;
+        }
+        t += 3;
+    }
+    g->nt += n - 2;
+    return true;
+}
 
 /* The simple cycles of loop l's walk appended to cyc (cycle k: cs[k] .. cs[k+1]-1,
  * cs[nc] on entry the next free place), cut where the walk passes a vertex twice as
@@ -239,6 +293,8 @@ static sr_status fill_outlines(const sr_mesh *mesh, const double c[3], const dou
 {
     sr_planar_fill_out fo = {0};
     uint32_t *fid = NULL, *rim = NULL, *mtri = NULL;
+    uint64_t *keys = NULL;
+    size_t nkeys = 0;
     double *acc = NULL;
     sr_err ferr;
     sr_status st = SR_OK;
@@ -324,14 +380,32 @@ static sr_status fill_outlines(const sr_mesh *mesh, const double c[3], const dou
         }
     g->nv += nx;
     g->nt += nt;
-    for (size_t k = 0; k < npetal; k++)
-        if (!fan_cycle(mesh, cyc + cs[petal[k]], cs[petal[k] + 1] - cs[petal[k]], base_v, g)) {
+    if (npetal > 0) { /* the scan's edges, for the petals' zips */
+        nkeys = 3 * mesh->tri_count;
+        keys = malloc((nkeys + 1) * sizeof *keys);
+        if (!keys) {
             st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
             goto out;
         }
+        for (size_t t = 0; t < mesh->tri_count; t++)
+            for (int k = 0; k < 3; k++) {
+                uint64_t a = mesh->tri[3 * t + k], b = mesh->tri[3 * t + (k + 1) % 3];
+                keys[3 * t + k] = a < b ? a << 32 | b : b << 32 | a;
+            }
+        qsort(keys, nkeys, sizeof *keys, key_cmp);
+    }
+    for (size_t k = 0; k < npetal; k++) {
+        const uint32_t *pc = cyc + cs[petal[k]];
+        size_t pn = cs[petal[k] + 1] - cs[petal[k]];
+        if (!zip_cycle(mesh, pc, pn, keys, nkeys, g) && !fan_cycle(mesh, pc, pn, base_v, g)) {
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+            goto out;
+        }
+    }
     *done = true;
 out:
     sr_planar_fill_free(&fo);
+    free(keys);
     free(fid);
     free(rim);
     free(mtri);
