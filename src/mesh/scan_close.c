@@ -91,6 +91,33 @@ static bool fan_cycle(const sr_mesh *mesh, const uint32_t *cyc, size_t n, size_t
     return true;
 }
 
+/* The simple cycles of loop l's walk appended to cyc (cycle k: cs[k] .. cs[k+1]-1,
+ * cs[nc] on entry the next free place), cut where the walk passes a vertex twice
+ * (stack: room for its edges); returns the cycles now in cs. */
+static size_t walk_cycles(const sr_scan_desc *d, const sr_scan_loop *l, uint32_t *stack,
+                          uint32_t *cyc, size_t *ncv, size_t *cs, size_t nc)
+{
+    const uint32_t *lv = d->loop_verts + l->first;
+    size_t top = 0;
+    for (size_t e = 0; e <= l->edges; e++) {
+        size_t j = 0;
+        if (e < l->edges)
+            while (j < top && stack[j] != lv[e])
+                j++;
+        if (e == l->edges || j < top) { /* back at stack[j]: stack[j..top) closes there */
+            if (top - j >= 3) {
+                memcpy(cyc + *ncv, stack + j, (top - j) * sizeof *cyc);
+                *ncv += top - j;
+                cs[++nc] = *ncv;
+            }
+            top = j;
+        }
+        if (e < l->edges)
+            stack[top++] = lv[e];
+    }
+    return nc;
+}
+
 /* The fans of loop l: one per simple cycle of its walk. A walk through a vertex twice
  * (two rims touching there, a fold of the face the part stood on joined to the rim at
  * one vertex) is cut there into cycles, each fanned from its own centroid: one fan of
@@ -99,26 +126,20 @@ static bool fan_cycle(const sr_mesh *mesh, const uint32_t *cyc, size_t n, size_t
 static bool fan(const sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_loop *l, size_t base_v,
                 grow *g)
 {
-    const uint32_t *lv = d->loop_verts + l->first;
     uint32_t *stack = malloc((l->edges + 1) * sizeof *stack);
-    if (!stack)
-        return false;
-    size_t top = 0;
-    bool ok = true;
-    for (size_t e = 0; ok && e < l->edges; e++) {
-        size_t j = 0;
-        while (j < top && stack[j] != lv[e])
-            j++;
-        if (j < top) { /* back at stack[j]: the cycle stack[j..top) closes there */
-            if (top - j >= 3)
-                ok = fan_cycle(mesh, stack + j, top - j, base_v, g);
-            top = j;
-        }
-        stack[top++] = lv[e];
+    uint32_t *cyc = malloc((l->edges + 1) * sizeof *cyc);
+    size_t *cs = malloc((l->edges + 2) * sizeof *cs);
+    bool ok = stack && cyc && cs;
+    size_t ncyc = 0, ncv = 0;
+    if (ok) {
+        cs[0] = 0;
+        ncyc = walk_cycles(d, l, stack, cyc, &ncv, cs, 0);
     }
-    if (ok && top >= 3)
-        ok = fan_cycle(mesh, stack, top, base_v, g);
+    for (size_t k = 0; ok && k < ncyc; k++)
+        ok = fan_cycle(mesh, cyc + cs[k], cs[k + 1] - cs[k], base_v, g);
     free(stack);
+    free(cyc);
+    free(cs);
     return ok;
 }
 
@@ -246,33 +267,6 @@ static bool zip_cycle(const sr_mesh *mesh, const uint32_t *cyc, size_t n, const 
     return true;
 }
 
-/* The simple cycles of loop l's walk appended to cyc (cycle k: cs[k] .. cs[k+1]-1,
- * cs[nc] on entry the next free place), cut where the walk passes a vertex twice as
- * fan does (stack: room for its edges); returns the cycles now in cs. */
-static size_t walk_cycles(const sr_scan_desc *d, const sr_scan_loop *l, uint32_t *stack,
-                          uint32_t *cyc, size_t *ncv, size_t *cs, size_t nc)
-{
-    const uint32_t *lv = d->loop_verts + l->first;
-    size_t top = 0;
-    for (size_t e = 0; e <= l->edges; e++) {
-        size_t j = 0;
-        if (e < l->edges)
-            while (j < top && stack[j] != lv[e])
-                j++;
-        if (e == l->edges || j < top) { /* back at stack[j]: stack[j..top) closes there */
-            if (top - j >= 3) {
-                memcpy(cyc + *ncv, stack + j, (top - j) * sizeof *cyc);
-                *ncv += top - j;
-                cs[++nc] = *ncv;
-            }
-            top = j;
-        }
-        if (e < l->edges)
-            stack[top++] = lv[e];
-    }
-    return nc;
-}
-
 /* Rims crossing one another more often than this (a constant plus a share of their
  * points) are a tangle of scraps, not the outline of a face with a fold here and there:
  * the generated parts' bases filled with up to one crossing in five points; a
@@ -282,7 +276,7 @@ static size_t walk_cycles(const sr_scan_desc *d, const sr_scan_loop *l, uint32_t
 #define TANGLE_PER_POINT 0.5
 
 /* The fill of the outlines (count loops of uv, start, vid: pts points, in the plane's
- * frame c, e1, e2) with the petals (cycles petal[0..npetal) of cyc, cs) fanned alone:
+ * frame c, e1, e2) with the petals (cycles petal[0..npetal) of cyc, cs) zipped alone:
  * appended to g when the triangulation meets every outline edge once the other way
  * (*done), else nothing (*tangled when the rims cross too often to try); SR_E_NOMEM. */
 static sr_status fill_outlines(const sr_mesh *mesh, const double c[3], const double e1[3],
