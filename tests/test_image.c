@@ -640,6 +640,30 @@ static void glide_rack_restores_its_first_tooth_broken_off(void **state)
     sr_mesh_release(&scan);
 }
 
+/* The rack less the box lo..hi (want mm^3 of it) restored by its glide (shift 6 mm):
+ * one section, its patch and the restored part within 3 % of the loss. */
+static void rack_end_chip(const double lo[3], const double hi[3], double want_mm3, const char *what)
+{
+    sr_mesh intact, chip, scan;
+    rack(&intact);
+    box(&chip, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    minus(&intact, &chip, &scan);
+    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
+    assert_true(fabs(want - want_mm3) < 1e-6);
+    sr_recon_result r;
+    sr_symmetry sym = {SR_SYM_GLIDE, 0, 6.0};
+    reconstruct_aligned(&scan, sym, &r);
+    print_message("%s: %zu section(s), %.1f of %.1f mm^3\n", what, r.section_count,
+                  r.patch_volume_mm3, want);
+    assert_int_equal(r.section_count, 1);
+    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.03 * want);
+    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&intact)) <= 0.03 * want);
+    sr_recon_result_release(&r);
+    sr_mesh_release(&intact);
+    sr_mesh_release(&chip);
+    sr_mesh_release(&scan);
+}
+
 /* A chip of the rack's core at the -x side's lower end (x -5.5..-2, z -6..-1): the
  * image from the middle's side carries the +x side's first tooth (z = 0) onto -x at
  * z = -6, where the -x pattern has no tooth (its first is at z = 6). That phantom tooth
@@ -654,23 +678,8 @@ static void glide_rack_restores_its_first_tooth_broken_off(void **state)
 static void glide_rack_chipped_at_its_end_builds_no_phantom_tooth(void **state)
 {
     (void)state;
-    sr_mesh intact, chip, scan;
-    rack(&intact);
-    box(&chip, -5.5, -1, -6, -2, 11, -1);
-    minus(&intact, &chip, &scan);
-    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
-    assert_true(fabs(want - 150) < 1e-6);
-    sr_recon_result r;
-    sr_symmetry sym = {SR_SYM_GLIDE, 0, 6.0};
-    reconstruct_aligned(&scan, sym, &r);
-    print_message("end chip beside a phantom tooth: %zu section(s), %.1f of %.1f mm^3\n",
-                  r.section_count, r.patch_volume_mm3, want);
-    assert_int_equal(r.section_count, 1);
-    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.03 * want);
-    sr_recon_result_release(&r);
-    sr_mesh_release(&intact);
-    sr_mesh_release(&chip);
-    sr_mesh_release(&scan);
+    const double lo[3] = {-5.5, -1, -6}, hi[3] = {-2, 11, -1};
+    rack_end_chip(lo, hi, 150, "end chip beside a phantom tooth");
 }
 
 /* A chip of the rack's core at the -x side's lower end, over its upper part only (y 6..10,
@@ -683,24 +692,8 @@ static void glide_rack_chipped_at_its_end_builds_no_phantom_tooth(void **state)
 static void glide_rack_end_chip_keeps_its_material_behind_the_face(void **state)
 {
     (void)state;
-    sr_mesh intact, chip, scan;
-    rack(&intact);
-    box(&chip, -5.5, 6, -6, -2, 11, -1);
-    minus(&intact, &chip, &scan);
-    double want = sr_mesh_volume(&intact) - sr_mesh_volume(&scan);
-    assert_true(fabs(want - 60) < 1e-6);
-    sr_recon_result r;
-    sr_symmetry sym = {SR_SYM_GLIDE, 0, 6.0};
-    reconstruct_aligned(&scan, sym, &r);
-    print_message("end chip behind the core's face: %zu section(s), %.1f of %.1f mm^3\n",
-                  r.section_count, r.patch_volume_mm3, want);
-    assert_int_equal(r.section_count, 1);
-    assert_true(fabs(r.patch_volume_mm3 - want) <= 0.03 * want);
-    assert_true(fabs(r.restored_volume_mm3 - sr_mesh_volume(&intact)) <= 0.03 * want);
-    sr_recon_result_release(&r);
-    sr_mesh_release(&intact);
-    sr_mesh_release(&chip);
-    sr_mesh_release(&scan);
+    const double lo[3] = {-5.5, 6, -6}, hi[3] = {-2, 11, -1};
+    rack_end_chip(lo, hi, 60, "end chip behind the core's face");
 }
 
 /* A fracture face as a noisy scan has it: a plane 10 x 10 mm of facets half a millimetre
