@@ -7,6 +7,8 @@
  *   reconstruct_union.c  the restored part: the scan united with the patches (or
  *                        joined to them as shells), the patches mended, the paper
  *                        method's patches for the union, the repair note
+ *   reconstruct_gaps.c   the image method's sections lying behind a scan gap's fill
+ *   reconstruct_slivers.c  the needles a union leaves, collapsed where they are
  */
 #ifndef SR_RECONSTRUCT_INT_H
 #define SR_RECONSTRUCT_INT_H
@@ -43,6 +45,19 @@ sr_status recon_unite(const sr_mesh *scan, const double xf[12], sr_recon_result 
  * dropped. */
 sr_status recon_unite_images(const sr_mesh *scan, const double xf[12], sr_recon_result *r,
                              double min_vol, sr_err *err);
+
+/* Image method, patches in the scan's frame: every section whose patch lies on the
+ * fills (the triangles the closing of an open scan made; NULL or empty: none) for a
+ * good share of its surface is the gap's lens, moved from r->sections to r->gap_sags
+ * (its patch freed; the restored part keeps it). SR_E_NOMEM. */
+sr_status recon_split_gap_sags(sr_recon_result *r, const sr_mesh *fills, sr_err *err);
+
+/* The fins of needles a union leaves (edges under 5 micrometres) collapsed where the
+ * mesh stays closed with its volume: on the triangles a few rings round them when they
+ * are under a quarter of m, else on all of m. Returns the edges collapsed (m replaced
+ * or changed in place only then); *looked_at (may be NULL) the triangles that went
+ * through the collapse (0: no short edge). */
+size_t recon_fold_slivers(sr_mesh *m, size_t *looked_at);
 
 /* Paper method: the patches the union uses, their inner faces taken inside the material;
  * (*out)[i] pairs with sections[i]. */

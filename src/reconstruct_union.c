@@ -237,51 +237,6 @@ static void image_figures(const sr_layer_grid *grid, const double xf[12], sr_sec
     sr_mesh_release(&copy);
 }
 
-/* Where images met each other or the scan to rounding, the union leaves fins of
- * needles inside the solid (joined to the surface by edges of a micrometre): their
- * short edges are collapsed (sr_mesh_collapse_short_edges, which keeps nothing when a
- * face it moved crosses another: a collapse folded a neighbour over on three of the
- * shared parts' patches), kept only when the mesh stays closed with its volume.
- * Returns the edges collapsed. */
-#define SLIVER_EDGE_MM 0.005
-
-/* Whether a triangle of m has an edge shorter than len (a look over the arrays, before
- * the mesh is built for a collapse). */
-static bool has_short_edge(const sr_mesh *m, double len)
-{
-    for (size_t t = 0; t < m->tri_count; t++)
-        for (int k = 0; k < 3; k++) {
-            const double *a = m->xyz + 3 * (size_t)m->tri[3 * t + k];
-            const double *b = m->xyz + 3 * (size_t)m->tri[3 * t + (k + 1) % 3];
-            double d2 = 0;
-            for (int j = 0; j < 3; j++)
-                d2 += (a[j] - b[j]) * (a[j] - b[j]);
-            if (d2 < len * len)
-                return true;
-        }
-    return false;
-}
-
-static size_t fold_slivers(sr_mesh *m)
-{
-    if (!has_short_edge(m, SLIVER_EDGE_MM))
-        return 0;
-    sr_mesh copy = {0};
-    size_t n = 0;
-    if (sr_mesh_copy(&copy, m) != SR_OK)
-        return 0;
-    double v0 = sr_mesh_volume(m);
-    sr_status cst = sr_mesh_collapse_short_edges(&copy, SLIVER_EDGE_MM, &n, NULL, NULL);
-    if (cst != SR_OK || n == 0 || !sr_mesh_is_closed(&copy) ||
-        !(fabs(sr_mesh_volume(&copy) - v0) <= 1e-6 * fabs(v0) + 1e-3)) {
-        sr_mesh_release(&copy);
-        return 0;
-    }
-    sr_mesh_release(m);
-    *m = copy;
-    return n;
-}
-
 /* Image method: restored = scan ∪ every section's clipped image Q (aligned frame, the
  * section's patch on entry), and each section's patch becomes exactly what that union
  * added, Q \ (scan ∪ the images before it), from the same corefinement
@@ -312,7 +267,7 @@ sr_status recon_unite_images(const sr_mesh *scan, const double xf[12], sr_recon_
             /* zero-area triangles a previous union left: removed, tried again */
             sr_repair_report ra = {0};
             int changed = sr_mesh_repair(&acc, &ra, NULL) == SR_OK && ra.changed;
-            changed |= fold_slivers(&acc) > 0; /* needles CGAL would not collapse */
+            changed |= recon_fold_slivers(&acc, NULL) > 0; /* needles CGAL would not collapse */
             if (changed)
                 us = sr_boolean_union_local_split(&acc, "scan", xf, &sec->patch,
                                                   "section's image", 0, &acc, &patch, &info,
@@ -395,10 +350,10 @@ sr_status recon_unite_images(const sr_mesh *scan, const double xf[12], sr_recon_
         sr_repair_report rr = {0};
         if (sr_mesh_repair(&acc, &rr, NULL) == SR_OK)
             degenerate = rr.degenerate_removed;
-        degenerate += fold_slivers(&acc);
+        degenerate += recon_fold_slivers(&acc, NULL);
         for (size_t i = 0; i < r->section_count; i++) {
             sr_mesh_repair(&r->sections[i].patch, &rr, NULL);
-            fold_slivers(&r->sections[i].patch);
+            recon_fold_slivers(&r->sections[i].patch, NULL);
         }
     }
     recon_note_repairs(r, degenerate, mended, 0, &voids);

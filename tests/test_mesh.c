@@ -1,6 +1,6 @@
 /*
  * test_mesh.c: the core mesh type: validation, bbox, volume, area, edge topology,
- * welding, transforms. Geometry is built inline with exact answers.
+ * welding, transforms, subsets. Geometry is built inline with exact answers.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -127,6 +127,34 @@ static void flipped_mesh_has_negative_volume(void **state)
     sr_mesh_flip(&m);
     assert_near(sr_mesh_volume(&m), -1.0, 1e-15);
     assert_true(sr_mesh_is_closed(&m));
+    sr_mesh_release(&m);
+}
+
+/* The top of the unit cube (its triangles 2 and 3: {4,5,6} and {4,6,7}) as a mesh of
+ * its own: 4 vertices in the order first used (4, 5, 6, 7), 2 triangles, area 1, and
+ * each vertex's index in the cube. */
+static void subset_keeps_the_chosen_triangles_in_order(void **state)
+{
+    (void)state;
+    sr_mesh m, top;
+    make_cube(&m);
+    uint8_t keep[12] = {0, 0, 1, 1};
+    uint32_t orig[8];
+    assert_int_equal(sr_mesh_subset(&m, keep, &top, orig), SR_OK);
+    assert_int_equal(top.vertex_count, 4);
+    assert_int_equal(top.tri_count, 2);
+    static const uint32_t want_tri[6] = {0, 1, 2, 0, 2, 3}, want_orig[4] = {4, 5, 6, 7};
+    assert_memory_equal(top.tri, want_tri, sizeof want_tri);
+    assert_memory_equal(orig, want_orig, sizeof want_orig);
+    for (int v = 0; v < 4; v++)
+        assert_memory_equal(top.xyz + 3 * v, m.xyz + 3 * want_orig[v], 3 * sizeof(double));
+    assert_near(sr_mesh_area(&top), 1.0, 1e-12);
+    sr_mesh_release(&top);
+    memset(keep, 0, sizeof keep);
+    assert_int_equal(sr_mesh_subset(&m, keep, &top, NULL), SR_OK);
+    assert_int_equal(top.tri_count, 0);
+    assert_int_equal(top.vertex_count, 0);
+    sr_mesh_release(&top);
     sr_mesh_release(&m);
 }
 
@@ -397,6 +425,7 @@ int main(void)
         cmocka_unit_test(volume_across_a_plane_is_each_sides_share),
         cmocka_unit_test(flipped_mesh_has_negative_volume),
         cmocka_unit_test(missing_face_gives_boundary_edges),
+        cmocka_unit_test(subset_keeps_the_chosen_triangles_in_order),
         cmocka_unit_test(one_flipped_face_is_misoriented),
         cmocka_unit_test(three_faces_on_an_edge_are_nonmanifold),
         cmocka_unit_test(cubes_sharing_a_corner_have_a_nonmanifold_vertex),

@@ -112,8 +112,9 @@ sr_status sr_mesh_self_intersects(const sr_mesh *mesh, int *out, sr_err *err);
 /* Makes a closed mesh fit for a boolean: removes zero-area triangles (CGAL PMP
  * remove_degenerate_faces). Crossing triangles are not re-meshed (CGAL's experimental
  * remover took minutes on scans and its header alone tripled the bridge's build
- * time). *mesh is replaced only when something changed. SR_E_INVALID when the mesh is
- * not an oriented manifold. */
+ * time). *mesh is replaced only when something changed. A mesh with no zero-area
+ * triangle (the same exact test, on the arrays) is left alone at once, SR_OK, and not
+ * checked further; one with any: SR_E_INVALID when it is not an oriented manifold. */
 typedef struct sr_repair_report {
     int changed;
     size_t degenerate_removed;

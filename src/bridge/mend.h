@@ -96,6 +96,14 @@ sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
 sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,
                               sr_sliver_report *slivers, sr_unfold_report *unfold, sr_err *err);
 
+/* The pairs of triangles of mesh (an oriented manifold; it may be open) that cross,
+ * as CGAL's self_intersections finds them, searched on `threads` threads (0: every
+ * core): *pairs (malloc'ed, 2 * *count indices) each once, the lower triangle first,
+ * sorted, the same for any number of threads (crossings_cgal.cpp). SR_E_INVALID when
+ * mesh is not an oriented manifold; SR_E_NOMEM. */
+sr_status sr_mesh_crossing_pairs(const sr_mesh *mesh, int threads, uint32_t **pairs, size_t *count,
+                                 sr_err *err);
+
 /* Collapses every edge shorter than min_edge_mm (off the border, where the link
  * condition allows) to its midpoint, in passes until none is left: the needles two
  * booleans leave where faces met to rounding (a fin of slivers standing inside the

@@ -7,6 +7,7 @@
  *                         Surface_mesh built straight from the sr_mesh arrays (build)
  *   mend_fill_cgal.cpp    the regions cut out, and the fill of one from its own points
  *                         (CDT_2 across its mean normal)
+ *   crossings_cgal.cpp    the crossing faces of a mesh, found on every core
  *   mend_unfold_cgal.cpp  sr_mesh_unfold and sr_mesh_collapse_short_edges; its rounds
  *                         on a Surface_mesh (unfold_rounds), which sliver_cgal.cpp's
  *                         sr_mesh_unfold_scan runs after cleaning the slivers
@@ -75,6 +76,14 @@ enum Fill { fill_none, fill_ok, fill_crossing };
 Fill fill_from_points(const Mesh &sm, const Region &reg, size_t id,
                       const std::vector<uint32_t> &region_of, bool in_space,
                       std::vector<uint32_t> &tris, std::vector<uint32_t> &grow_at);
+
+/* ---- crossings_cgal.cpp ---- */
+
+/* The pairs of faces of range that cross (as PMP::self_intersections finds them), on
+ * `threads` threads (0: every core), each once with the lower face first, sorted: the
+ * same for any number of threads. */
+std::vector<std::pair<Face_index, Face_index>>
+crossing_pairs(const Mesh &sm, const std::vector<Face_index> &range, int threads);
 
 /* ---- mend_unfold_cgal.cpp ---- */
 

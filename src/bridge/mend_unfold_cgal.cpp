@@ -68,8 +68,7 @@ void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_
         start[v.idx()] = sm.point(v);
     std::vector<uint8_t> moved(sm.num_vertices(), 0);
     for (int round = 0; round < unfold_rounds_max; round++) {
-        std::vector<std::pair<Face_index, Face_index>> pairs;
-        PMP::self_intersections(range, sm, std::back_inserter(pairs));
+        std::vector<std::pair<Face_index, Face_index>> pairs = crossing_pairs(sm, range, 0);
         if (round == 0)
             rep->crossing_pairs = pairs.size();
         rep->remaining_pairs = pairs.size();

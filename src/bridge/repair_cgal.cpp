@@ -27,6 +27,20 @@ sr_status repair(sr_mesh *m, sr_repair_report *rep, sr_err *err)
     sr_status st = sr_mesh_validate(m, "mesh to repair", nullptr, err);
     if (st != SR_OK)
         return st;
+    /* the common case first, on the arrays: no triangle of zero area (the same exact
+     * test as below), so no halfedge mesh to build (a second on a two-million-triangle
+     * restored part, which had none) */
+    bool any = false;
+    for (size_t t = 0; t < m->tri_count && !any; t++) {
+        const uint32_t *c = m->tri + 3 * t;
+        const double *a = m->xyz + 3 * (size_t)c[0], *b = m->xyz + 3 * (size_t)c[1],
+                     *d = m->xyz + 3 * (size_t)c[2];
+        any = c[0] == c[1] || c[1] == c[2] || c[0] == c[2] ||
+              CGAL::collinear(Point(a[0], a[1], a[2]), Point(b[0], b[1], b[2]),
+                              Point(d[0], d[1], d[2]));
+    }
+    if (!any)
+        return SR_OK;
     Mesh sm;
     size_t bad_tri = 0;
     if (!build_surface_mesh(m, sm, &bad_tri))

@@ -45,8 +45,8 @@ typedef Mesh::Face_index Face_index;
 /* The crossing faces of sm and their neighbours across an edge, each once. */
 std::vector<Face_index> folded_faces(const Mesh &sm, size_t *pairs)
 {
-    std::vector<std::pair<Face_index, Face_index>> crossing;
-    PMP::self_intersections(sm, std::back_inserter(crossing));
+    std::vector<Face_index> all(sm.faces().begin(), sm.faces().end());
+    std::vector<std::pair<Face_index, Face_index>> crossing = sr_mend::crossing_pairs(sm, all, 0);
     *pairs = crossing.size();
     std::set<Face_index> faces;
     for (const auto &c : crossing)

@@ -58,6 +58,44 @@ sr_status sr_mesh_copy(sr_mesh *dst, const sr_mesh *src)
     return SR_OK;
 }
 
+sr_status sr_mesh_subset(const sr_mesh *m, const uint8_t *keep, sr_mesh *out, uint32_t *orig)
+{
+    uint32_t *map = malloc((m->vertex_count + 1) * sizeof *map);
+    if (!map)
+        return SR_E_NOMEM;
+    memset(map, 0xff, (m->vertex_count + 1) * sizeof *map);
+    size_t nv = 0, nt = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        if (!keep[t])
+            continue;
+        nt++;
+        for (int k = 0; k < 3; k++)
+            if (map[m->tri[3 * t + k]] == UINT32_MAX)
+                map[m->tri[3 * t + k]] = (uint32_t)nv++;
+    }
+    sr_mesh s = {0};
+    if (sr_mesh_alloc(&s, nv, nt) != SR_OK) {
+        free(map);
+        return SR_E_NOMEM;
+    }
+    for (size_t v = 0; v < m->vertex_count; v++)
+        if (map[v] != UINT32_MAX) {
+            memcpy(s.xyz + 3 * (size_t)map[v], m->xyz + 3 * v, 3 * sizeof *s.xyz);
+            if (orig)
+                orig[map[v]] = (uint32_t)v;
+        }
+    size_t f = 0;
+    for (size_t t = 0; t < m->tri_count; t++)
+        if (keep[t]) {
+            for (int k = 0; k < 3; k++)
+                s.tri[3 * f + k] = map[m->tri[3 * t + k]];
+            f++;
+        }
+    free(map);
+    *out = s;
+    return SR_OK;
+}
+
 sr_status sr_mesh_append(sr_mesh *dst, const sr_mesh *src)
 {
     size_t nv = dst->vertex_count + src->vertex_count;

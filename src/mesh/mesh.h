@@ -43,6 +43,12 @@ sr_status sr_mesh_copy(sr_mesh *dst, const sr_mesh *src);
 /* Appends src's vertices and triangles to *dst (indices shifted). */
 sr_status sr_mesh_append(sr_mesh *dst, const sr_mesh *src);
 
+/* The triangles t of m with keep[t] != 0, in order, as a mesh of their own into *out
+ * (overwritten, not released), its vertices in the order the triangles first use them;
+ * orig (may be NULL; room for m->vertex_count) gets each of out's vertices' index in m.
+ * SR_E_NOMEM. */
+sr_status sr_mesh_subset(const sr_mesh *m, const uint8_t *keep, sr_mesh *out, uint32_t *orig);
+
 /* What validation found. Counts, not verdicts: the caller decides. */
 typedef struct sr_mesh_report {
     size_t nonfinite_vertices;  /* vertices with a NaN or Inf coordinate */
