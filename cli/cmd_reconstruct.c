@@ -123,6 +123,12 @@ static const char usage[] =
     "exists, else the built-in seeded rules.\n"
     "Sections smaller than the parameter set's min_volume_mm3 are dropped (0 = the\n"
     "'default' set's 1 mm³).\n"
+    "An open scan (a mesh with holes, the face it stood on not seen) is closed first:\n"
+    "its openings are scan gaps, not damage. Where a gap's fill lies under the surface\n"
+    "the scanner did not see (a hole on a curve or over an edge), what is found behind\n"
+    "it (its patch lying for 20 % or more of its surface on the fill) is restored but\n"
+    "reported as a gap sag (JSON \"gap_sags\"; the run's \"sags\" and \"sag_mm3\"),\n"
+    "not a section: no advice.\n"
     "A fit score below 0.5 (the share of the surface the symmetry maps onto itself)\n"
     "is reported as a poor fit: the part may not have that symmetry.\n"
     "Lengths in mm, areas mm², volumes mm³, angles degrees.\n";
@@ -376,6 +382,25 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
     json_key(&j, "fit_poor");
     json_bool(&j, r->alignment.fit_score < POOR_FIT_SCORE);
     json_object_end(&j);
+    json_key(&j, "gap_sags"); /* restored behind gap fills, not sections: no advice */
+    json_array_begin(&j);
+    for (size_t i = 0; i < r->gap_sag_count; i++) {
+        const sr_gap_sag *g = &r->gap_sags[i];
+        json_object_begin(&j);
+        json_key(&j, "volume_mm3");
+        json_number(&j, g->volume_mm3);
+        json_key(&j, "depth_max_mm"); /* from the fill out to the restored surface */
+        json_number(&j, g->depth_max_mm);
+        json_key(&j, "fill_share"); /* of its surface lying on the fills */
+        json_number(&j, g->fill_share);
+        json_key(&j, "centre"); /* of its face on the fill, scan frame, mm */
+        json_array_begin(&j);
+        for (int k = 0; k < 3; k++)
+            json_number(&j, g->centre[k]);
+        json_array_end(&j);
+        json_object_end(&j);
+    }
+    json_array_end(&j);
     json_key(&j, "sections");
     json_array_begin(&j);
     for (size_t i = 0; i < r->section_count; i++) {
@@ -720,6 +745,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_mesh_release(&scan);
         return cli_fail(st, &err);
     }
+    ro.gap_fills = &scan_desc.fills;
     if (layers)
         params.layers = layers_v;
     if (sectors)
@@ -778,6 +804,10 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
         sr_scan_desc_release(&scan_desc);
         sr_run_scan_free(scan_rec);
         return cli_fail(st, &err);
+    }
+    for (size_t i = 0; scan_rec && i < r.gap_sag_count; i++) {
+        scan_rec->sags++;
+        scan_rec->sag_mm3 += r.gap_sags[i].volume_mm3;
     }
     sr_run_nominal *nominal = NULL;
     sr_mesh nominal_patches;

@@ -64,8 +64,9 @@ static const char usage_show[] =
     "             \"nominal\": the part's intact mesh as a second opinion (see\n"
     "             'symrec reconstruct --help'; null when the run had none), and\n"
     "             \"scan_gaps\": the openings of an open scan, closed before the\n"
-    "             reconstruction and kept apart from the sections (null for a closed\n"
-    "             input)\n";
+    "             reconstruction and kept apart from the sections, with \"sags\" and\n"
+    "             \"sag_mm3\": what was restored behind their fills, not damage (null\n"
+    "             for a closed input)\n";
 
 /* ---- JSON text stored by other modules (timings, features, details) ----
  * Read with base/json_scan.h: bounded by the terminating NUL, so a damaged text gives

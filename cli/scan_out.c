@@ -107,6 +107,10 @@ void cli_scan_summary(const sr_scan_desc *d, const sr_run_scan *rec)
         printf("              untwisted: %zu rim vertices merged where a rim folded over itself "
                "in its plane\n",
                d->uncurled_vertices);
+    if (rec && rec->sags)
+        printf("              restored behind gap fills, not damage: %zu sag%s, %.4g mm³ (the "
+               "fill lay under the surface the scanner did not see)\n",
+               rec->sags, rec->sags == 1 ? "" : "s", rec->sag_mm3);
 }
 
 void cli_run_scan_print(const sr_run_scan *s)
@@ -137,6 +141,9 @@ void cli_run_scan_print(const sr_run_scan *s)
         printf("  untwisted:   %zu rim vertices merged where a rim folded over itself in its "
                "plane\n",
                s->uncurled_vertices);
+    if (s->sags)
+        printf("  gap sags:    %zu restored behind gap fills (%.4g mm³; not sections)\n", s->sags,
+               s->sag_mm3);
 }
 
 void json_run_scan(json_out *j, const sr_run_scan *s)
@@ -166,6 +173,10 @@ void json_run_scan(json_out *j, const sr_run_scan *s)
     json_int(j, (int64_t)s->sealed_triangles);
     json_key(j, "uncurled_vertices"); /* merged where a rim twisted in its plane */
     json_int(j, (int64_t)s->uncurled_vertices);
+    json_key(j, "sags"); /* lenses restored behind gap fills: not sections */
+    json_int(j, (int64_t)s->sags);
+    json_key(j, "sag_mm3");
+    json_number(j, s->sag_mm3);
     json_key(j, "gaps");
     json_array_begin(j);
     for (size_t i = 0; i < s->gap_count; i++) {

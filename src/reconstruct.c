@@ -97,6 +97,7 @@ void sr_recon_result_release(sr_recon_result *r)
     sr_layer_grid_release(&r->grid);
     sr_analysis_release(&r->analysis);
     sr_sections_release(r->sections, r->section_count);
+    free(r->gap_sags);
     sr_mesh_release(&r->restored);
     memset(r, 0, sizeof *r);
 }
@@ -457,6 +458,11 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     sr_xform_rigid_inverse(inv, r.alignment.xform);
     for (size_t i = 0; i < r.section_count && opts->method != SR_METHOD_IMAGE; i++)
         sr_mesh_transform(&r.sections[i].patch, inv); /* image: in the scan's already */
+    if (opts->method == SR_METHOD_IMAGE) {
+        st = recon_split_gap_sags(&r, opts->gap_fills, err);
+        if (st != SR_OK)
+            goto fail;
+    }
     /* rounded once more by the move: the reported patches are checked again */
     size_t late = recon_mend_patches(r.sections, r.section_count);
     for (size_t i = 0; i < r.section_count; i++) {

@@ -57,7 +57,20 @@ typedef struct sr_recon_opts {
     int threads;                /* image: threads of the vote; 0 = all cores. The result
                                  * is the same for any number */
     const sr_progress *progress; /* told each phase as it starts; NULL = nobody */
+    const sr_mesh *gap_fills;    /* image: the triangles the closing of an open scan made
+                                 * (sr_scan_desc.fills), the scan's frame; a section lying
+                                 * behind them is a gap's (sr_gap_sag). NULL = none */
 } sr_recon_opts;
+
+/* Image method: what lay behind the fill of a scan gap (a lens between the flat fill and
+ * the surface the scanner did not see), restored with the part but not a section: no
+ * damage, no repair. */
+typedef struct sr_gap_sag {
+    double volume_mm3;
+    double depth_max_mm; /* deepest, from the fill out to the restored surface */
+    double fill_share;   /* share of its patch's surface lying on the fills */
+    double centre[3];    /* of the part of it on the fills, scan frame, mm */
+} sr_gap_sag;
 
 /* Seconds per phase. analyse_s covers every method's finding of the sections (for the
  * image method: vote_s + clip_s + continue_s); union_s the union, the mending of what
@@ -95,6 +108,9 @@ typedef struct sr_recon_result {
     size_t unfold_sliver_tris;  /* folded slivers' triangles gone (needles collapsed) */
     size_t unfold_vertices;     /* scan vertices moved to unfold them */
     double unfold_max_mm;       /* the farthest one moved */
+    sr_gap_sag *gap_sags;       /* image, open scans: sections found behind gap fills,
+                                 * taken out of sections (restored all the same) */
+    size_t gap_sag_count;
     sr_recon_timings timings;
 } sr_recon_result;
 

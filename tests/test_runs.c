@@ -372,8 +372,8 @@ static void run_round_trip_reads_back_every_field(void **state)
 /* An open scan's gaps recorded apart from the sections: a 10 x 20 x 30 box without its
  * top (one gap: 4 edges, 60 mm of rim, 200 mm², centred at (5, 10, 30), closed in its
  * plane) and a stray triangle 20 mm above it, recorded with the sample's two sections
- * and 7 triangles sealed (sql/012) and read back; the sample without a scan record reads
- * back none. */
+ * and 7 triangles sealed (sql/012) and 2 gap sags of 3.25 mm³ (sql/015) and read back;
+ * the sample without a scan record reads back none. */
 static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
 {
     fixture *fx = *state;
@@ -407,6 +407,9 @@ static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
     d.sealed_triangles = 7; /* as if the closing had been sealed round a defect */
     d.uncurled_vertices = 3; /* and a rim untwisted */
     assert_int_equal(sr_run_scan_from_desc(&d, how, &s.run.scan, NULL), SR_OK);
+    assert_int_equal(s.run.scan->sags, 0);
+    s.run.scan->sags = 2; /* as if two lenses were restored behind gap fills (sql/015) */
+    s.run.scan->sag_mm3 = 3.25;
     int64_t id = add_ok(fx, &s.run);
     sr_run r;
     assert_int_equal(sr_catalog_run_get(fx->cat, id, 0, &r, NULL), SR_OK);
@@ -426,6 +429,8 @@ static void run_scan_gaps_round_trip_apart_from_the_sections(void **state)
     assert_true(r.scan->open_area_mm2 == 200);
     assert_int_equal(r.scan->sealed_triangles, 7);
     assert_int_equal(r.scan->uncurled_vertices, 3);
+    assert_int_equal(r.scan->sags, 2);
+    assert_true(r.scan->sag_mm3 == 3.25);
     sr_run_release(&r);
     sr_run_scan_free(s.run.scan);
     s.run.scan = NULL;

@@ -19,7 +19,7 @@
  * closes in its plane; the closing by sr_scan_close_peeling restores the notch. A second
  * scrap joined to the first at a corner, a tent standing on its edges, is peeled too
  * (growth through corners). A box without its top and no
- * fold: closed at once, nothing peeled.
+ * fold: closed at once, nothing peeled. The fills reported are the triangles made.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -338,6 +338,41 @@ static void an_open_box_without_folds_is_closed_at_once(void **state)
     sr_mesh_release(&m);
 }
 
+/* The fills sr_scan_close_peeling reports (sr_scan_desc.fills, src/mesh/scan_fills.c)
+ * are the triangles it made: a box without its top and its bottom gets two triangles
+ * in each of those planes, 400 mm² in all, every corner at z 0 or 30, none of the
+ * walls'; a closed box gets none. */
+static void the_fills_are_the_triangles_the_closing_made(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(&m, 0, 0, 0, 10, 20, 30);
+    assert_int_equal(test_drop_face_at(&m, 30), 2);
+    assert_int_equal(test_drop_face_at(&m, 0), 2);
+    sr_scan_desc d;
+    sr_scan_closing *how = NULL;
+    assert_int_equal(sr_scan_close_peeling(&m, &d, &how, NULL, NULL), SR_OK);
+    assert_true(sr_mesh_is_closed(&m));
+    assert_int_equal(d.fills.tri_count, 4);
+    assert_near(sr_mesh_area(&d.fills), 400, 1e-9);
+    for (size_t t = 0; t < d.fills.tri_count; t++) {
+        double z = d.fills.xyz[3 * d.fills.tri[3 * t] + 2];
+        assert_true(z == 0 || z == 30);
+        for (int k = 1; k < 3; k++)
+            assert_true(d.fills.xyz[3 * d.fills.tri[3 * t + k] + 2] == z);
+    }
+    free(how);
+    sr_scan_desc_release(&d);
+    assert_int_equal(d.fills.tri_count, 0);
+    sr_mesh_release(&m);
+    box(&m, 0, 0, 0, 10, 20, 30);
+    assert_int_equal(sr_scan_close_peeling(&m, &d, &how, NULL, NULL), SR_OK);
+    assert_int_equal(d.fills.tri_count, 0);
+    free(how);
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -348,6 +383,7 @@ int main(void)
         cmocka_unit_test(scraps_of_the_base_facing_out_are_filled_round_or_peeled),
         cmocka_unit_test(a_scrap_reached_only_through_corners_is_peeled),
         cmocka_unit_test(an_open_box_without_folds_is_closed_at_once),
+        cmocka_unit_test(the_fills_are_the_triangles_the_closing_made),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

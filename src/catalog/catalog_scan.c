@@ -1,6 +1,7 @@
 /*
  * catalog_scan.c: a run's input read as a scan in the catalogue (tables run_scan and
- * run_scan_gaps of sql/011_scan_gaps.sql, sealed_triangles of sql/012_scan_sealed.sql, uncurled_vertices of sql/014_scan_uncurled.sql; the record is run.h's sr_run_scan): the
+ * run_scan_gaps of sql/011_scan_gaps.sql, sealed_triangles of sql/012_scan_sealed.sql, uncurled_vertices of sql/014_scan_uncurled.sql, sags and sag_mm3 of
+ * sql/015_gap_sags.sql; the record is run.h's sr_run_scan): the
  * openings closed before the reconstruction, kept apart from the sections. Written
  * inside sr_catalog_run_add's transaction (catalog_runs.c), read by sr_catalog_run_get
  * (catalog_run_read.c). The centre blob as the nominal's centroids: little-endian
@@ -21,7 +22,8 @@ sr_status sr_cat_scan_insert(sr_catalog *cat, const sr_run_scan *s, int64_t run_
         cat,
         "INSERT INTO run_scan (run_id, triangles, boundary_edges, gaps, open_area_mm2,"
         " open_share, components, strays, stray_triangles, stray_area_mm2, sealed_triangles,"
-        " uncurled_vertices) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
+        " uncurled_vertices, sags, sag_mm3)"
+        " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14)",
         &stmt, err);
     if (st != SR_OK)
         return st;
@@ -37,6 +39,8 @@ sr_status sr_cat_scan_insert(sr_catalog *cat, const sr_run_scan *s, int64_t run_
     sqlite3_bind_double(stmt, 10, s->stray_area_mm2);
     sqlite3_bind_int64(stmt, 11, (sqlite3_int64)s->sealed_triangles);
     sqlite3_bind_int64(stmt, 12, (sqlite3_int64)s->uncurled_vertices);
+    sqlite3_bind_int64(stmt, 13, (sqlite3_int64)s->sags);
+    sqlite3_bind_double(stmt, 14, s->sag_mm3);
     st = sr_cat_exec(cat, stmt, err, "record a run's scan");
     for (size_t i = 0; st == SR_OK && i < s->gap_count; i++) {
         const sr_run_scan_gap *g = &s->gaps[i];
@@ -110,12 +114,12 @@ static sr_status read_gaps(sr_catalog *cat, int64_t run_id, sr_run_scan *s, sr_e
 sr_status sr_cat_scan_read(sr_catalog *cat, sr_run *r, sr_err *err)
 {
     sqlite3_stmt *stmt;
-    sr_status st =
-        sr_cat_prepare(cat,
-                       "SELECT triangles, boundary_edges, open_area_mm2, open_share,"
-                       " components, strays, stray_triangles, stray_area_mm2,"
-                       " sealed_triangles, uncurled_vertices FROM run_scan WHERE run_id = ?1",
-                       &stmt, err);
+    sr_status st = sr_cat_prepare(cat,
+                                  "SELECT triangles, boundary_edges, open_area_mm2, open_share,"
+                                  " components, strays, stray_triangles, stray_area_mm2,"
+                                  " sealed_triangles, uncurled_vertices, sags, sag_mm3"
+                                  " FROM run_scan WHERE run_id = ?1",
+                                  &stmt, err);
     if (st != SR_OK)
         return st;
     sqlite3_bind_int64(stmt, 1, r->id);
@@ -141,6 +145,8 @@ sr_status sr_cat_scan_read(sr_catalog *cat, sr_run *r, sr_err *err)
     s->stray_area_mm2 = sqlite3_column_double(stmt, 7);
     s->sealed_triangles = (size_t)sqlite3_column_int64(stmt, 8);
     s->uncurled_vertices = (size_t)sqlite3_column_int64(stmt, 9);
+    s->sags = (size_t)sqlite3_column_int64(stmt, 10);
+    s->sag_mm3 = sqlite3_column_double(stmt, 11);
     st = sr_cat_finish(cat, stmt, err, "read a run's scan");
     if (st == SR_OK)
         st = read_gaps(cat, r->id, s, err);

@@ -623,6 +623,7 @@ void sr_scan_desc_release(sr_scan_desc *d)
     free(d->loop_verts);
     free(d->components);
     free(d->tri_component);
+    sr_mesh_release(&d->fills);
     memset(d, 0, sizeof *d);
 }
 

@@ -68,6 +68,9 @@ typedef struct sr_scan_desc {
                               * closing's defects and closed again (sr_scan_seal) */
     size_t uncurled_vertices; /* sr_scan_close_peeling: rim vertices merged where a rim
                                * twisted over itself in its plane (sr_scan_uncurl_rims) */
+    sr_mesh fills;            /* sr_scan_close_peeling: the triangles its closing made (the fills of
+                    * the openings, the triangles split on their rims), the mesh's frame,
+                    * a mesh of their own; empty when nothing was closed */
 } sr_scan_desc;
 
 /* Describes mesh (validated: indices in range). *out is written on success only and owns

@@ -59,6 +59,14 @@ size_t sr_scan_rim_crossings(const double *uv, const size_t *start, size_t loop_
  * described. SR_E_NOMEM: recs unchanged. (scan_describe.c) */
 sr_status sr_scan_sort_edges(void *recs, size_t n, size_t size, size_t nv);
 
+/* The triangles of `after` (a closing of `before`) that are not `before`'s: those whose
+ * corners, in their order from any one of them, are no triangle's of before at exactly
+ * the same positions (a turned or moved triangle counts as made). Into *fills (released
+ * first; initialised by the caller) as a mesh of their own, vertices in the order first
+ * used. SR_E_NOMEM: *fills unchanged. (scan_fills.c) */
+sr_status sr_scan_fill_triangles(const sr_mesh *before, const sr_mesh *after, sr_mesh *fills,
+                                 sr_err *err);
+
 /* Removes the triangles gone[] (one flag per triangle) from mesh, and the vertices only
  * they used; the rest keep their order (scan_describe.c). SR_E_NOMEM: mesh unchanged. */
 sr_status sr_scan_drop_triangles(sr_mesh *mesh, const bool *gone, sr_err *err);

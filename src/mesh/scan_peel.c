@@ -555,13 +555,15 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
         free(h2);
     }
     sr_scan_desc_release(&d0);
-    sr_mesh_release(&orig);
     free(h0);
     size_t sealed = 0;
     if (st == SR_OK && bad.bad_edges > 0)
         st = sr_scan_seal(mesh, &sealed, err);
     d.sealed_triangles = sealed;
     d.uncurled_vertices = uncurled;
+    if (st == SR_OK && d.loop_count > 0)
+        st = sr_scan_fill_triangles(&orig, mesh, &d.fills, err);
+    sr_mesh_release(&orig);
     if (st != SR_OK) {
         sr_scan_desc_release(&d);
         free(h);

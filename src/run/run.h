@@ -125,12 +125,14 @@ typedef struct sr_run_scan_gap {
 } sr_run_scan_gap;
 
 /* The input read as a scan, as recorded (sql/011_scan_gaps.sql, 012_scan_sealed.sql,
- * 014_scan_uncurled.sql). */
+ * 014_scan_uncurled.sql, 015_gap_sags.sql). */
 typedef struct sr_run_scan {
     size_t triangles, boundary_edges, components, strays, stray_triangles;
     double open_area_mm2, open_share, stray_area_mm2;
     size_t sealed_triangles; /* cut out round the closing's defects and closed again */
     size_t uncurled_vertices; /* rim vertices merged where a rim twisted in its plane */
+    size_t sags;           /* lenses restored behind gap fills, not sections (015_gap_sags.sql) */
+    double sag_mm3;        /* their volume */
     sr_run_scan_gap *gaps; /* gap_count, longest rim first */
     size_t gap_count;
 } sr_run_scan;
