@@ -164,10 +164,10 @@ static void print_human(const sr_recon_result *r, const sr_run *run, const char 
         printf(" (voxel pitch %.3f mm, %.1f M voxels; vote %.3f s, patches %.3f s)",
                r->image.pitch_mm, (double)r->image.voxels / 1e6, r->image.vote_s, r->image.patch_s);
     printf("\n");
-    if (r->unfold_pairs || r->unfold_sliver_tris)
-        printf("  scan folds: %zu sliver triangles collapsed, then %zu crossing triangle pairs,"
-               " %zu vertices moved (at most %.3f mm), %zu pairs left to mend\n",
-               r->unfold_sliver_tris, r->unfold_pairs, r->unfold_vertices, r->unfold_max_mm,
+    if (r->unfold_pairs)
+        printf("  scan folds: %zu crossing triangle pairs, %zu sliver triangles collapsed, %zu"
+               " vertices moved (at most %.3f mm), %zu pairs left to mend\n",
+               r->unfold_pairs, r->unfold_sliver_tris, r->unfold_vertices, r->unfold_max_mm,
                r->unfold_left);
     if (r->repair_note[0])
         printf("  note:       %s\n", r->repair_note);
@@ -462,7 +462,7 @@ static int print_json(const sr_recon_result *r, const sr_run *run, const char *m
     if (r->method == SR_METHOD_IMAGE) {
         json_key(&j, "scan_folds");
         json_object_begin(&j);
-        json_key(&j, "crossing_pairs"); /* left once the slivers were cured */
+        json_key(&j, "crossing_pairs");
         json_int(&j, (int64_t)r->unfold_pairs);
         json_key(&j, "sliver_triangles_collapsed");
         json_int(&j, (int64_t)r->unfold_sliver_tris);

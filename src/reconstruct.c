@@ -290,7 +290,7 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
         sr_sliver_report slivers = {0};
         if (sr_mesh_unfold_scan(scan_in, UNFOLD_MAX_MM, &unfolded, &slivers, &unfold, NULL) ==
                 SR_OK &&
-            slivers.crossed) {
+            slivers.crossing_pairs > 0) {
             scan = &unfolded;
             r.unfold_sliver_tris = slivers.faces_removed;
             r.unfold_pairs = slivers.crossing_pairs;

@@ -103,10 +103,9 @@ typedef struct sr_recon_result {
     int order_auto;             /* 1: it was found (order_found holds the figures) */
     sr_order_detection order_found;
     sr_image_info image;        /* image method: pitch, voxels, phase times */
-    size_t unfold_pairs;        /* image: crossing triangle pairs of the scan found once
-                                 * its slivers were cured (a scan that crossed itself) ... */
+    size_t unfold_pairs;        /* image: crossing triangle pairs of the scan found ... */
     size_t unfold_left;         /* ... of which still crossing after the unfolding */
-    size_t unfold_sliver_tris;  /* slivers' triangles gone (needles collapsed) */
+    size_t unfold_sliver_tris;  /* folded slivers' triangles gone (needles collapsed) */
     size_t unfold_vertices;     /* scan vertices moved to unfold them */
     double unfold_max_mm;       /* the farthest one moved */
     sr_gap_sag *gap_sags;       /* image, open scans: sections found behind gap fills,

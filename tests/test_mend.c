@@ -649,8 +649,7 @@ static void clean_surface_is_left_and_bad_input_refused(void **state)
 
 /* ---- sr_mesh_unfold_scan --------------------------------------------------------------- */
 
-/* The one-pass unfold gives exactly what the two steps give one after the other where
- * the only slivers are at the folds
+/* The one-pass unfold gives exactly what the two steps give one after the other
  * (slivers cleaned, then sr_mesh_unfold over the whole mesh): the same triangles, byte
  * for byte, and the same vertices to rounding (a ring's points are summed in the order of
  * a mesh built once, not twice), on a folded cap (cured by a flip) and on a vertex folded past
@@ -669,9 +668,8 @@ static void expect_one_pass_equals_two_steps(const sr_mesh *in)
     sr_unfold_report u1;
     sr_err err = {{0}};
     assert_int_equal(sr_mesh_unfold_scan(in, 0.1, &one, &s1, &u1, &err), SR_OK);
-    assert_int_equal(s1.crossed, 1);
-    /* its slivers cured first, the crossings left are counted: no more than before */
-    assert_true(s1.crossing_pairs <= s2.crossing_pairs);
+    assert_true(s1.crossing_pairs > 0);
+    assert_int_equal(s1.crossing_pairs, s2.crossing_pairs);
     assert_int_equal(s1.faces_removed, s2.faces_removed);
     assert_int_equal(u1.moved_vertices, u2.moved_vertices);
     assert_int_equal(u1.remaining_pairs, 0);
@@ -698,82 +696,6 @@ static void one_pass_unfold_equals_the_two_steps(void **state)
     make_ringed_cylinder(&m);
     fold_by(&m, 30, 20, 1.04);
     expect_one_pass_equals_two_steps(&m);
-    sr_mesh_release(&m);
-}
-
-/* m's triangle 0 split round a point 1 micrometre off the middle of its first edge,
- * into it: a cap (an angle of almost 180 degrees) that lies flat, folded nowhere. */
-static void add_flat_cap(sr_mesh *m)
-{
-    uint32_t p = m->tri[0], q = m->tri[1], r = m->tri[2];
-    double w[3];
-    for (int k = 0; k < 3; k++) {
-        double mid = 0.5 * (m->xyz[3 * p + k] + m->xyz[3 * q + k]);
-        w[k] = mid + 0.001 * (m->xyz[3 * r + k] - mid);
-    }
-    double *xyz = realloc(m->xyz, 3 * (m->vertex_count + 1) * sizeof *xyz);
-    uint32_t *tri = realloc(m->tri, 3 * (m->tri_count + 2) * sizeof *tri);
-    assert_non_null(xyz);
-    assert_non_null(tri);
-    m->xyz = xyz;
-    m->tri = tri;
-    uint32_t v = (uint32_t)m->vertex_count++;
-    memcpy(m->xyz + 3 * v, w, sizeof w);
-    const uint32_t fan[9] = {p, q, v, q, r, v, r, p, v};
-    memcpy(m->tri, fan, 3 * sizeof *fan);
-    memcpy(m->tri + 3 * m->tri_count, fan + 3, 6 * sizeof *fan);
-    m->tri_count += 2;
-}
-
-static double largest_angle_deg(const sr_mesh *m)
-{
-    double worst = 0;
-    for (size_t t = 0; t < m->tri_count; t++)
-        for (int k = 0; k < 3; k++) {
-            const double *a = m->xyz + 3 * (size_t)m->tri[3 * t + k];
-            const double *b = m->xyz + 3 * (size_t)m->tri[3 * t + (k + 1) % 3];
-            const double *c = m->xyz + 3 * (size_t)m->tri[3 * t + (k + 2) % 3];
-            double u[3], v[3], uu = 0, vv = 0, uv = 0;
-            for (int j = 0; j < 3; j++) {
-                u[j] = b[j] - a[j];
-                v[j] = c[j] - a[j];
-                uu += u[j] * u[j];
-                vv += v[j] * v[j];
-                uv += u[j] * v[j];
-            }
-            worst = fmax(worst, acos(fmax(-1, fmin(1, uv / sqrt(uu * vv)))) * 180 / M_PI);
-        }
-    return worst;
-}
-
-/* A scan that crosses itself has every sliver cured first, not only those at its folds
- * (a fold is a sliver's shape; a spline's scan of needles crossed itself in ten million
- * pairs before): the folded cap box with a flat cap on another face comes out with no
- * crossing, closed, and no angle over 160 degrees. The flat cap on a box that crosses
- * nowhere is left: the answer is empty. */
-static void a_crossing_scan_has_every_sliver_cured(void **state)
-{
-    (void)state;
-    sr_mesh m, out;
-    make_folded_cap_box(&m);
-    add_flat_cap(&m);
-    assert_true(sr_mesh_is_closed(&m));
-    assert_true(largest_angle_deg(&m) > 170);
-    sr_sliver_report s;
-    sr_unfold_report u;
-    assert_int_equal(sr_mesh_unfold_scan(&m, 0.1, &out, &s, &u, NULL), SR_OK);
-    assert_int_equal(s.crossed, 1);
-    assert_false(crosses(&out));
-    assert_true(sr_mesh_is_closed(&out));
-    assert_true(largest_angle_deg(&out) < 160);
-    assert_near(sr_mesh_volume(&out), 1000, 1e-6);
-    sr_mesh_release(&out);
-    sr_mesh_release(&m);
-    make_grid_box(&m);
-    add_flat_cap(&m);
-    assert_int_equal(sr_mesh_unfold_scan(&m, 0.1, &out, &s, &u, NULL), SR_OK);
-    assert_int_equal(s.crossed, 0);
-    assert_int_equal(out.tri_count, 0);
     sr_mesh_release(&m);
 }
 
@@ -882,7 +804,6 @@ int main(void)
         cmocka_unit_test(clean_surface_is_left_and_bad_input_refused),
         cmocka_unit_test(one_pass_unfold_equals_the_two_steps),
         cmocka_unit_test(one_pass_unfold_leaves_clean_scans_and_refuses_bad_input),
-        cmocka_unit_test(a_crossing_scan_has_every_sliver_cured),
         cmocka_unit_test(crossings_are_the_same_on_any_number_of_threads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

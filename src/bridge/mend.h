@@ -75,7 +75,6 @@ typedef struct sr_sliver_report {
     size_t crossing_pairs;  /* crossing triangle pairs found (what is left is for
                              * sr_mesh_unfold, which looks for it again) */
     size_t faces_removed;   /* triangles gone with collapsed needles */
-    int crossed;            /* sr_mesh_unfold_scan: 1 when the scan crossed itself */
 } sr_sliver_report;
 
 /* Where the mesh crosses itself, its slivers folded over by noise are undone: a cap's
@@ -87,14 +86,11 @@ typedef struct sr_sliver_report {
 sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
                                        sr_sliver_report *report, sr_err *err);
 
-/* A noisy scan's folds undone in one pass, on one mesh built once: when it crosses
- * itself anywhere, every sliver of it is cured first as sr_mesh_clean_folded_slivers
- * cures those at crossings (a fold is a sliver's shape; a spline's scan of needles
- * crossed itself in ten million pairs, whose search took 27 of its 31 s), then the
- * crossings left are searched once (slivers->crossing_pairs counts them) and
- * sr_mesh_unfold's rounds run around them. When anything crossed, *out is the unfolded
- * scan (vertices renumbered) and slivers->crossed is 1; otherwise *out is empty and
- * scan is the answer (a scan that crosses nowhere keeps its slivers).
+/* A noisy scan's folds undone in one pass: sr_mesh_clean_folded_slivers, then
+ * sr_mesh_unfold's rounds around what crossed, on one mesh built once and searched for
+ * crossings once (the rest of the scan is left as it is, so it cannot cross anew).
+ * When anything crossed, *out is the unfolded scan (vertices renumbered) and
+ * slivers->crossing_pairs > 0; otherwise *out is empty and scan is the answer.
  * SR_E_INVALID when scan is not an oriented manifold; SR_E_RANGE for a bad bound;
  * SR_E_NOMEM. slivers and unfold may be NULL. */
 sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,

@@ -14,12 +14,10 @@
  * flipped triangles' height bounded by max_move_mm, so the surface moves by no more
  * than that and only where it folds.
  *
- * sr_mesh_unfold_scan does that to every sliver of a scan that crosses itself anywhere
- * (found by CGAL's does_self_intersect, which stops at the first pair), then searches
- * the crossings left once and runs sr_mesh_unfold's rounds (mend_unfold_cgal.cpp) on
- * the same Surface_mesh around them. A scan of needles (a generated spline's teeth)
- * crossed itself in ten million pairs when the crossings came first: 27 s of search,
- * 7 s now.
+ * sr_mesh_unfold_scan does that and then sr_mesh_unfold's rounds (mend_unfold_cgal.cpp)
+ * on the same Surface_mesh, the first round looking only around what crossed: nothing
+ * else changed, so nothing else can cross. A million-triangle scan is built once and
+ * searched for crossings once, not twice each.
  */
 #include "bridge/boolean_cgal.hpp"
 #include "bridge/mend_cgal.hpp"
@@ -68,7 +66,7 @@ std::vector<Face_index> folded_faces(const Mesh &sm, size_t *pairs)
 extern "C" sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
                                                   sr_sliver_report *report, sr_err *err)
 {
-    sr_sliver_report local = {0, 0, 0};
+    sr_sliver_report local = {0, 0};
     if (!report)
         report = &local;
     *report = local;
@@ -105,7 +103,7 @@ extern "C" sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm
                                          sr_sliver_report *slivers, sr_unfold_report *unfold,
                                          sr_err *err)
 {
-    sr_sliver_report local_slivers = {0, 0, 0};
+    sr_sliver_report local_slivers = {0, 0};
     sr_unfold_report local_unfold = {0, 0, 0, 0};
     if (!slivers)
         slivers = &local_slivers;
@@ -122,26 +120,21 @@ extern "C" sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm
         if (!build_surface_mesh(scan, sm, &bad))
             return sr_err_set(err, SR_E_INVALID, "mesh is not an oriented manifold at triangle %zu",
                               bad);
-        if (!PMP::does_self_intersect(sm))
-            return SR_OK; /* nothing crosses: out stays empty */
-        /* every sliver cured first (a fold is a sliver's shape): a scan of needles (a
-         * spline's long teeth) crossed itself in ten million pairs, whose search was
-         * the whole of its 30 s; then the crossings left, searched once */
-        size_t faces_before = sm.number_of_faces();
-        PMP::experimental::remove_almost_degenerate_faces(
-            sm, std::cos(CAP_ANGLE_DEG * M_PI / 180.0), NEEDLE_RATIO, max_move_mm,
-            CGAL::parameters::flip_triangle_height_threshold(max_move_mm));
-        slivers->faces_removed = faces_before - sm.number_of_faces();
         std::vector<Face_index> near = folded_faces(sm, &slivers->crossing_pairs);
-        slivers->crossed = 1;
+        if (near.empty())
+            return SR_OK; /* nothing crosses: out stays empty */
         std::vector<Mesh::Vertex_index> seeds;
         for (Face_index f : near)
             for (Mesh::Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
                 seeds.push_back(v);
         std::sort(seeds.begin(), seeds.end());
         seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-        if (!seeds.empty())
-            sr_mend::unfold_rounds(sm, sr_mend::faces_near(sm, seeds, 3), max_move_mm, unfold);
+        size_t faces_before = sm.number_of_faces();
+        PMP::experimental::remove_almost_degenerate_faces(
+            near, sm, std::cos(CAP_ANGLE_DEG * M_PI / 180.0), NEEDLE_RATIO, max_move_mm,
+            CGAL::parameters::flip_triangle_height_threshold(max_move_mm));
+        slivers->faces_removed = faces_before - sm.number_of_faces();
+        sr_mend::unfold_rounds(sm, sr_mend::faces_near(sm, seeds, 3), max_move_mm, unfold);
         return mesh_to_arrays(sm, out, err, "unfolding a scan");
     } catch (...) {
         sr_mesh_release(out);
