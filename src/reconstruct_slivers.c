@@ -40,15 +40,20 @@ static bool short_edged(const sr_mesh *m, size_t t, double len)
     return false;
 }
 
-/* Six times the signed volume the triangles of m (tri, count) add. */
-static double volume6(const double *xyz, const uint32_t *tri, size_t count)
+/* Six times the signed volume of the cones from o over the triangles (tri, count):
+ * two pieces with the same rim differ by the volume between them, for any o (o on
+ * the piece keeps the products small). */
+static double volume6(const double *xyz, const uint32_t *tri, size_t count, const double o[3])
 {
     double v = 0;
     for (size_t t = 0; t < count; t++) {
-        const double *a = xyz + 3 * (size_t)tri[3 * t], *b = xyz + 3 * (size_t)tri[3 * t + 1],
-                     *c = xyz + 3 * (size_t)tri[3 * t + 2];
-        v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-             a[2] * (b[0] * c[1] - b[1] * c[0]);
+        double p[3][3];
+        for (int k = 0; k < 3; k++)
+            for (int j = 0; j < 3; j++)
+                p[k][j] = xyz[3 * (size_t)tri[3 * t + k] + j] - o[j];
+        v += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+             p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+             p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
     }
     return v;
 }
@@ -149,8 +154,10 @@ static size_t put_back(sr_mesh *m, const uint8_t *sel, const sr_mesh *s, const u
     size_t r1 = rim_edges(c.tri, c.tri_count, map, &rim1);
     if (r0 == SIZE_MAX || r1 == SIZE_MAX || r0 != r1 || memcmp(rim0, rim1, r0 * sizeof *rim0))
         goto done;
-    double v0 = volume6(m->xyz, m->tri, m->tri_count) / 6.0;
-    double dv = (volume6(c.xyz, c.tri, c.tri_count) - volume6(s->xyz, s->tri, s->tri_count)) / 6.0;
+    double v0 = sr_mesh_volume(m);
+    const double *o = s->xyz;
+    double dv =
+        (volume6(c.xyz, c.tri, c.tri_count, o) - volume6(s->xyz, s->tri, s->tri_count, o)) / 6.0;
     if (!(fabs(dv) <= 1e-6 * fabs(v0) + 1e-3))
         goto done;
     /* m's triangles but sel's, then c's; the vertices no triangle uses then dropped */
