@@ -2,17 +2,21 @@
  * test_mesh_pinch.c: sr_mesh_split_pinches (src/mesh/mesh_pinch.c) on meshes with known
  * answers: two tetrahedra (volume 1/6 each) sharing one vertex (pinched: one vertex
  * added, at the same place, taken by the second tetrahedron's three triangles; closed,
- * no pinch left, the volume unchanged); a closed box (nothing to split: unchanged).
+ * no pinch left, the volume unchanged); a closed box (nothing to split: unchanged);
+ * sr_pair32_sort (src/mesh/pair_sort.c), which orders each vertex's neighbours here,
+ * against qsort on pseudo-random lists, short (insertion) and long (qsort), with ties.
  */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
 
 #include "mesh/mesh_pinch.h"
+#include "mesh/pair_sort.h"
 #include "mesh/shapes.h"
 #include "support/assert_near.h"
 
@@ -68,11 +72,40 @@ static void a_box_is_left_as_it_is(void **state)
     sr_mesh_release(&copy);
 }
 
+static int by_key_then_tag(const void *pa, const void *pb)
+{
+    const sr_pair32 *a = pa, *b = pb;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return (a->tag > b->tag) - (a->tag < b->tag);
+}
+
+static void pairs_sort_as_qsort_does(void **state)
+{
+    (void)state;
+    uint32_t x = 12345;
+    sr_pair32 got[80], want[80];
+    for (size_t n = 0; n <= 80; n++) {
+        for (size_t i = 0; i < n; i++) {
+            x = x * 1103515245u + 12345u;
+            got[i].key = (x >> 16) % 7; /* few keys: ties broken by tag */
+            x = x * 1103515245u + 12345u;
+            got[i].tag = (x >> 16) % 50;
+        }
+        memcpy(want, got, n * sizeof *got);
+        qsort(want, n, sizeof *want, by_key_then_tag);
+        sr_pair32_sort(got, n);
+        if (n > 0)
+            assert_memory_equal(got, want, n * sizeof *got);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(two_tetrahedra_sharing_a_vertex_get_one_each),
         cmocka_unit_test(a_box_is_left_as_it_is),
+        cmocka_unit_test(pairs_sort_as_qsort_does),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

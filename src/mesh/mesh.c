@@ -7,6 +7,7 @@
  * for a million triangles (sorting all 3T directed edges took 0.5 s and 36 MB).
  */
 #include "mesh/mesh.h"
+#include "mesh/pair_sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -345,37 +346,6 @@ static sr_status edge_stats_sorted(const sr_mesh *mesh, sr_mesh_edges *out)
     return SR_OK;
 }
 
-/* (key, tag) pairs sorted by key then tag; lists around one vertex are short, so
- * insertion sort, with qsort for the rare hub vertex (a fan's centre). */
-typedef struct kv32 {
-    uint32_t key, tag;
-} kv32;
-
-static int kv32_cmp(const void *pa, const void *pb)
-{
-    const kv32 *a = pa, *b = pb;
-    if (a->key != b->key)
-        return a->key < b->key ? -1 : 1;
-    return (a->tag > b->tag) - (a->tag < b->tag);
-}
-
-static void kv32_sort(kv32 *r, size_t n)
-{
-    if (n > 24) {
-        qsort(r, n, sizeof *r, kv32_cmp);
-        return;
-    }
-    for (size_t i = 1; i < n; i++) {
-        kv32 x = r[i];
-        size_t j = i;
-        while (j > 0 && kv32_cmp(&r[j - 1], &x) > 0) {
-            r[j] = r[j - 1];
-            j--;
-        }
-        r[j] = x;
-    }
-}
-
 static uint32_t uf_find(uint32_t *parent, uint32_t i)
 {
     while (parent[i] != i) {
@@ -407,7 +377,7 @@ sr_status sr_mesh_edge_stats(const sr_mesh *mesh, sr_mesh_edges *out)
     uint32_t *start = calloc(nslot + 1, sizeof *start);
     uint32_t *corner = malloc(3 * nt * sizeof *corner);
     size_t cap = 64;
-    kv32 *rec = malloc(2 * cap * sizeof *rec), *nb = malloc(2 * cap * sizeof *nb);
+    sr_pair32 *rec = malloc(2 * cap * sizeof *rec), *nb = malloc(2 * cap * sizeof *nb);
     uint32_t *parent = malloc(cap * sizeof *parent);
     if (!start || !corner || !rec || !nb || !parent) {
         free(start);
@@ -436,10 +406,10 @@ sr_status sr_mesh_edge_stats(const sr_mesh *mesh, sr_mesh_edges *out)
         if (deg > cap) {
             while (cap < deg)
                 cap *= 2;
-            kv32 *r2 = realloc(rec, 2 * cap * sizeof *rec);
+            sr_pair32 *r2 = realloc(rec, 2 * cap * sizeof *rec);
             if (r2)
                 rec = r2;
-            kv32 *n2 = realloc(nb, 2 * cap * sizeof *nb);
+            sr_pair32 *n2 = realloc(nb, 2 * cap * sizeof *nb);
             if (n2)
                 nb = n2;
             uint32_t *p2 = realloc(parent, cap * sizeof *parent);
@@ -457,18 +427,18 @@ sr_status sr_mesh_edge_stats(const sr_mesh *mesh, sr_mesh_edges *out)
             uint32_t a = tri[3 * t + (k + 1) % 3], b = tri[3 * t + (k + 2) % 3];
             /* u -> a is this corner's edge; b -> u is the previous corner's */
             if (a == u)
-                rec[nr++] = (kv32){(uint32_t)u, 0}; /* a repeated index: u -> u */
+                rec[nr++] = (sr_pair32){(uint32_t)u, 0}; /* a repeated index: u -> u */
             else if (a > u)
-                rec[nr++] = (kv32){a, 1};
+                rec[nr++] = (sr_pair32){a, 1};
             if (b != u && b > u)
-                rec[nr++] = (kv32){b, 0};
+                rec[nr++] = (sr_pair32){b, 0};
             parent[j] = (uint32_t)j;
             if (a != u)
-                nb[nn++] = (kv32){a, (uint32_t)j};
+                nb[nn++] = (sr_pair32){a, (uint32_t)j};
             if (b != u)
-                nb[nn++] = (kv32){b, (uint32_t)j};
+                nb[nn++] = (sr_pair32){b, (uint32_t)j};
         }
-        kv32_sort(rec, nr);
+        sr_pair32_sort(rec, nr);
         for (size_t i = 0; i < nr;) {
             size_t j = i, fwd = 0;
             while (j < nr && rec[j].key == rec[i].key) {
@@ -479,7 +449,7 @@ sr_status sr_mesh_edge_stats(const sr_mesh *mesh, sr_mesh_edges *out)
             i = j;
         }
         /* fans: corners sharing an edge (u, w) are joined */
-        kv32_sort(nb, nn);
+        sr_pair32_sort(nb, nn);
         for (size_t i = 1; i < nn; i++)
             if (nb[i].key == nb[i - 1].key) {
                 uint32_t x = uf_find(parent, nb[i].tag), y = uf_find(parent, nb[i - 1].tag);

@@ -6,23 +6,11 @@
  * appended in the order their fans are met.
  */
 #include "mesh/mesh_pinch.h"
+#include "mesh/pair_sort.h"
 
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-typedef struct nbr {
-    uint32_t w;      /* the other vertex of an edge at the centre */
-    uint32_t corner; /* index of the corner among the centre's */
-} nbr;
-
-static int nbr_cmp(const void *pa, const void *pb)
-{
-    const nbr *a = pa, *b = pb;
-    if (a->w != b->w)
-        return a->w < b->w ? -1 : 1;
-    return (a->corner > b->corner) - (a->corner < b->corner);
-}
 
 static uint32_t find(uint32_t *parent, uint32_t x)
 {
@@ -39,7 +27,7 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
     size_t *start = calloc(nv + 2, sizeof *start);
     uint32_t *corner = malloc((3 * nt + 1) * sizeof *corner);
     uint32_t *newv = malloc((3 * nt + 1) * sizeof *newv); /* per corner: its vertex after */
-    nbr *nb = NULL;
+    sr_pair32 *nb = NULL;
     uint32_t *parent = NULL, *root_v = NULL;
     size_t cap = 0, extra = 0;
     sr_status st = SR_OK;
@@ -64,7 +52,7 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
             continue;
         if (deg > cap) {
             cap = 2 * deg;
-            nbr *n2 = realloc(nb, 2 * cap * sizeof *nb);
+            sr_pair32 *n2 = realloc(nb, 2 * cap * sizeof *nb);
             if (n2)
                 nb = n2;
             uint32_t *p2 = realloc(parent, cap * sizeof *parent);
@@ -85,14 +73,14 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
             uint32_t a = mesh->tri[3 * t + (k + 1) % 3], b = mesh->tri[3 * t + (k + 2) % 3];
             parent[j] = (uint32_t)j;
             if (a != u)
-                nb[nn++] = (nbr){a, (uint32_t)j};
+                nb[nn++] = (sr_pair32){a, (uint32_t)j};
             if (b != u)
-                nb[nn++] = (nbr){b, (uint32_t)j};
+                nb[nn++] = (sr_pair32){b, (uint32_t)j};
         }
-        qsort(nb, nn, sizeof *nb, nbr_cmp);
+        sr_pair32_sort(nb, nn);
         for (size_t i = 1; i < nn; i++)
-            if (nb[i].w == nb[i - 1].w) {
-                uint32_t x = find(parent, nb[i].corner), y = find(parent, nb[i - 1].corner);
+            if (nb[i].key == nb[i - 1].key) {
+                uint32_t x = find(parent, nb[i].tag), y = find(parent, nb[i - 1].tag);
                 if (x != y)
                     parent[x > y ? x : y] = x > y ? y : x; /* the smaller root stays */
             }

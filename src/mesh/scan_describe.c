@@ -349,20 +349,27 @@ static void cell_range(const tgrid *g, const double *b, bool clamp, long c0[3], 
 
 static void tri_box(const sr_mesh *m, size_t t, double b[6])
 {
-    for (int i = 0; i < 3; i++) {
-        b[i] = INFINITY;
-        b[3 + i] = -INFINITY;
-    }
-    for (int k = 0; k < 3; k++) {
-        const double *p = vtx(m, m->tri[3 * t + k]);
-        for (int i = 0; i < 3; i++) {
-            b[i] = fmin(b[i], p[i]);
-            b[3 + i] = fmax(b[3 + i], p[i]);
+    const double *p = vtx(m, m->tri[3 * t]);
+    for (int i = 0; i < 3; i++)
+        b[i] = b[3 + i] = p[i];
+    for (int k = 1; k < 3; k++) {
+        p = vtx(m, m->tri[3 * t + k]);
+        for (int i = 0; i < 3; i++) { /* no fmin/fmax: the coordinates are finite */
+            b[i] = p[i] < b[i] ? p[i] : b[i];
+            b[3 + i] = p[i] > b[3 + i] ? p[i] : b[3 + i];
         }
     }
 }
 
-/* Cells of about three triangles' size (area / count), at most 256 a side. */
+/* A grid has at most one cell per this many triangles: a surface fills few of a box's
+ * cells, and a fine grid's counts cost more to clear and fill than its lookups save
+ * (a 1.85M-triangle scan: 0.23 s a description with cells of three triangles' size,
+ * 0.14 s with this bound). */
+#define CELL_TRIANGLES 4.0
+
+/* Cells of about three triangles' size (area / count), at most 256 a side (so a cell
+ * index per axis fits a byte: each triangle's cell range is found once) and at most
+ * one per CELL_TRIANGLES triangles. */
 static bool tgrid_build(const sr_mesh *m, const uint32_t *comp, double area, tgrid *g)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -371,55 +378,74 @@ static bool tgrid_build(const sr_mesh *m, const uint32_t *comp, double area, tgr
         if (comp[t] == 0) {
             double b[6];
             tri_box(m, t, b);
-            for (int i = 0; i < 3; i++)
-                lo[i] = fmin(lo[i], b[i]), hi[i] = fmax(hi[i], b[3 + i]);
+            for (int i = 0; i < 3; i++) {
+                lo[i] = b[i] < lo[i] ? b[i] : lo[i];
+                hi[i] = b[3 + i] > hi[i] ? b[3 + i] : hi[i];
+            }
             nt++;
         }
     if (nt == 0)
         return true;
     double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-    g->h = fmax(3 * sqrt(area / (double)nt), ext / 256);
+    g->h = fmax(3 * sqrt(area / (double)nt), ext / 255);
+    double box = (hi[0] - lo[0] + g->h) * (hi[1] - lo[1] + g->h) * (hi[2] - lo[2] + g->h);
+    g->h = fmax(g->h, cbrt(box * CELL_TRIANGLES / (double)nt));
     if (!(g->h > 0))
         g->h = 1;
     size_t cells = 1;
     for (int i = 0; i < 3; i++) {
         g->lo[i] = lo[i];
         g->n[i] = (long)floor((hi[i] - lo[i]) / g->h) + 1;
+        g->n[i] = g->n[i] > 256 ? 256 : g->n[i];
         cells *= (size_t)g->n[i];
     }
     g->start = calloc(cells + 1, sizeof *g->start);
-    if (!g->start)
+    uint8_t *range = malloc(6 * nt * sizeof *range); /* c0 xyz, c1 xyz of each */
+    if (!g->start || !range) {
+        free(range);
         return false;
-    for (int pass = 0; pass < 2; pass++) {
-        for (size_t t = 0; t < m->tri_count; t++) {
-            if (comp[t] != 0)
-                continue;
-            double b[6];
-            long c0[3], c1[3];
-            tri_box(m, t, b);
-            cell_range(g, b, true, c0, c1);
-            for (long k = c0[2]; k <= c1[2]; k++)
-                for (long j = c0[1]; j <= c1[1]; j++)
-                    for (long i = c0[0]; i <= c1[0]; i++) {
-                        size_t c =
-                            ((size_t)k * (size_t)g->n[1] + (size_t)j) * (size_t)g->n[0] + (size_t)i;
-                        if (pass == 0)
-                            g->start[c + 1]++;
-                        else
-                            g->tri[g->start[c]++] = (uint32_t)t;
-                    }
-        }
-        if (pass == 0) {
-            for (size_t c = 0; c < cells; c++)
-                g->start[c + 1] += g->start[c];
-            g->tri = malloc((g->start[cells] + 1) * sizeof *g->tri);
-            if (!g->tri)
-                return false;
-        } else { /* filling moved each start to the next cell's: move them back */
-            memmove(g->start + 1, g->start, cells * sizeof *g->start);
-            g->start[0] = 0;
-        }
     }
+    size_t r = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        if (comp[t] != 0)
+            continue;
+        double b[6];
+        long c0[3], c1[3];
+        tri_box(m, t, b);
+        cell_range(g, b, true, c0, c1);
+        for (int i = 0; i < 3; i++) {
+            range[6 * r + i] = (uint8_t)c0[i];
+            range[6 * r + 3 + i] = (uint8_t)c1[i];
+        }
+        for (long k = c0[2]; k <= c1[2]; k++)
+            for (long j = c0[1]; j <= c1[1]; j++)
+                for (long i = c0[0]; i <= c1[0]; i++)
+                    g->start[((size_t)k * (size_t)g->n[1] + (size_t)j) * (size_t)g->n[0] +
+                             (size_t)i + 1]++;
+        r++;
+    }
+    for (size_t c = 0; c < cells; c++)
+        g->start[c + 1] += g->start[c];
+    g->tri = malloc((g->start[cells] + 1) * sizeof *g->tri);
+    if (!g->tri) {
+        free(range);
+        return false;
+    }
+    r = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        if (comp[t] != 0)
+            continue;
+        const uint8_t *q = range + 6 * r++;
+        for (size_t k = q[2]; k <= q[5]; k++)
+            for (size_t j = q[1]; j <= q[4]; j++)
+                for (size_t i = q[0]; i <= q[3]; i++)
+                    g->tri[g->start[(k * (size_t)g->n[1] + j) * (size_t)g->n[0] + i]++] =
+                        (uint32_t)t;
+    }
+    free(range);
+    /* filling moved each start to the next cell's: move them back */
+    memmove(g->start + 1, g->start, cells * sizeof *g->start);
+    g->start[0] = 0;
     return true;
 }
 

@@ -21,48 +21,42 @@
  * vertices' triangles) up to this many. */
 #define SEAL_MAX_RINGS 4
 
-/* How many times the directed edge a -> b is used, in the sorted keys[0..n). */
-static size_t uses(const uint64_t *keys, size_t n, uint64_t a, uint64_t b)
-{
-    uint64_t k = a << 32 | b;
-    size_t lo = 0, hi = n;
-    while (lo < hi) { /* the first key >= k */
-        size_t mid = lo + (hi - lo) / 2;
-        if (keys[mid] < k)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    size_t c = 0;
-    while (lo + c < n && keys[lo + c] == k)
-        c++;
-    return c;
-}
+typedef struct edge_way {
+    uint64_t key; /* lo << 32 | hi */
+    uint64_t up;  /* 1 when its triangle walks it lo -> hi */
+} edge_way;
 
 /* bad[v] for every vertex of an edge not used exactly once each way; returns their
- * count (SIZE_MAX: out of memory). */
+ * count (SIZE_MAX: out of memory). The edges sorted by vertex pair, each pair's run
+ * counted both ways. */
 static size_t mark_defects(const sr_mesh *mesh, bool *bad)
 {
     size_t n = 3 * mesh->tri_count;
-    uint64_t *keys = malloc((n + 1) * sizeof *keys);
-    if (!keys)
+    edge_way *e = malloc((n + 1) * sizeof *e);
+    if (!e)
         return SIZE_MAX;
     for (size_t t = 0; t < mesh->tri_count; t++)
-        for (int k = 0; k < 3; k++)
-            keys[3 * t + k] = (uint64_t)mesh->tri[3 * t + k] << 32 | mesh->tri[3 * t + (k + 1) % 3];
-    if (sr_scan_sort_edges(keys, n, sizeof *keys, mesh->vertex_count) != SR_OK) {
-        free(keys);
+        for (int k = 0; k < 3; k++) {
+            uint64_t a = mesh->tri[3 * t + k], b = mesh->tri[3 * t + (k + 1) % 3];
+            e[3 * t + k] = (edge_way){a < b ? a << 32 | b : b << 32 | a, a < b};
+        }
+    if (sr_scan_sort_edges(e, n, sizeof *e, mesh->vertex_count) != SR_OK) {
+        free(e);
         return SIZE_MAX;
     }
     size_t count = 0;
-    for (size_t i = 0; i < n; i++) {
-        uint64_t a = keys[i] >> 32, b = keys[i] & UINT32_MAX;
-        if (uses(keys, n, a, b) == 1 && uses(keys, n, b, a) == 1)
-            continue;
-        count += !bad[a] + !bad[b];
-        bad[a] = bad[b] = true;
+    for (size_t i = 0; i < n;) {
+        size_t j = i, up = 0;
+        for (; j < n && e[j].key == e[i].key; j++)
+            up += e[j].up;
+        if (!(j - i == 2 && up == 1)) {
+            uint64_t a = e[i].key >> 32, b = e[i].key & UINT32_MAX;
+            count += !bad[a] + !bad[b];
+            bad[a] = bad[b] = true;
+        }
+        i = j;
     }
-    free(keys);
+    free(e);
     return count;
 }
 
