@@ -565,6 +565,53 @@ static void non_manifold_stl_keeps_every_triangle(void **state)
     sr_mesh_release(&m);
 }
 
+static float get_f32(const unsigned char *p)
+{
+    uint32_t u = 0;
+    for (int i = 0; i < 4; i++)
+        u |= (uint32_t)p[i] << (8 * i);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+static void binary_stl_is_written_facet_for_facet(void **state)
+{
+    /* four triangles, the third repeating a vertex: three facets, in order, each
+     * corner as given (rounded to float), each normal the unit normal of its corners */
+    const double xyz[] = {0, 0, 0, 2, 0, 0, 0, 3, 0, 0, 0, 4, 1.1, 2.2, 3.3};
+    const uint32_t tri[] = {0, 2, 1, 0, 1, 3, 1, 1, 2, 4, 3, 2};
+    sr_mesh m = {(double *)xyz, (uint32_t *)tri, 5, 4};
+    char path[TMPDIR_PATH_MAX];
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_write(path_in(state, "facets.stl", path), &m, NULL, &err), SR_OK);
+    size_t n;
+    unsigned char *b = tmpdir_read_file(path, &n);
+    assert_non_null(b);
+    assert_int_equal(n, 84 + 50 * 3);
+    assert_int_equal(b[80] | b[81] << 8 | b[82] << 16 | b[83] << 24, 3);
+    const int kept[3] = {0, 1, 3};
+    for (int f = 0; f < 3; f++) {
+        const unsigned char *rec = b + 84 + 50 * f;
+        const uint32_t *c = tri + 3 * kept[f];
+        for (int k = 0; k < 3; k++)
+            for (int j = 0; j < 3; j++)
+                assert_true(get_f32(rec + 12 + 12 * k + 4 * j) == (float)xyz[3 * c[k] + j]);
+        double u[3], w[3], nrm[3];
+        for (int j = 0; j < 3; j++) {
+            u[j] = xyz[3 * c[1] + j] - xyz[3 * c[0] + j];
+            w[j] = xyz[3 * c[2] + j] - xyz[3 * c[0] + j];
+        }
+        nrm[0] = u[1] * w[2] - u[2] * w[1];
+        nrm[1] = u[2] * w[0] - u[0] * w[2];
+        nrm[2] = u[0] * w[1] - u[1] * w[0];
+        double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        for (int j = 0; j < 3; j++)
+            assert_true(fabs(get_f32(rec + 4 * j) - nrm[j] / len) < 1e-6);
+    }
+    free(b);
+}
+
 /* ---- ASCII STL ------------------------------------------------------------------------- */
 
 static void ascii_stl_named_outer_shell_keeps_all_facets(void **state)
@@ -1163,6 +1210,7 @@ int main(void)
         T(nan_in_binary_stl_is_invalid),
         T(degenerate_binary_stl_triangle_is_dropped),
         T(non_manifold_stl_keeps_every_triangle),
+        T(binary_stl_is_written_facet_for_facet),
         T(ascii_stl_named_outer_shell_keeps_all_facets),
         T(nan_in_ascii_stl_is_invalid),
         T(degenerate_ascii_stl_facet_is_dropped),

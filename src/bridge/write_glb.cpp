@@ -17,7 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <sstream>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -245,12 +245,13 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
     model.scenes.push_back(scene);
     model.defaultScene = 0;
 
-    std::ostringstream os;
+    std::string bytes;
+    StringSink sink(bytes);
+    std::ostream os(&sink);
     tinygltf::TinyGLTF w;
     bool glb = fmt == SR_FMT_GLB;
     if (!w.WriteGltfSceneToStream(&model, os, !glb, glb))
         return wfail(err, SR_E_INTERNAL, path, "tinygltf could not serialise the scene");
-    std::string bytes = os.str();
     if (glb) {
         sr_glb_layout layout;
         sr_err inner;
