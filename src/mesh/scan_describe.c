@@ -27,9 +27,11 @@ typedef struct edge_rec {
 } edge_rec;
 
 /* One counting pass of sr_scan_sort_edges: recs into tmp by the 32 bits of the key at
- * shift, stable; count has nv + 1 slots. */
-static void count_pass(const unsigned char *recs, unsigned char *tmp, size_t n, size_t size,
-                       size_t nv, int shift, size_t *count)
+ * shift, stable; count has nv + 1 slots. Inlined where the record size is a constant,
+ * so each record moves as a load and a store, not a call to memcpy (which took a
+ * tenth of a two-million-triangle scan's closing). */
+static inline void count_pass(const unsigned char *recs, unsigned char *tmp, size_t n, size_t size,
+                              size_t nv, int shift, size_t *count)
 {
     memset(count, 0, (nv + 1) * sizeof *count);
     for (size_t i = 0; i < n; i++) {
@@ -57,8 +59,17 @@ sr_status sr_scan_sort_edges(void *recs, size_t n, size_t size, size_t nv)
         free(count);
         return SR_E_NOMEM;
     }
-    count_pass(recs, tmp, n, size, nv, 0, count);  /* by hi */
-    count_pass(tmp, recs, n, size, nv, 32, count); /* by lo, hi's order kept */
+    /* by hi, then by lo, hi's order kept */
+    if (size == 16) {
+        count_pass(recs, tmp, n, 16, nv, 0, count);
+        count_pass(tmp, recs, n, 16, nv, 32, count);
+    } else if (size == 8) {
+        count_pass(recs, tmp, n, 8, nv, 0, count);
+        count_pass(tmp, recs, n, 8, nv, 32, count);
+    } else {
+        count_pass(recs, tmp, n, size, nv, 0, count);
+        count_pass(tmp, recs, n, size, nv, 32, count);
+    }
     free(tmp);
     free(count);
     return SR_OK;

@@ -212,6 +212,8 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
         if (stray(d, t) || fill[t] < 3)
             continue;
         fold[t] = folded(mesh, t, pl, np, rule);
+        if (!fold[t])
+            continue;     /* most triangles: their edges' uses not looked up */
         bool rim = false; /* an edge on a chosen group's rim (by_vertex: a corner) */
         for (int k = 0; k < 3; k++) {
             size_t e = tri_edge[3 * t + k];
