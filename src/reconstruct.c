@@ -6,9 +6,6 @@
  */
 #include "reconstruct.h"
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -112,18 +109,6 @@ void sr_recon_result_release(sr_recon_result *r)
 
 /* The scan in the aligned frame: its own vertex array, the scan's triangle array
  * borrowed (never written, never freed here). */
-/* Gives the heap's free memory back to the system (glibc). The alignment's grid and the
- * aligned copy are tens of MB on a big scan; glibc keeps freed blocks of that size in
- * its heap (its mmap threshold grows with every large block freed), so without this the
- * restored mesh would be allocated on top of them and the process's peak would count
- * both. */
-static void heap_trim(void)
-{
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
-}
-
 static sr_status aligned_make(const sr_mesh *scan, const double xf[12], sr_mesh *out)
 {
     double *xyz = malloc((scan->vertex_count ? scan->vertex_count : 1) * 3 * sizeof(double));
@@ -191,7 +176,6 @@ static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
         if (st != SR_OK)
             return st;
     }
-    heap_trim(); /* the alignment's structures */
     st = aligned_make(scan, r->alignment.xform, aligned);
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory copying the scan");
@@ -411,7 +395,6 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
     phase(opts, "union");
     /* the aligned copy is done with: free it before the restored mesh is made */
     aligned_release(&aligned);
-    heap_trim();
     size_t patch_mended = opts->method == SR_METHOD_IMAGE
                               ? 0 : recon_mend_patches(r.sections, r.section_count);
     if (opts->skip_union && opts->method == SR_METHOD_IMAGE) {

@@ -13,9 +13,6 @@
 
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -232,12 +229,6 @@ sr_status union_local(const sr_mesh *a, const char *a_what, const double *xf,
 
     /* the arrays: a's own (in place) or a copy, with room to grow; nothing of *out is
      * changed before every allocation has succeeded */
-#ifdef __GLIBC__
-    /* what the checks and the neighbourhood used (the edge statistics' lists alone are
-     * 14 MB for a million triangles) goes back to the system first: glibc keeps freed
-     * blocks of that size in its heap, and the result would come on top of them */
-    malloc_trim(0);
-#endif
     sr_mesh dst;
     if (out == a) {
         double *xyz = static_cast<double *>(realloc(out->xyz, nv * 3 * sizeof(double)));
