@@ -223,8 +223,10 @@ layers:
 	$(Q)sh tests/check_layers.sh
 
 # The CLI tests with every CLI run under Memcheck, and the unit tests of the CGAL
-# bridge (booleans, stacked patch meshes) under it whole: the CGAL units carry no
-# sanitizer instrumentation, so this is where their memory use is checked. It checks
+# bridge (booleans, stacked patch meshes, the needles' collapse) under it whole: the
+# CGAL units carry no sanitizer instrumentation, so this is where their memory use is
+# checked; so are the mesh files' readers and writers (test_mesh_io), whose OpenMesh
+# and tinygltf libraries are not instrumented either. It checks
 # the release build, the one users run (test has compiled its library already; a debug
 # build of its own took a minute of the stage, its runs no faster to check).
 # The CLI cases that run whole reconstructions of damaged parts or the demo are left to
@@ -261,7 +263,7 @@ toothed_wheel_is_*,angle_bracket_is_mirror,bumped_bar_is_a_glide_*,the_fit_is_de
 symfit_part_*,symmetry_of_a_mesh_file_is_proposed,reconstruct_symmetry_auto_*,\
 inspect_records_the_verdict_*,a_scan_in_another_frame_is_registered_*
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite
-VALGRIND_TESTS := test_cli test_boolean test_stack_mesh
+VALGRIND_TESTS := test_cli test_boolean test_stack_mesh test_fold_slivers test_mesh_io
 comma := ,
 empty :=
 space := $(empty) $(empty)
