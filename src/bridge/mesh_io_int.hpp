@@ -22,6 +22,7 @@ extern "C" {
 #include "bridge/mesh_io.h"
 #include "io/envelope.h"
 #include "io/file_check.h"
+#include "mesh/mesh_float.h"
 }
 
 #include <cstddef>

@@ -548,9 +548,10 @@ class ArrayExporter : public OpenMesh::IO::BaseExporter
 };
 #undef NO_COLOURS
 
-/* STL through OpenMesh's writer, into memory (ArrayExporter). Triangles that repeat a
- * vertex cannot be stored (and no reader would keep them); non-manifold ones are written
- * as they are, STL having no topology. */
+/* STL through OpenMesh's writer, into memory (ArrayExporter), of the mesh as float
+ * makes it (sr_mesh_float_ready). Triangles that repeat a vertex cannot be stored (and
+ * no reader would keep them); non-manifold ones are written as they are, STL having no
+ * topology. */
 sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string *out, sr_err *err)
 {
     size_t expect = 0;
@@ -561,6 +562,18 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
     for (size_t i = 0; i < 3 * m.vertex_count; i++)
         if (!std::isfinite((float)m.xyz[i]))
             return wfail(err, SR_E_RANGE, path, "vertex %zu is beyond float range for STL", i / 3);
+    /* as a reader will weld it: vertices at one float position one, the triangles that
+     * then repeat a vertex and the flaps left out (a closed mesh stays closed in the
+     * file) */
+    MeshGuard fm;
+    if (sr_mesh_float_ready(&m, &fm.m, nullptr) != SR_OK)
+        return wfail(err, SR_E_NOMEM, path, "out of memory for %zu triangles", m.tri_count);
+    expect = 0;
+    for (size_t t = 0; t < fm.m.tri_count; t++)
+        expect += !repeats_vertex(fm.m.tri + 3 * t, 3);
+    if (expect == 0)
+        return wfail(err, SR_E_INVALID, path,
+                     "mesh has no triangles left at float precision (every one flat or paired)");
     bool ok;
     size_t faces;
     std::string log;
@@ -568,7 +581,7 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
     out->reserve(ascii ? 0 : 84 + 50 * expect);
     {
         OmSession session;
-        ArrayExporter ex(m);
+        ArrayExporter ex(fm.m);
         faces = ex.n_faces();
         StringSink sink(*out);
         std::ostream os(&sink);

@@ -1,0 +1,175 @@
+/*
+ * mesh_float.c: sr_mesh_float_ready (mesh_float.h). Vertices are welded through an
+ * open-addressing table keyed by their float bits; only the triangles at a vertex
+ * that took another in can have become degenerate or a flap, so only they are
+ * looked at again.
+ */
+#include "mesh/mesh_float.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static uint64_t float_key(const double *p)
+{
+    uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (int k = 0; k < 3; k++) {
+        float f = (float)p[k];
+        f = f == 0 ? 0.0f : f; /* -0 and +0 alike */
+        uint32_t bits;
+        memcpy(&bits, &f, sizeof bits);
+        h = (h ^ bits) * 0xff51afd7ed558ccdULL;
+        h ^= h >> 33;
+    }
+    return h;
+}
+
+static bool same_place(const double *a, const double *b)
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* Each vertex's first vertex at its (rounded) position into first[]; returns how many
+ * vertices were welded, SIZE_MAX: out of memory. */
+static size_t weld(const sr_mesh *m, uint32_t *first)
+{
+    size_t room = 16;
+    while (room < 2 * m->vertex_count)
+        room *= 2;
+    uint32_t *slot = calloc(room, sizeof *slot); /* vertex + 1; 0: empty */
+    if (!slot)
+        return SIZE_MAX;
+    size_t welded = 0;
+    for (size_t v = 0; v < m->vertex_count; v++) {
+        const double *p = m->xyz + 3 * v;
+        for (size_t i = (size_t)float_key(p) & (room - 1);; i = (i + 1) & (room - 1)) {
+            if (!slot[i]) {
+                slot[i] = (uint32_t)v + 1;
+                first[v] = (uint32_t)v;
+                break;
+            }
+            if (same_place(m->xyz + 3 * (size_t)(slot[i] - 1), p)) {
+                first[v] = slot[i] - 1;
+                welded++;
+                break;
+            }
+        }
+    }
+    free(slot);
+    return welded;
+}
+
+typedef struct corner_key {
+    uint32_t v[3]; /* corners sorted */
+    uint32_t t;    /* triangle */
+    int turn;      /* +1: an even permutation of v, -1: odd */
+} corner_key;
+
+static int corner_key_cmp(const void *pa, const void *pb)
+{
+    const corner_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return (a->t > b->t) - (a->t < b->t);
+}
+
+/* gone[t] for each pair of triangles among those with a corner at a welding vertex
+ * (took[]) on the same corners, walked opposite ways; returns the triangles so paired,
+ * SIZE_MAX: out of memory. */
+static size_t mark_flaps(const sr_mesh *m, const bool *took, bool *gone)
+{
+    size_t n = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const uint32_t *c = m->tri + 3 * t;
+        n += !gone[t] && (took[c[0]] || took[c[1]] || took[c[2]]);
+    }
+    corner_key *k = malloc((n + 1) * sizeof *k);
+    if (!k)
+        return SIZE_MAX;
+    n = 0;
+    for (size_t t = 0; t < m->tri_count; t++) {
+        const uint32_t *c = m->tri + 3 * t;
+        if (gone[t] || !(took[c[0]] || took[c[1]] || took[c[2]]))
+            continue;
+        size_t s = 0; /* the rotation starting at the smallest corner */
+        for (size_t j = 1; j < 3; j++)
+            if (c[j] < c[s])
+                s = j;
+        uint32_t b = c[(s + 1) % 3], d = c[(s + 2) % 3];
+        k[n++] = (corner_key){{c[s], b < d ? b : d, b < d ? d : b}, (uint32_t)t, b < d ? 1 : -1};
+    }
+    qsort(k, n, sizeof *k, corner_key_cmp);
+    size_t paired = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        while (j < n && memcmp(k[j].v, k[i].v, sizeof k[i].v) == 0)
+            j++;
+        for (size_t x = i; x < j; x++) /* each with the first opposite one left */
+            for (size_t y = x + 1; y < j && !gone[k[x].t]; y++)
+                if (!gone[k[y].t] && k[y].turn == -k[x].turn) {
+                    gone[k[x].t] = gone[k[y].t] = true;
+                    paired += 2;
+                }
+        i = j;
+    }
+    free(k);
+    return paired;
+}
+
+sr_status sr_mesh_float_ready(const sr_mesh *m, sr_mesh *out, sr_float_report *rep)
+{
+    sr_float_report r = {0, 0, 0};
+    sr_mesh o;
+    sr_status st = sr_mesh_copy(&o, m);
+    if (st != SR_OK)
+        return st;
+    for (size_t i = 0; i < 3 * o.vertex_count; i++)
+        o.xyz[i] = (double)(float)o.xyz[i];
+    uint32_t *first = malloc((o.vertex_count + 1) * sizeof *first);
+    bool *took = calloc(o.vertex_count + 1, sizeof *took);
+    bool *gone = calloc(o.tri_count + 1, sizeof *gone);
+    size_t welded = first && took && gone ? weld(&o, first) : SIZE_MAX;
+    if (welded == SIZE_MAX) {
+        st = SR_E_NOMEM;
+        goto fail;
+    }
+    r.welded = welded;
+    if (welded > 0) {
+        for (size_t v = 0; v < o.vertex_count; v++)
+            if (first[v] != v)
+                took[first[v]] = true;
+        for (size_t i = 0; i < 3 * o.tri_count; i++)
+            o.tri[i] = first[o.tri[i]];
+        for (size_t t = 0; t < o.tri_count; t++) {
+            const uint32_t *c = o.tri + 3 * t;
+            gone[t] = c[0] == c[1] || c[1] == c[2] || c[0] == c[2];
+            r.degenerate += gone[t];
+        }
+        size_t flaps = mark_flaps(&o, took, gone);
+        if (flaps == SIZE_MAX) {
+            st = SR_E_NOMEM;
+            goto fail;
+        }
+        r.flaps = flaps;
+        size_t w = 0;
+        for (size_t t = 0; t < o.tri_count; t++)
+            if (!gone[t])
+                memmove(o.tri + 3 * w++, o.tri + 3 * t, 3 * sizeof *o.tri);
+        o.tri_count = w;
+    }
+    free(first);
+    free(took);
+    free(gone);
+    *out = o;
+    if (rep)
+        *rep = r;
+    return SR_OK;
+fail:
+    free(first);
+    free(took);
+    free(gone);
+    sr_mesh_release(&o);
+    return st;
+}

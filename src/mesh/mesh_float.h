@@ -1,0 +1,31 @@
+/*
+ * mesh_float.h: a mesh as a float format stores it (mesh_float.c). STL keeps each
+ * corner as three floats and its readers weld corners at the same float position: two
+ * vertices of a closed mesh closer than float precision (a micrometre sliver a union
+ * left) become one, and the file then holds triangles that repeat a vertex and flaps
+ * (two triangles on the same corners, walked opposite ways) whose edges are used four
+ * times: the restored part of an open scan, closed in double precision, read back with
+ * 24 non-manifold edges. Pure C: no I/O.
+ */
+#ifndef SR_MESH_FLOAT_H
+#define SR_MESH_FLOAT_H
+
+#include <stddef.h>
+
+#include "base/status.h"
+#include "mesh/mesh.h"
+
+typedef struct sr_float_report {
+    size_t welded;     /* vertices that share another's float position */
+    size_t degenerate; /* triangles dropped: a corner repeated once welded */
+    size_t flaps;      /* triangles dropped in pairs: same corners, opposite turns */
+} sr_float_report;
+
+/* *out: m's vertices rounded to float, those at one position welded into the first,
+ * the triangles left repeating a vertex and the flaps dropped (the rest in order,
+ * corner for corner); unused vertices kept. When no two vertices share a float
+ * position, *out is m rounded, every triangle kept. rep may be NULL. SR_E_NOMEM: out
+ * untouched. */
+sr_status sr_mesh_float_ready(const sr_mesh *m, sr_mesh *out, sr_float_report *rep);
+
+#endif

@@ -1,0 +1,131 @@
+/*
+ * test_mesh_float.c: sr_mesh_float_ready (src/mesh/mesh_float.c) and the STL writer
+ * that uses it, on meshes with known answers: a box whose vertices lie apart at float
+ * precision is kept whole (coordinates rounded, every triangle in order); the box with
+ * a tetrahedron a nanometre thin beside it (five millimetres up: a float there is half a micrometre coarse), closed in double precision, loses the
+ * tetrahedron at float precision: one vertex welded, two triangles flat, the other two
+ * a flap, dropped; written as STL and read back, the file holds the box alone, closed.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "bridge/mesh_io.h"
+#include "mesh/mesh_float.h"
+#include "mesh/shapes.h"
+#include "support/assert_near.h"
+#include "support/tmpdir.h"
+
+static const double box_lo[3] = {0.1, 0.2, 0.3}, box_hi[3] = {10.7, 20.9, 30.3};
+
+/* The box with a closed tetrahedron (a, b, c, c') beside it, c' a nanometre above c:
+ * 12 + 4 triangles, 8 + 4 vertices, closed in double precision. */
+static void box_and_thin_tetrahedron(sr_mesh *m)
+{
+    sr_mesh box = {0}, tet = {0};
+    assert_int_equal(sr_shape_box(box_lo, box_hi, &box, NULL), SR_OK);
+    assert_int_equal(sr_mesh_alloc(&tet, 4, 4), SR_OK);
+    const double xyz[12] = {40, 0, 5, 41, 0, 5, 40, 1, 5, 40, 1, 5 + 1e-9};
+    const uint32_t tri[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3};
+    memcpy(tet.xyz, xyz, sizeof xyz);
+    memcpy(tet.tri, tri, sizeof tri);
+    assert_true(sr_mesh_is_closed(&tet));
+    assert_true(sr_mesh_volume(&tet) > 0);
+    *m = box;
+    assert_int_equal(sr_mesh_append(m, &tet), SR_OK);
+    sr_mesh_release(&tet);
+}
+
+static void a_mesh_apart_at_float_precision_is_kept_whole(void **state)
+{
+    (void)state;
+    sr_mesh box = {0}, out = {0};
+    assert_int_equal(sr_shape_box(box_lo, box_hi, &box, NULL), SR_OK);
+    sr_float_report r = {9, 9, 9};
+    assert_int_equal(sr_mesh_float_ready(&box, &out, &r), SR_OK);
+    assert_int_equal(r.welded, 0);
+    assert_int_equal(r.degenerate, 0);
+    assert_int_equal(r.flaps, 0);
+    assert_int_equal(out.tri_count, box.tri_count);
+    assert_int_equal(out.vertex_count, box.vertex_count);
+    assert_memory_equal(out.tri, box.tri, 3 * box.tri_count * sizeof *box.tri);
+    for (size_t i = 0; i < 3 * box.vertex_count; i++)
+        assert_true(out.xyz[i] == (double)(float)box.xyz[i]);
+    sr_mesh_release(&out);
+    sr_mesh_release(&box);
+}
+
+static void a_nanometre_tetrahedron_is_welded_flat_and_its_flap_dropped(void **state)
+{
+    (void)state;
+    sr_mesh m = {0}, out = {0}, box = {0};
+    box_and_thin_tetrahedron(&m);
+    assert_true(sr_mesh_is_closed(&m));
+    sr_float_report r = {0, 0, 0};
+    assert_int_equal(sr_mesh_float_ready(&m, &out, &r), SR_OK);
+    assert_int_equal(r.welded, 1);     /* c' onto c */
+    assert_int_equal(r.degenerate, 2); /* the two triangles on c and c' */
+    assert_int_equal(r.flaps, 2);      /* (a, c, b) and (a, b, c') = (a, b, c) */
+    assert_int_equal(out.tri_count, 12);
+    assert_int_equal(sr_shape_box(box_lo, box_hi, &box, NULL), SR_OK);
+    assert_memory_equal(out.tri, box.tri, 3 * box.tri_count * sizeof *box.tri);
+    assert_true(sr_mesh_is_closed(&out));
+    assert_near(sr_mesh_volume(&out), sr_mesh_volume(&box), 1e-3);
+    sr_mesh_release(&box);
+    sr_mesh_release(&out);
+    sr_mesh_release(&m);
+}
+
+static void stl_written_is_the_mesh_a_reader_welds_closed(void **state)
+{
+    sr_mesh m = {0}, back = {0};
+    box_and_thin_tetrahedron(&m);
+    char path[TMPDIR_PATH_MAX];
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_write(tmpdir_join(*state, "thin.stl", path), &m, NULL, &err), SR_OK);
+    assert_int_equal(sr_mesh_read(path, &back, &err), SR_OK);
+    /* before: the flap was written too, a second closed piece of no volume */
+    assert_int_equal(back.tri_count, 12);
+    assert_int_equal(back.vertex_count, 8);
+    sr_mesh_edges e;
+    assert_int_equal(sr_mesh_edge_stats(&back, &e), SR_OK);
+    assert_int_equal(e.boundary_edges, 0);
+    assert_int_equal(e.nonmanifold_edges, 0);
+    assert_true(sr_mesh_is_closed(&back));
+    sr_mesh_release(&back);
+    sr_mesh_release(&m);
+}
+
+static void a_mesh_of_flaps_only_is_refused_for_stl(void **state)
+{
+    sr_mesh tet = {0};
+    assert_int_equal(sr_mesh_alloc(&tet, 4, 4), SR_OK);
+    const double xyz[12] = {40, 0, 5, 41, 0, 5, 40, 1, 5, 40, 1, 5 + 1e-9};
+    const uint32_t tri[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3};
+    memcpy(tet.xyz, xyz, sizeof xyz);
+    memcpy(tet.tri, tri, sizeof tri);
+    char path[TMPDIR_PATH_MAX];
+    sr_err err = {{0}};
+    assert_int_equal(sr_mesh_write(tmpdir_join(*state, "flat.stl", path), &tet, NULL, &err),
+                     SR_E_INVALID);
+    assert_non_null(strstr(err.msg, "float precision"));
+    assert_non_null(strstr(err.msg, "flat.stl"));
+    sr_mesh_release(&tet);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_mesh_apart_at_float_precision_is_kept_whole),
+        cmocka_unit_test(a_nanometre_tetrahedron_is_welded_flat_and_its_flap_dropped),
+        cmocka_unit_test_setup_teardown(stl_written_is_the_mesh_a_reader_welds_closed, tmpdir_setup,
+                                        tmpdir_teardown),
+        cmocka_unit_test_setup_teardown(a_mesh_of_flaps_only_is_refused_for_stl, tmpdir_setup,
+                                        tmpdir_teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
