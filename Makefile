@@ -348,7 +348,7 @@ FUZZ_CC  := clang-14
 FUZZ_CXX := clang++-14
 FUZZ_SAN := -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
 FUZZ_C_SRC   := $(wildcard src/io/*.c) src/mesh/mesh.c src/mesh/pair_sort.c src/mesh/units.c \
-                src/mesh/mesh_float.c \
+                src/mesh/mesh_float.c src/mesh/tri_flaps.c \
                 src/mesh/mesh_facts.c \
                 src/base/status.c
 FUZZ_CXX_SRC := $(addprefix src/bridge/,io_bytes.cpp openmesh_io.cpp read_gltf.cpp \

@@ -5,9 +5,13 @@
  * a tetrahedron a nanometre thin beside it (five millimetres up: a float there is half a micrometre coarse), closed in double precision, loses the
  * tetrahedron at float precision: one vertex welded, two triangles flat, the other two
  * a flap, dropped; written as STL and read back, the file holds the box alone, closed.
+ * The flaps' pairing (src/mesh/tri_flaps.c, shared with the closing of a scan) on four
+ * triangles on one set of corners, two each way: which pairs it makes with and
+ * without a first new triangle, and that unpicked triangles take no part.
  */
 #include <math.h>
 #include <setjmp.h>
+#include <stdbool.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -17,6 +21,7 @@
 #include "bridge/mesh_io.h"
 #include "mesh/mesh_float.h"
 #include "mesh/shapes.h"
+#include "mesh/tri_flaps.h"
 #include "support/assert_near.h"
 #include "support/tmpdir.h"
 
@@ -45,6 +50,7 @@ static void a_mesh_apart_at_float_precision_is_kept_whole(void **state)
     (void)state;
     sr_mesh box = {0}, out = {0};
     assert_int_equal(sr_shape_box(box_lo, box_hi, &box, NULL), SR_OK);
+    assert_int_equal(sr_mesh_float_welds(&box), 0); /* the writer takes it as it is */
     sr_float_report r = {9, 9, 9};
     assert_int_equal(sr_mesh_float_ready(&box, &out, &r), SR_OK);
     assert_int_equal(r.welded, 0);
@@ -65,6 +71,7 @@ static void a_nanometre_tetrahedron_is_welded_flat_and_its_flap_dropped(void **s
     sr_mesh m = {0}, out = {0}, box = {0};
     box_and_thin_tetrahedron(&m);
     assert_true(sr_mesh_is_closed(&m));
+    assert_int_equal(sr_mesh_float_welds(&m), 1);
     sr_float_report r = {0, 0, 0};
     assert_int_equal(sr_mesh_float_ready(&m, &out, &r), SR_OK);
     assert_int_equal(r.welded, 1);     /* c' onto c */
@@ -117,11 +124,49 @@ static void a_mesh_of_flaps_only_is_refused_for_stl(void **state)
     sr_mesh_release(&tet);
 }
 
+/* Four triangles on corners {3, 5, 9}: 0 and 2 turn one way (2 a rotation of 0), 1 and
+ * 3 the other. Any two: 0 takes the first opposite (1), 2 takes 3. From triangle 2 on
+ * (the closing's rule: each pair has a new one): 2 takes the first free opposite in
+ * index order (1), 3 takes 0. With 1 not picked, 0 takes 3 and 2 stays. */
+static void flaps_pair_the_first_free_opposite_triangle(void **state)
+{
+    (void)state;
+    sr_mesh m = {0};
+    assert_int_equal(sr_mesh_alloc(&m, 10, 4), SR_OK);
+    memset(m.xyz, 0, 30 * sizeof *m.xyz);
+    const uint32_t tri[12] = {3, 5, 9, 9, 5, 3, 5, 9, 3, 3, 9, 5};
+    memcpy(m.tri, tri, sizeof tri);
+    bool pick[4] = {true, true, true, true}, gone[4] = {false};
+    assert_int_equal(sr_tri_flaps_pair(&m, pick, 0, gone), 4);
+    assert_true(gone[0] && gone[1] && gone[2] && gone[3]);
+
+    /* from triangle 2 on: the same four go, paired 2-1 and 3-0 (checked below by
+     * taking 0 out of the pick: 3 then has only 1, which 2 took, and stays) */
+    memset(gone, 0, sizeof gone);
+    assert_int_equal(sr_tri_flaps_pair(&m, pick, 2, gone), 4);
+    pick[0] = false;
+    memset(gone, 0, sizeof gone);
+    assert_int_equal(sr_tri_flaps_pair(&m, pick, 2, gone), 2);
+    assert_true(!gone[0] && gone[1] && gone[2] && !gone[3]);
+
+    /* nothing new: nothing pairs */
+    memset(gone, 0, sizeof gone);
+    assert_int_equal(sr_tri_flaps_pair(&m, pick, 4, gone), 0);
+
+    /* 1 not picked: 0 takes 3, 2 has no free opposite left */
+    bool pick2[4] = {true, false, true, true};
+    memset(gone, 0, sizeof gone);
+    assert_int_equal(sr_tri_flaps_pair(&m, pick2, 0, gone), 2);
+    assert_true(gone[0] && !gone[1] && !gone[2] && gone[3]);
+    sr_mesh_release(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_mesh_apart_at_float_precision_is_kept_whole),
         cmocka_unit_test(a_nanometre_tetrahedron_is_welded_flat_and_its_flap_dropped),
+        cmocka_unit_test(flaps_pair_the_first_free_opposite_triangle),
         cmocka_unit_test_setup_teardown(stl_written_is_the_mesh_a_reader_welds_closed, tmpdir_setup,
                                         tmpdir_teardown),
         cmocka_unit_test_setup_teardown(a_mesh_of_flaps_only_is_refused_for_stl, tmpdir_setup,

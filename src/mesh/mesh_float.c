@@ -6,6 +6,8 @@
  */
 #include "mesh/mesh_float.h"
 
+#include "mesh/tri_flaps.h"
+
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -25,12 +27,13 @@ static uint64_t float_key(const double *p)
     return h;
 }
 
+/* One float position (the coordinates rounded; -0 and +0 alike). */
 static bool same_place(const double *a, const double *b)
 {
-    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+    return (float)a[0] == (float)b[0] && (float)a[1] == (float)b[1] && (float)a[2] == (float)b[2];
 }
 
-/* Each vertex's first vertex at its (rounded) position into first[]; returns how many
+/* Each vertex's first vertex at its float position into first[]; returns how many
  * vertices were welded, SIZE_MAX: out of memory. */
 static size_t weld(const sr_mesh *m, uint32_t *first)
 {
@@ -60,62 +63,29 @@ static size_t weld(const sr_mesh *m, uint32_t *first)
     return welded;
 }
 
-typedef struct corner_key {
-    uint32_t v[3]; /* corners sorted */
-    uint32_t t;    /* triangle */
-    int turn;      /* +1: an even permutation of v, -1: odd */
-} corner_key;
-
-static int corner_key_cmp(const void *pa, const void *pb)
-{
-    const corner_key *a = pa, *b = pb;
-    for (int k = 0; k < 3; k++)
-        if (a->v[k] != b->v[k])
-            return a->v[k] < b->v[k] ? -1 : 1;
-    return (a->t > b->t) - (a->t < b->t);
-}
-
 /* gone[t] for each pair of triangles among those with a corner at a welding vertex
  * (took[]) on the same corners, walked opposite ways; returns the triangles so paired,
  * SIZE_MAX: out of memory. */
 static size_t mark_flaps(const sr_mesh *m, const bool *took, bool *gone)
 {
-    size_t n = 0;
-    for (size_t t = 0; t < m->tri_count; t++) {
-        const uint32_t *c = m->tri + 3 * t;
-        n += !gone[t] && (took[c[0]] || took[c[1]] || took[c[2]]);
-    }
-    corner_key *k = malloc((n + 1) * sizeof *k);
-    if (!k)
+    bool *pick = malloc(m->tri_count + 1);
+    if (!pick)
         return SIZE_MAX;
-    n = 0;
     for (size_t t = 0; t < m->tri_count; t++) {
         const uint32_t *c = m->tri + 3 * t;
-        if (gone[t] || !(took[c[0]] || took[c[1]] || took[c[2]]))
-            continue;
-        size_t s = 0; /* the rotation starting at the smallest corner */
-        for (size_t j = 1; j < 3; j++)
-            if (c[j] < c[s])
-                s = j;
-        uint32_t b = c[(s + 1) % 3], d = c[(s + 2) % 3];
-        k[n++] = (corner_key){{c[s], b < d ? b : d, b < d ? d : b}, (uint32_t)t, b < d ? 1 : -1};
+        pick[t] = !gone[t] && (took[c[0]] || took[c[1]] || took[c[2]]);
     }
-    qsort(k, n, sizeof *k, corner_key_cmp);
-    size_t paired = 0;
-    for (size_t i = 0; i < n;) {
-        size_t j = i;
-        while (j < n && memcmp(k[j].v, k[i].v, sizeof k[i].v) == 0)
-            j++;
-        for (size_t x = i; x < j; x++) /* each with the first opposite one left */
-            for (size_t y = x + 1; y < j && !gone[k[x].t]; y++)
-                if (!gone[k[y].t] && k[y].turn == -k[x].turn) {
-                    gone[k[x].t] = gone[k[y].t] = true;
-                    paired += 2;
-                }
-        i = j;
-    }
-    free(k);
+    size_t paired = sr_tri_flaps_pair(m, pick, 0, gone);
+    free(pick);
     return paired;
+}
+
+size_t sr_mesh_float_welds(const sr_mesh *m)
+{
+    uint32_t *first = malloc((m->vertex_count + 1) * sizeof *first);
+    size_t welded = first ? weld(m, first) : SIZE_MAX;
+    free(first);
+    return welded;
 }
 
 sr_status sr_mesh_float_ready(const sr_mesh *m, sr_mesh *out, sr_float_report *rep)

@@ -28,4 +28,9 @@ typedef struct sr_float_report {
  * untouched. */
 sr_status sr_mesh_float_ready(const sr_mesh *m, sr_mesh *out, sr_float_report *rep);
 
+/* How many of m's vertices share another's float position (what sr_mesh_float_ready
+ * would weld), without a copy of m: 0 means m is written as float as it is. SIZE_MAX:
+ * out of memory. */
+size_t sr_mesh_float_welds(const sr_mesh *m);
+
 #endif

@@ -25,6 +25,7 @@
 #include "bridge/planar_fill.h"
 #include "mesh/mesh_pinch.h"
 #include "mesh/scan_int.h"
+#include "mesh/tri_flaps.h"
 
 /* What the closing appends: vertices and triangles, grown as needed. */
 typedef struct grow {
@@ -606,21 +607,6 @@ static bool cut_rims(const sr_mesh *mesh, size_t base_v, grow *g, uint32_t **rep
     return true;
 }
 
-typedef struct tri_key {
-    uint32_t v[3]; /* corners sorted */
-    uint32_t t;    /* triangle index */
-    int turn;      /* its corners' order: +1 an even permutation of v, -1 odd */
-} tri_key;
-
-static int tri_key_cmp(const void *pa, const void *pb)
-{
-    const tri_key *a = pa, *b = pb;
-    for (int k = 0; k < 3; k++)
-        if (a->v[k] != b->v[k])
-            return a->v[k] < b->v[k] ? -1 : 1;
-    return (a->t > b->t) - (a->t < b->t);
-}
-
 /* Removes every pair of triangles on the same three corners walked opposite ways where
  * one of them is the closing's (index >= nt): a fill folding back over a scan triangle
  * standing on the rim (a fold of the rim, wound -1) covers it once each way, a flap of no
@@ -630,48 +616,20 @@ static int tri_key_cmp(const void *pa, const void *pb)
 static sr_status cancel_folds(sr_mesh *mesh, sr_scan_desc *d, size_t nt, const bool *touched,
                               sr_err *err)
 {
-    size_t n = 0;
-    for (size_t t = 0; t < mesh->tri_count; t++) {
-        const uint32_t *v = mesh->tri + 3 * t;
-        n += touched[v[0]] && touched[v[1]] && touched[v[2]];
-    }
-    tri_key *k = malloc((n + 1) * sizeof *k);
+    bool *pick = malloc(mesh->tri_count + 1);
     bool *gone = calloc(mesh->tri_count + 1, sizeof *gone);
-    if (!k || !gone) {
-        free(k);
+    size_t removed = SIZE_MAX;
+    if (pick && gone) {
+        for (size_t t = 0; t < mesh->tri_count; t++) {
+            const uint32_t *v = mesh->tri + 3 * t;
+            pick[t] = touched[v[0]] && touched[v[1]] && touched[v[2]];
+        }
+        removed = sr_tri_flaps_pair(mesh, pick, nt, gone);
+    }
+    free(pick);
+    if (removed == SIZE_MAX) {
         free(gone);
         return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
-    }
-    n = 0;
-    for (size_t t = 0; t < mesh->tri_count; t++) {
-        const uint32_t *v = mesh->tri + 3 * t;
-        if (!(touched[v[0]] && touched[v[1]] && touched[v[2]]))
-            continue;
-        tri_key *e = &k[n++];
-        size_t m = 0; /* the rotation starting at the smallest corner */
-        for (size_t j = 1; j < 3; j++)
-            if (v[j] < v[m])
-                m = j;
-        uint32_t b = v[(m + 1) % 3], c = v[(m + 2) % 3];
-        e->v[0] = v[m];
-        e->v[1] = b < c ? b : c;
-        e->v[2] = b < c ? c : b;
-        e->turn = b < c ? 1 : -1;
-        e->t = (uint32_t)t;
-    }
-    qsort(k, n, sizeof *k, tri_key_cmp);
-    size_t removed = 0;
-    for (size_t i = 0; i < n;) {
-        size_t j = i;
-        while (j < n && memcmp(k[j].v, k[i].v, sizeof k[i].v) == 0)
-            j++;
-        for (size_t x = i; x < j; x++) /* pair a new triangle with an opposite one */
-            for (size_t y = i; y < j && k[x].t >= nt && !gone[k[x].t]; y++)
-                if (y != x && !gone[k[y].t] && k[y].turn == -k[x].turn) {
-                    gone[k[x].t] = gone[k[y].t] = true;
-                    removed += 2;
-                }
-        i = j;
     }
     if (removed > 0) {
         size_t w = 0, wd = 0;
@@ -688,7 +646,6 @@ static sr_status cancel_folds(sr_mesh *mesh, sr_scan_desc *d, size_t nt, const b
         d->triangles = wd;
         mesh->tri_count = w;
     }
-    free(k);
     free(gone);
     return SR_OK;
 }
