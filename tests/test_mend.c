@@ -737,10 +737,11 @@ static void append_cross(sr_mesh *m, double x0)
 }
 
 /* The crossings of a mesh found on several threads (crossings_cgal.cpp): a row of
- * 1,001 crosses (24,024 triangles, enough for the search to split), 4 mm apart along x
- * so the cuts between the threads' slabs pass through some. Known answers: one cross
- * alone crosses itself in some number of pairs k > 0, found on one thread; the row
- * crosses in 1,001 k pairs, the same pairs in the same order on 1, 2 and 3 threads,
+ * 6,001 crosses (144,024 triangles: three slabs of at most about 65,536, taken in turn
+ * by one thread, by two, or each by its own of three), 4 mm apart along x so the cuts
+ * between the slabs pass through some. Known answers: one cross alone crosses itself in
+ * some number of pairs k > 0, found on one thread; the row crosses in 6,001 k pairs,
+ * the same pairs in the same order on 1, 2 and 3 threads,
  * each pair once with its lower triangle first, both triangles of one cross. A box
  * has none. */
 static void crossings_are_the_same_on_any_number_of_threads(void **state)
@@ -753,14 +754,14 @@ static void crossings_are_the_same_on_any_number_of_threads(void **state)
     assert_int_equal(sr_mesh_crossing_pairs(&one, 1, &p1, &k, NULL), SR_OK);
     assert_true(k > 0);
     free(p1);
-    for (int i = 0; i < 1001; i++)
+    for (int i = 0; i < 6001; i++)
         append_cross(&row, 4.0 * i);
-    assert_int_equal(row.tri_count, 24024);
+    assert_int_equal(row.tri_count, 144024);
     uint32_t *p[3] = {NULL, NULL, NULL};
     size_t n[3];
     for (int t = 0; t < 3; t++)
         assert_int_equal(sr_mesh_crossing_pairs(&row, t + 1, &p[t], &n[t], NULL), SR_OK);
-    assert_int_equal(n[0], 1001 * k);
+    assert_int_equal(n[0], 6001 * k);
     for (int t = 1; t < 3; t++) {
         assert_int_equal(n[t], n[0]);
         assert_memory_equal(p[t], p[0], 2 * n[0] * sizeof(uint32_t));

@@ -154,6 +154,15 @@ public:
             face_index.push_back((uint32_t)h.idx());
         return FH((int)face_size.size() - 1);
     }
+    /* Room for what the file holds, so that the arrays never double past it (an STL's
+     * vertices: a closed surface has about half as many as triangles). */
+    void reserve(const sr_file_facts &f, sr_format fmt)
+    {
+        size_t nv = fmt == SR_FMT_STL ? f.face_count / 2 + 16 : f.vertex_count;
+        xyz.reserve(3 * nv);
+        face_size.reserve(f.face_count);
+        face_index.reserve(f.tri_count + 2 * f.face_count); /* the corners of all faces */
+    }
     size_t n_vertices() const override { return xyz.size() / 3; }
     size_t n_faces() const override { return face_size.size(); }
     size_t n_edges() const override { return 0; }
@@ -224,10 +233,16 @@ bool float_agrees(double om, double exact)
     return std::fabs(om - exact) <= tol;
 }
 
-bool same_corner(const double *a, const double *b)
+bool same_corner(const double *a, const float *b)
 {
     return std::fabs(a[0] - b[0]) <= FLT_MIN && std::fabs(a[1] - b[1]) <= FLT_MIN &&
            std::fabs(a[2] - b[2]) <= FLT_MIN;
+}
+
+bool same_float_corner(const float *a, const float *b)
+{
+    const double d[3] = {a[0], a[1], a[2]};
+    return same_corner(d, b);
 }
 
 bool repeats_vertex(const uint32_t *idx, size_t k)
@@ -262,14 +277,15 @@ sr_status stl_result(const char *path, const sr_file_facts &f, const Collector &
     size_t facet = 0;
     for (size_t i = 0; i < got; i++, facet++) {
         while (facet < f.tri_count) {
-            const double *q = f.xyz + 9 * facet;
-            if (!(same_corner(q, q + 3) || same_corner(q, q + 6) || same_corner(q + 3, q + 6)))
+            const float *q = f.corners + 9 * facet;
+            if (!(same_float_corner(q, q + 3) || same_float_corner(q, q + 6) ||
+                  same_float_corner(q + 3, q + 6)))
                 break;
             facet++;
         }
         for (int k = 0; k < 3; k++)
             if (facet >= f.tri_count || !same_corner(&c.xyz[3 * (size_t)c.face_index[3 * i + k]],
-                                                     f.xyz + 9 * facet + 3 * k))
+                                                     f.corners + 9 * facet + 3 * k))
                 return rfail(err, SR_E_FORMAT, path,
                              "OpenMesh read triangle %zu differently from the file", facet);
     }
@@ -393,8 +409,9 @@ sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *o
         return st;
     /* Before OpenMesh, which parses into float: a value beyond float range would come
      * back as inf and lose its face ("bad vertex index"), not as what it is. */
-    st = sr_envelope_check_points(facts.f.xyz, facts.f.vertex_count, fmt == SR_FMT_STL ? 3 : 0,
-                                  path, err);
+    st = fmt == SR_FMT_STL
+             ? sr_envelope_check_corners(facts.f.corners, facts.f.face_count, path, err)
+             : sr_envelope_check_points(facts.f.xyz, facts.f.vertex_count, 0, path, err);
     if (st != SR_OK)
         return st;
     if (facts.f.tri_count == facts.f.degenerate_tris)
@@ -425,6 +442,7 @@ sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *o
         plain = os.str();
     }
     Collector c;
+    c.reserve(facts.f, fmt);
     bool ok;
     std::string log;
     {
@@ -565,12 +583,14 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
     /* as a reader will weld it: vertices at one float position one, the triangles that
      * then repeat a vertex and the flaps left out (a closed mesh stays closed in the
      * file) */
+    size_t welds = sr_mesh_float_welds(&m);
     MeshGuard fm;
-    if (sr_mesh_float_ready(&m, &fm.m, nullptr) != SR_OK)
+    if (welds == SIZE_MAX || (welds > 0 && sr_mesh_float_ready(&m, &fm.m, nullptr) != SR_OK))
         return wfail(err, SR_E_NOMEM, path, "out of memory for %zu triangles", m.tri_count);
+    const sr_mesh &written = welds > 0 ? fm.m : m; /* no weld: the writer rounds it alike */
     expect = 0;
-    for (size_t t = 0; t < fm.m.tri_count; t++)
-        expect += !repeats_vertex(fm.m.tri + 3 * t, 3);
+    for (size_t t = 0; t < written.tri_count; t++)
+        expect += !repeats_vertex(written.tri + 3 * t, 3);
     if (expect == 0)
         return wfail(err, SR_E_INVALID, path,
                      "mesh has no triangles left at float precision (every one flat or paired)");
@@ -581,7 +601,7 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
     out->reserve(ascii ? 0 : 84 + 50 * expect);
     {
         OmSession session;
-        ArrayExporter ex(fm.m);
+        ArrayExporter ex(written);
         faces = ex.n_faces();
         StringSink sink(*out);
         std::ostream os(&sink);

@@ -36,6 +36,7 @@ void sr_file_facts_release(sr_file_facts *facts)
     if (!facts)
         return;
     free(facts->xyz);
+    free(facts->corners);
     free(facts->face_size);
     free(facts->face_index);
     memset(facts, 0, sizeof *facts);

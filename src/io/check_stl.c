@@ -24,13 +24,13 @@ static float lef32(const unsigned char *p)
 }
 
 /* OpenMesh's STL reader merges corners whose coordinates differ by at most FLT_MIN. */
-static int same_point(const double *a, const double *b)
+static int same_point(const float *a, const float *b)
 {
-    return fabs(a[0] - b[0]) <= FLT_MIN && fabs(a[1] - b[1]) <= FLT_MIN &&
-           fabs(a[2] - b[2]) <= FLT_MIN;
+    return fabs((double)a[0] - b[0]) <= FLT_MIN && fabs((double)a[1] - b[1]) <= FLT_MIN &&
+           fabs((double)a[2] - b[2]) <= FLT_MIN;
 }
 
-static int degenerate_facet(const double *c)
+static int degenerate_facet(const float *c)
 {
     return same_point(c, c + 3) || same_point(c, c + 6) || same_point(c + 3, c + 6);
 }
@@ -60,13 +60,13 @@ static sr_status check_stl_binary(const unsigned char *data, size_t size, const 
     f.face_count = f.tri_count = n;
     f.vertex_count = 3 * (size_t)n;
     if (n) {
-        f.xyz = malloc((size_t)n * 9 * sizeof *f.xyz);
-        if (!f.xyz)
+        f.corners = malloc((size_t)n * 9 * sizeof *f.corners);
+        if (!f.corners)
             return fc_fail(err, SR_E_NOMEM, name, "out of memory for %u triangles", n);
     }
     for (size_t t = 0; t < n; t++) {
         const unsigned char *rec = data + 84 + 50 * t + 12;   /* skip the normal */
-        double *c = f.xyz + 9 * t;
+        float *c = f.corners + 9 * t;
         for (int k = 0; k < 9; k++) {
             float v = lef32(rec + 4 * k);
             if (!isfinite(v)) {
@@ -119,11 +119,11 @@ static sr_status check_stl_ascii(const unsigned char *data, size_t size, const c
             goto out;
         }
         size_t facet = f.face_count;
-        if (!fc_grow((void **)&f.xyz, &cap, 9 * (facet + 1), sizeof *f.xyz)) {
+        if (!fc_grow((void **)&f.corners, &cap, 9 * (facet + 1), sizeof *f.corners)) {
             st = fc_fail(err, SR_E_NOMEM, name, "out of memory at facet %zu", facet);
             goto out;
         }
-        double *c = f.xyz + 9 * facet;
+        float *c = f.corners + 9 * facet;
         for (int k = 0; k < 3; k++) {
             if (!fc_next_line(&r, &s, &e)) {
                 st = fc_fail(err, SR_E_FORMAT, name, "facet %zu is cut off after %d vertices",

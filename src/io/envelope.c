@@ -24,24 +24,41 @@ static const char *shortest(double v, char buf[32])
     return buf;
 }
 
+/* The refusal of point i's coordinate k, value v (named as in envelope.h). */
+static sr_status outside(double v, size_t i, int k, int facet_corners, const char *name,
+                         sr_err *err)
+{
+    char where[64], num[32];
+    if (facet_corners == 3)
+        snprintf(where, sizeof where, "facet %zu corner %zu", i / 3, i % 3);
+    else
+        snprintf(where, sizeof where, "vertex %zu", i);
+    return fc_fail(err, SR_E_INVALID, name,
+                   "%s coordinate %c = %s is outside the physical envelope "
+                   "(|coordinate| <= 1e6 mm)",
+                   where, "xyz"[k], shortest(v, num));
+}
+
 sr_status sr_envelope_check_points(const double *xyz, size_t count, int facet_corners,
                                    const char *name, sr_err *err)
 {
     for (size_t i = 0; i < count; i++)
         for (int k = 0; k < 3; k++) {
             double v = xyz[3 * i + (size_t)k];
-            /* written so that NaN fails too */
-            if (fabs(v) <= SR_ENVELOPE_COORD_MAX)
-                continue;
-            char where[64], num[32];
-            if (facet_corners == 3)
-                snprintf(where, sizeof where, "facet %zu corner %zu", i / 3, i % 3);
-            else
-                snprintf(where, sizeof where, "vertex %zu", i);
-            return fc_fail(err, SR_E_INVALID, name,
-                           "%s coordinate %c = %s is outside the physical envelope "
-                           "(|coordinate| <= 1e6 mm)",
-                           where, "xyz"[k], shortest(v, num));
+            if (!(fabs(v) <= SR_ENVELOPE_COORD_MAX)) /* written so that NaN fails too */
+                return outside(v, i, k, facet_corners, name, err);
+        }
+    return SR_OK;
+}
+
+sr_status sr_envelope_check_corners(const float *corners, size_t facets, const char *name,
+                                    sr_err *err)
+{
+    for (size_t i = 0; i < 3 * facets; i++)
+        for (int k = 0; k < 3; k++) {
+            double v = corners[3 * i + (size_t)k];
+            if (!(fabs(v) <= SR_ENVELOPE_COORD_MAX))
+                return outside(v, i, k, 3, name, err);
         }
     return SR_OK;
 }

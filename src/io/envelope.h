@@ -51,6 +51,11 @@
 sr_status sr_envelope_check_points(const double *xyz, size_t count, int facet_corners,
                                    const char *name, sr_err *err);
 
+/* The same for an STL's facets as stored: corners facets by 9 floats, a failing point
+ * named "facet I corner K". */
+sr_status sr_envelope_check_corners(const float *corners, size_t facets, const char *name,
+                                    sr_err *err);
+
 /* A whole mesh read from a file: xyz vertex_count by 3, tri tri_count by 3 (indices
  * below vertex_count, the caller guarantees it). Checks every vertex as
  * sr_envelope_check_points does, then that some triangle has a non-zero area and that

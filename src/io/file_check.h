@@ -35,8 +35,10 @@ typedef struct sr_file_facts {
     size_t tri_count;        /* triangles those faces make once fanned: sum of (k - 2) */
     size_t degenerate_tris;  /* of tri_count, triangles in faces a reader drops because
                                 a vertex repeats (STL: two corners at the same point) */
-    double *xyz;             /* vertex_count by 3, coordinates as written (STL: each
-                                facet's three corners, rounded to float as stored); owned */
+    double *xyz;             /* OBJ/OFF/PLY: vertex_count by 3, coordinates as written;
+                                owned */
+    float *corners;          /* STL: each facet's three corners by 3 (vertex_count by 3),
+                                as the float format stores them; owned */
     uint32_t *face_size;     /* OBJ/OFF/PLY: face_count corner counts (each >= 3); owned */
     uint32_t *face_index;    /* OBJ/OFF/PLY: the faces' 0-based vertex indices back to
                                 back, sum(face_size) entries, all < vertex_count; owned */

@@ -21,11 +21,6 @@
 
 #include "mesh/scan_int.h"
 
-typedef struct edge_rec {
-    uint64_t key;      /* its vertex pair lo << 32 | hi, lo < hi */
-    uint32_t from, to; /* as its triangle walks it */
-} edge_rec;
-
 /* One counting pass of sr_scan_sort_edges: recs into tmp by the 32 bits of the key at
  * shift, stable; count has nv + 1 slots. Inlined where the record size is a constant,
  * so each record moves as a load and a store, not a call to memcpy (which took a
@@ -102,29 +97,74 @@ static const double *vtx(const sr_mesh *m, uint32_t v)
     return m->xyz + 3 * (size_t)v;
 }
 
+/* A directed edge is from << 32 | to; its ends in order. */
+static inline uint32_t edge_lo(uint64_t e)
+{
+    uint32_t a = (uint32_t)(e >> 32), b = (uint32_t)e;
+    return a < b ? a : b;
+}
+
+static inline uint32_t edge_hi(uint64_t e)
+{
+    uint32_t a = (uint32_t)(e >> 32), b = (uint32_t)e;
+    return a < b ? b : a;
+}
+
+/* One stable counting pass of directed edges by an end (lower or higher). */
+static void undirected_pass(const uint64_t *in, uint64_t *out, size_t n, size_t nv, bool hi,
+                            size_t *count)
+{
+    memset(count, 0, (nv + 1) * sizeof *count);
+    for (size_t i = 0; i < n; i++)
+        count[(hi ? edge_hi(in[i]) : edge_lo(in[i])) + 1]++;
+    for (size_t v = 0; v < nv; v++)
+        count[v + 1] += count[v];
+    for (size_t i = 0; i < n; i++)
+        out[count[hi ? edge_hi(in[i]) : edge_lo(in[i])]++] = in[i];
+}
+
+/* Directed edges sorted by their ends in order (lower, then higher), each edge's uses
+ * kept in their order: 8 bytes an edge, where a key beside the edge took 16 (two
+ * arrays of 52 MB for a million triangles, the largest block of a closed scan's run). */
+static sr_status sort_undirected(uint64_t *e, size_t n, size_t nv)
+{
+    if (n < 2)
+        return SR_OK;
+    uint64_t *tmp = malloc(n * sizeof *tmp);
+    size_t *count = malloc((nv + 1) * sizeof *count);
+    if (!tmp || !count) {
+        free(tmp);
+        free(count);
+        return SR_E_NOMEM;
+    }
+    undirected_pass(e, tmp, n, nv, true, count);
+    undirected_pass(tmp, e, n, nv, false, count);
+    free(tmp);
+    free(count);
+    return SR_OK;
+}
+
 /* The boundary edges (from, to) of m's triangles outside d's strays into *out (count
  * *n_out); edge counts into d. */
 static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out, sr_scan_desc *d)
 {
     size_t n = 3 * m->tri_count;
-    edge_rec *e = malloc((n ? n : 1) * sizeof *e);
+    uint64_t *e = malloc((n ? n : 1) * sizeof *e);
     if (!e)
         return SR_E_NOMEM;
     n = 0;
     for (size_t t = 0; t < m->tri_count; t++)
         if (!is_stray(d, t))
-            for (int k = 0; k < 3; k++) {
-                uint64_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
-                e[n++] = (edge_rec){a < b ? a << 32 | b : b << 32 | a, (uint32_t)a, (uint32_t)b};
-            }
-    if (sr_scan_sort_edges(e, n, sizeof *e, m->vertex_count) != SR_OK) {
+            for (int k = 0; k < 3; k++)
+                e[n++] = (uint64_t)m->tri[3 * t + k] << 32 | m->tri[3 * t + (k + 1) % 3];
+    if (sort_undirected(e, n, m->vertex_count) != SR_OK) {
         free(e);
         return SR_E_NOMEM;
     }
     size_t nb = 0;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
-        while (j < n && e[j].key == e[i].key)
+        while (j < n && edge_lo(e[j]) == edge_lo(e[i]) && edge_hi(e[j]) == edge_hi(e[i]))
             j++;
         if (j - i == 1)
             e[nb++] = e[i]; /* compacted in place: nb <= i */
@@ -138,8 +178,8 @@ static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out,
         return SR_E_NOMEM;
     }
     for (size_t i = 0; i < nb; i++) {
-        b[2 * i] = e[i].from;
-        b[2 * i + 1] = e[i].to;
+        b[2 * i] = (uint32_t)(e[i] >> 32);
+        b[2 * i + 1] = (uint32_t)e[i];
     }
     free(e);
     d->boundary_edges = nb;
