@@ -19,11 +19,19 @@ typedef struct sr_float_report {
     size_t welded;     /* vertices that share another's float position */
     size_t degenerate; /* triangles dropped: a corner repeated once welded */
     size_t flaps;      /* triangles dropped in pairs: same corners, opposite turns */
+    size_t crowded;    /* further vertices welded: ends of an edge the weld crowded */
 } sr_float_report;
 
+/* How close (float steps in each coordinate) the ends of an edge that a weld leaves
+ * used more than twice must lie to be welded as well. */
+#define SR_FLOAT_NEIGHBOUR_STEPS 4
+
 /* *out: m's vertices rounded to float, those at one position welded into the first,
- * the triangles left repeating a vertex and the flaps dropped (the rest in order,
- * corner for corner); unused vertices kept. When no two vertices share a float
+ * then the ends of any edge that weld leaves used more than twice welded as well when
+ * they lie within SR_FLOAT_NEIGHBOUR_STEPS float steps (three vertices within a few
+ * micrometres: two at one float position, the third a step off), the triangles left
+ * repeating a vertex and the flaps dropped (the rest in order, corner for corner);
+ * unused vertices kept. When no two vertices share a float
  * position, *out is m rounded, every triangle kept. rep may be NULL. SR_E_NOMEM: out
  * untouched. */
 sr_status sr_mesh_float_ready(const sr_mesh *m, sr_mesh *out, sr_float_report *rep);
