@@ -1,7 +1,7 @@
 /*
  * io_bytes.cpp: the whole-file I/O of the mesh bridge (see mesh_io_int.hpp): the one-line
- * messages of every read and write failure, errno as a lower-case phrase, reading a whole
- * regular file into memory, and the atomic write every writer ends with: the bytes go to
+ * messages of every read and write failure, errno as a lower-case phrase, opening a
+ * regular file and reading it whole or a piece at a time, and the atomic write every writer ends with: the bytes go to
  * a temporary file in the target's folder, are fsync'ed and renamed over the target, the
  * folder fsync'ed; on failure nothing is left behind.
  */
@@ -87,8 +87,7 @@ std::string first_line(const std::string &s)
     return l;
 }
 
-/* Reads a whole regular, non-empty file of at most `limit` bytes (NUL appended). */
-sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err)
+sr_status open_regular(const char *path, size_t limit, int *fd_out, size_t *size_out, sr_err *err)
 {
     int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
     if (fd < 0)
@@ -111,32 +110,55 @@ sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err)
         close(fd);
         return rc;
     }
-    size_t size = (size_t)st.st_size;
-    unsigned char *buf = (unsigned char *)malloc(size + 1);
-    if (!buf) {
-        close(fd);
-        return rfail(err, SR_E_NOMEM, path, "out of memory for %zu bytes", size);
-    }
+    *fd_out = fd;
+    *size_out = (size_t)st.st_size;
+    return SR_OK;
+}
+
+sr_status read_at(int fd, size_t offset, void *buf, size_t n, const char *path, sr_err *err)
+{
     size_t got = 0;
-    while (got < size) {
-        ssize_t n = read(fd, buf + got, size - got);
-        if (n < 0 && errno == EINTR)
+    while (got < n) {
+        ssize_t r = pread(fd, (unsigned char *)buf + got, n - got, (off_t)(offset + got));
+        if (r < 0 && errno == EINTR)
             continue;
-        if (n <= 0) {
-            int e = n < 0 ? errno : 0;
-            free(buf);
-            close(fd);
-            if (e)
-                return rfail(err, SR_E_IO, path, "%s", errno_text(e).c_str());
+        if (r <= 0) {
+            if (r < 0)
+                return rfail(err, SR_E_IO, path, "%s", errno_text(errno).c_str());
             return rfail(err, SR_E_IO, path, "file shrank while being read");
         }
-        got += (size_t)n;
+        got += (size_t)r;
     }
-    close(fd);
+    return SR_OK;
+}
+
+sr_status read_whole(int fd, size_t size, const char *path, Bytes &out, sr_err *err)
+{
+    unsigned char *buf = (unsigned char *)malloc(size + 1);
+    if (!buf)
+        return rfail(err, SR_E_NOMEM, path, "out of memory for %zu bytes", size);
+    sr_status st = read_at(fd, 0, buf, size, path, err);
+    if (st != SR_OK) {
+        free(buf);
+        return st;
+    }
     buf[size] = 0;
     out.data = buf;
     out.size = size;
     return SR_OK;
+}
+
+/* Reads a whole regular, non-empty file of at most `limit` bytes (NUL appended). */
+sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err)
+{
+    int fd;
+    size_t size;
+    sr_status st = open_regular(path, limit, &fd, &size, err);
+    if (st != SR_OK)
+        return st;
+    st = read_whole(fd, size, path, out, err);
+    close(fd);
+    return st;
 }
 
 std::string dir_of(const std::string &path)

@@ -55,7 +55,9 @@ sr_unit sr_format_unit(sr_format format);
  * envelope of io/envelope.h (|coordinate| <= 1e6 mm, bounding box >= 1e-3 mm, some
  * triangle with an area; triangles that repeat a vertex dropped); on failure *out is
  * untouched. A file larger than SR_MESH_FILE_MAX is refused without being read. The
- * file's bytes go through sr_mesh_read_memory's path. The file is read in its format's
+ * file's bytes go through sr_mesh_read_memory's path; a binary STL (by its size) is
+ * read a run of facets at a time, never held whole, with the same checks, messages
+ * and result as its bytes in memory would give. The file is read in its format's
  * own unit (sr_format_unit) and scaled to mm: sr_mesh_read_units with SR_UNIT_DEFAULT.
  *
  * glTF/GLB: the default scene's node transforms are applied, so the coordinates are

@@ -6,7 +6,9 @@
  * exception barrier: every extern "C" entry point catches all exceptions.
  *
  * sr_mesh_read reads the file's bytes and goes on exactly as sr_mesh_read_memory does
- * (mesh_from_bytes), so the path the fuzz targets exercise is the real one. A read
+ * (mesh_from_bytes), so the path the fuzz targets exercise is the real one; a binary
+ * STL file alone is read a run of facets at a time (read_stl_binary_file), with the
+ * same checks, messages and result as its bytes in memory would give. A read
  * result is scaled to mm (the stated unit, or the format's own) before the envelope
  * check, so the envelope's limits are millimetres whatever the file's unit.
  */
@@ -18,6 +20,7 @@
 #include <stdexcept>
 #include <string>
 #include <strings.h>
+#include <unistd.h>
 
 namespace sr_meshio {
 
@@ -44,28 +47,17 @@ namespace {
 
 const char *const KNOWN_EXTENSIONS = "unknown extension (known: .stl .obj .ply .off .gltf .glb)";
 
-/* The one read path: a file's bytes (owned, NUL appended; an OpenMesh format's may be
- * rewritten in place) in format fmt, checked, parsed, validated and held to the
- * physical envelope. files_allowed: a glTF may name external buffers beside `name`. */
-sr_status mesh_from_bytes(const char *name, sr_format fmt, sr_unit unit, Bytes &file,
-                          bool files_allowed, sr_mesh *out, sr_err *err)
+/* What every read result passes on the way out: scaled to mm (a glTF's scale went into
+ * its node transforms), validated and held to the physical envelope. */
+sr_status finish_read(const char *name, sr_format fmt, sr_unit unit, MeshGuard &g, sr_mesh *out,
+                      sr_err *err)
 {
-    MeshGuard g;
-    sr_status st;
-    /* in mm: the unit the envelope and every later stage speak (a glTF's scale goes
-     * into its node transforms) */
+    /* in mm: the unit the envelope and every later stage speak */
     double mm = sr_unit_mm(unit == SR_UNIT_DEFAULT ? sr_format_unit(fmt) : unit);
-    bool gltf = fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB;
-    if (gltf)
-        st = read_gltf_merged(name, fmt, file, files_allowed, mm, &g.m, err);
-    else
-        st = read_openmesh(name, fmt, file, &g.m, err);
-    if (st != SR_OK)
-        return st;
-    if (!gltf && mm != 1.0)
+    if (fmt != SR_FMT_GLTF && fmt != SR_FMT_GLB && mm != 1.0)
         for (size_t i = 0; i < 3 * g.m.vertex_count; i++)
             g.m.xyz[i] *= mm;
-    st = sr_mesh_validate(&g.m, name, nullptr, err);
+    sr_status st = sr_mesh_validate(&g.m, name, nullptr, err);
     if (st != SR_OK)
         return st;
     /* after glTF node transforms: the coordinates every later stage sees */
@@ -77,6 +69,40 @@ sr_status mesh_from_bytes(const char *name, sr_format fmt, sr_unit unit, Bytes &
     return SR_OK;
 }
 
+/* The one read path of bytes in memory: a file's bytes (owned, NUL appended; an
+ * OpenMesh format's may be rewritten in place) in format fmt, checked, parsed and
+ * finished. files_allowed: a glTF may name external buffers beside `name`. */
+sr_status mesh_from_bytes(const char *name, sr_format fmt, sr_unit unit, Bytes &file,
+                          bool files_allowed, sr_mesh *out, sr_err *err)
+{
+    MeshGuard g;
+    sr_status st;
+    if (fmt == SR_FMT_GLTF || fmt == SR_FMT_GLB) {
+        double mm = sr_unit_mm(unit == SR_UNIT_DEFAULT ? sr_format_unit(fmt) : unit);
+        st = read_gltf_merged(name, fmt, file, files_allowed, mm, &g.m, err);
+    } else {
+        st = read_openmesh(name, fmt, file, &g.m, err);
+    }
+    if (st != SR_OK)
+        return st;
+    return finish_read(name, fmt, unit, g, out, err);
+}
+
+struct FdGuard {
+    int fd = -1;
+    FdGuard() = default;
+    FdGuard(const FdGuard &) = delete;
+    FdGuard &operator=(const FdGuard &) = delete;
+    ~FdGuard()
+    {
+        if (fd >= 0)
+            close(fd);
+    }
+};
+
+/* A file: a binary STL (by its size) is read a run of facets at a time, never whole
+ * (a scanner's millions of facets: the file's bytes are 50 a facet, more than the mesh
+ * they make); any other file whole, then as bytes. */
 sr_status mesh_read(const char *path, sr_unit unit, sr_mesh *out, sr_err *err)
 {
     if (!path || !out)
@@ -84,8 +110,27 @@ sr_status mesh_read(const char *path, sr_unit unit, sr_mesh *out, sr_err *err)
     sr_format fmt = sr_format_from_path(path);
     if (fmt == SR_FMT_UNKNOWN)
         return rfail(err, SR_E_UNSUPPORTED, path, "%s", KNOWN_EXTENSIONS);
+    FdGuard fd;
+    size_t size;
+    sr_status st = open_regular(path, MESH_FILE_MAX, &fd.fd, &size, err);
+    if (st != SR_OK)
+        return st;
+    if (fmt == SR_FMT_STL && size >= SR_STL_HEADER_BYTES) {
+        unsigned char head[SR_STL_HEADER_BYTES];
+        st = read_at(fd.fd, 0, head, sizeof head, path, err);
+        if (st != SR_OK)
+            return st;
+        size_t facets = sr_file_stl_binary_count(head, size);
+        if (facets) {
+            MeshGuard g;
+            st = read_stl_binary_file(path, fd.fd, facets, &g.m, err);
+            if (st != SR_OK)
+                return st;
+            return finish_read(path, fmt, unit, g, out, err);
+        }
+    }
     Bytes file;
-    sr_status st = read_file(path, MESH_FILE_MAX, file, err);
+    st = read_whole(fd.fd, size, path, file, err);
     if (st != SR_OK)
         return st;
     return mesh_from_bytes(path, fmt, unit, file, true, out, err);

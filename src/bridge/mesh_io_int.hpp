@@ -102,6 +102,14 @@ struct Bytes {
  * refused with SR_E_UNSUPPORTED, naming the limit. */
 sr_status read_file(const char *path, size_t limit, Bytes &out, sr_err *err);
 
+/* read_file in steps: opens path (*fd, to be closed by the caller) and gives its size,
+ * with read_file's checks and messages; */
+sr_status open_regular(const char *path, size_t limit, int *fd, size_t *size, sr_err *err);
+/* reads n bytes at offset of the open file ("file shrank" when it ends first); */
+sr_status read_at(int fd, size_t offset, void *buf, size_t n, const char *path, sr_err *err);
+/* reads the whole file of size bytes into out (NUL appended). */
+sr_status read_whole(int fd, size_t size, const char *path, Bytes &out, sr_err *err);
+
 /* The folder part of path: "." when it has none, "/" for a file in the root. */
 std::string dir_of(const std::string &path);
 
@@ -136,6 +144,11 @@ sr_status check_for_write(const char *path, const sr_mesh *mesh, const char *wha
  * parses them (openmesh_io.cpp). file's bytes may be rewritten in place (names, mtllib). */
 sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *out,
                         sr_err *err);
+
+/* The same for a binary STL of facets facets (sr_file_stl_binary_count) read from the
+ * open file fd a run of facets at a time, never whole: checked, parsed by OpenMesh and
+ * compared, each from a fresh read (openmesh_io.cpp). */
+sr_status read_stl_binary_file(const char *path, int fd, size_t facets, sr_mesh *out, sr_err *err);
 
 /* A .gltf or .glb file's bytes (fmt) loaded into model (read_gltf.cpp). With
  * files_allowed, external buffers are read from path's folder (never outside it);

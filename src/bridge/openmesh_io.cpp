@@ -3,6 +3,8 @@
  * PLY and OFF, and writing STL (see mesh_io_int.hpp). OpenMesh accepts bad input
  * silently (shared/DEPENDENCY-NOTES.md), so every read here is:
  *   1. the file's bytes in memory, read by us (io_bytes.cpp) or given (a fuzz target);
+ *      a binary STL read from a file is never held whole: each step below reads it
+ *      again, a run of facets at a time (read_stl_binary_file);
  *   2. checked by src/io/ (pure C): sizes, counts, NaN/Inf, indices, PLY header, and
  *      every coordinate inside the physical envelope (io/envelope.h); these checks
  *      also return what the file holds;
@@ -118,6 +120,70 @@ protected:
     {
         return seekoff(off_type(pos), std::ios_base::beg, which);
     }
+};
+
+/* An istream source over an open file read a run of bytes at a time (pread), never
+ * whole; seekable. A failed read ends the stream and is kept in failed(). */
+class FileBuf : public std::streambuf
+{
+  public:
+    FileBuf(int fd, size_t size) : fd_(fd), size_(size), buf_(std::min(size, RUN_BYTES))
+    {
+        setg(buf_.data(), buf_.data(), buf_.data());
+    }
+    bool failed() const { return failed_; }
+
+  protected:
+    int_type underflow() override
+    {
+        size_t at = base_ + (size_t)(egptr() - eback());
+        return fill(at) ? traits_type::to_int_type(*gptr()) : traits_type::eof();
+    }
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir,
+                     std::ios_base::openmode which) override
+    {
+        if (!(which & std::ios_base::in))
+            return pos_type(off_type(-1));
+        off_type here = off_type(base_ + (size_t)(gptr() - eback()));
+        off_type from = dir == std::ios_base::beg   ? 0
+                        : dir == std::ios_base::cur ? here
+                                                    : off_type(size_);
+        off_type pos = from + off;
+        if (pos < 0 || pos > off_type(size_))
+            return pos_type(off_type(-1));
+        size_t held = (size_t)(egptr() - eback());
+        if ((size_t)pos >= base_ && (size_t)pos <= base_ + held) {
+            setg(eback(), eback() + ((size_t)pos - base_), egptr());
+        } else {
+            base_ = (size_t)pos; /* nothing held: the next read starts there */
+            setg(buf_.data(), buf_.data(), buf_.data());
+        }
+        return pos_type(pos);
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode which) override
+    {
+        return seekoff(off_type(pos), std::ios_base::beg, which);
+    }
+
+  private:
+    static constexpr size_t RUN_BYTES = 1 << 20;
+    bool fill(size_t at)
+    {
+        if (at >= size_ || failed_)
+            return false;
+        size_t n = std::min(buf_.size(), size_ - at);
+        if (read_at(fd_, at, buf_.data(), n, "", nullptr) != SR_OK) {
+            failed_ = true;
+            return false;
+        }
+        base_ = at;
+        setg(buf_.data(), buf_.data(), buf_.data() + n);
+        return true;
+    }
+    int fd_;
+    size_t size_, base_ = 0; /* base_: the file offset of the buffer's first byte */
+    std::vector<char> buf_;
+    bool failed_ = false;
 };
 
 /* Receives what an OpenMesh reader delivers: vertices and polygons as they come, no
@@ -254,19 +320,68 @@ bool repeats_vertex(const uint32_t *idx, size_t k)
     return false;
 }
 
-/* STL: OpenMesh welds corners and drops degenerate facets itself. Its faces must be the
- * file's non-degenerate facets, in order, corner for corner. The result keeps only the
- * vertices those faces use. */
-sr_status stl_result(const char *path, const sr_file_facts &f, const Collector &c, sr_mesh *out,
-                     sr_err *err)
+/* An ASCII STL's facets, as its check returned them. */
+struct CheckedFacets {
+    const float *corners;
+    const float *at(size_t t, sr_err *) const { return corners + 9 * t; }
+};
+
+/* A binary STL's facets in file order, decoded from its bytes in memory or from the
+ * open file a run of facets at a time. */
+class BinaryFacets
 {
-    size_t expect = f.tri_count - f.degenerate_tris;
+  public:
+    explicit BinaryFacets(const unsigned char *file_bytes) : mem_(file_bytes) {}
+    BinaryFacets(int fd, size_t facets, const char *path) : fd_(fd), n_(facets), path_(path) {}
+    /* Facet t's nine corner coordinates, valid until the next call; nullptr (err set)
+     * when the file cannot be read again. */
+    const float *at(size_t t, sr_err *err)
+    {
+        const unsigned char *rec;
+        if (mem_) {
+            rec = mem_ + SR_STL_HEADER_BYTES + SR_STL_FACET_BYTES * t;
+        } else {
+            if (t < first_ || t >= first_ + held_) {
+                held_ = std::min(RUN, n_ - t);
+                run_.resize(SR_STL_FACET_BYTES * RUN);
+                if (read_at(fd_, SR_STL_HEADER_BYTES + SR_STL_FACET_BYTES * t, run_.data(),
+                            SR_STL_FACET_BYTES * held_, path_, err) != SR_OK) {
+                    held_ = 0;
+                    return nullptr;
+                }
+                first_ = t;
+            }
+            rec = run_.data() + SR_STL_FACET_BYTES * (t - first_);
+        }
+        sr_file_stl_facet(rec, c_);
+        return c_;
+    }
+
+  private:
+    static constexpr size_t RUN = 1 << 15;
+    const unsigned char *mem_ = nullptr;
+    int fd_ = -1;
+    size_t n_ = 0, first_ = 0, held_ = 0;
+    const char *path_ = "";
+    std::vector<unsigned char> run_;
+    float c_[9] = {};
+};
+
+/* STL: OpenMesh welds corners and drops degenerate facets itself. Its faces must be the
+ * file's non-degenerate facets (of tri_count, degenerate of them), in order, corner for
+ * corner. The result keeps only the vertices those faces use. */
+template <class Facets>
+sr_status stl_result(const char *path, size_t tri_count, size_t degenerate, Facets &facets,
+                     const Collector &c, sr_mesh *out, sr_err *err)
+{
+    size_t expect = tri_count - degenerate;
     size_t got = c.n_faces();
     if (got != expect) {
         if (got < expect)
             return rfail(err, SR_E_FORMAT, path,
                          "OpenMesh lost %zu of %zu triangles (%zu degenerate ones dropped as "
-                         "expected)", expect - got, f.tri_count, f.degenerate_tris);
+                         "expected)",
+                         expect - got, tri_count, degenerate);
         return rfail(err, SR_E_FORMAT, path, "OpenMesh read %zu triangles, the file holds %zu",
                      got, expect);
     }
@@ -276,16 +391,17 @@ sr_status stl_result(const char *path, const sr_file_facts &f, const Collector &
                          c.face_size[i], i);
     size_t facet = 0;
     for (size_t i = 0; i < got; i++, facet++) {
-        while (facet < f.tri_count) {
-            const float *q = f.corners + 9 * facet;
+        const float *q = nullptr;
+        for (; facet < tri_count; facet++) {
+            if (!(q = facets.at(facet, err)))
+                return SR_E_IO;
             if (!(same_float_corner(q, q + 3) || same_float_corner(q, q + 6) ||
                   same_float_corner(q + 3, q + 6)))
                 break;
-            facet++;
         }
         for (int k = 0; k < 3; k++)
-            if (facet >= f.tri_count || !same_corner(&c.xyz[3 * (size_t)c.face_index[3 * i + k]],
-                                                     f.corners + 9 * facet + 3 * k))
+            if (facet >= tri_count ||
+                !same_corner(&c.xyz[3 * (size_t)c.face_index[3 * i + k]], q + 3 * k))
                 return rfail(err, SR_E_FORMAT, path,
                              "OpenMesh read triangle %zu differently from the file", facet);
     }
@@ -408,12 +524,13 @@ sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *o
     if (st != SR_OK)
         return st;
     /* Before OpenMesh, which parses into float: a value beyond float range would come
-     * back as inf and lose its face ("bad vertex index"), not as what it is. */
-    st = fmt == SR_FMT_STL
-             ? sr_envelope_check_corners(facts.f.corners, facts.f.face_count, path, err)
-             : sr_envelope_check_points(facts.f.xyz, facts.f.vertex_count, 0, path, err);
-    if (st != SR_OK)
-        return st;
+     * back as inf and lose its face ("bad vertex index"), not as what it is. (An STL's
+     * check holds its corners to the envelope itself.) */
+    if (fmt != SR_FMT_STL) {
+        st = sr_envelope_check_points(facts.f.xyz, facts.f.vertex_count, 0, path, err);
+        if (st != SR_OK)
+            return st;
+    }
     if (facts.f.tri_count == facts.f.degenerate_tris)
         return rfail(err, SR_E_INVALID, path, "contains no triangles%s",
                      facts.f.tri_count ? " (all degenerate)" : "");
@@ -459,9 +576,62 @@ sr_status read_openmesh(const char *path, sr_format fmt, Bytes &file, sr_mesh *o
     if (!ok)
         return rfail(err, SR_E_FORMAT, path, "OpenMesh could not read it (%s)",
                      first_line(log).c_str());
-    if (fmt == SR_FMT_STL)
-        return stl_result(path, facts.f, c, out, err);
+    if (fmt == SR_FMT_STL && facts.f.binary) {
+        BinaryFacets facets(file.data);
+        return stl_result(path, facts.f.tri_count, facts.f.degenerate_tris, facets, c, out, err);
+    }
+    if (fmt == SR_FMT_STL) {
+        CheckedFacets facets{facts.f.corners};
+        return stl_result(path, facts.f.tri_count, facts.f.degenerate_tris, facets, c, out, err);
+    }
     return indexed_result(path, facts.f, c, out, err);
+}
+
+sr_status read_stl_binary_file(const char *path, int fd, size_t facets, sr_mesh *out, sr_err *err)
+{
+    /* 1. the check, a run of facets at a time */
+    size_t degenerate = 0;
+    {
+        const size_t run = 1 << 15;
+        std::vector<unsigned char> bytes(SR_STL_FACET_BYTES * std::min(run, facets));
+        for (size_t first = 0; first < facets; first += run) {
+            size_t k = std::min(run, facets - first);
+            sr_status st = read_at(fd, SR_STL_HEADER_BYTES + SR_STL_FACET_BYTES * first,
+                                   bytes.data(), SR_STL_FACET_BYTES * k, path, err);
+            if (st == SR_OK)
+                st = sr_file_check_stl_facets(bytes.data(), k, first, path, &degenerate, err);
+            if (st != SR_OK)
+                return st;
+        }
+    }
+    if (degenerate == facets)
+        return rfail(err, SR_E_INVALID, path, "contains no triangles (all degenerate)");
+    /* 2. OpenMesh reads the file through a window of it */
+    sr_file_facts f = {};
+    f.binary = 1;
+    f.face_count = f.tri_count = facets;
+    f.vertex_count = 3 * facets;
+    Collector c;
+    c.reserve(f, SR_FMT_STL);
+    bool ok, failed;
+    std::string log;
+    {
+        OmSession session;
+        FileBuf fb(fd, SR_STL_HEADER_BYTES + SR_STL_FACET_BYTES * facets);
+        std::istream in(&fb);
+        OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;
+        ok = OpenMesh::IO::IOManager().read(in, ".stl", c, opt);
+        failed = fb.failed();
+        log = session.text();
+    }
+    if (failed)
+        return rfail(err, SR_E_IO, path, "the file could not be read again (it changed or went)");
+    if (!ok)
+        return rfail(err, SR_E_FORMAT, path, "OpenMesh could not read it (%s)",
+                     first_line(log).c_str());
+    /* 3. compared with the file, read once more */
+    BinaryFacets from_file(fd, facets, path);
+    return stl_result(path, facets, degenerate, from_file, c, out, err);
 }
 
 /* Serves an OpenMesh writer our arrays as they are: the faces are the triangles that

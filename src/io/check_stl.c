@@ -3,12 +3,15 @@
  * ASCII STL's name lines before OpenMesh reads it.
  *
  * Binary: the size must match the header's triangle count exactly and every coordinate be
- * finite in float. ASCII: facet structure walked line by line, three vertices a loop.
- * Both return each facet's corners and count the facets a reader drops as degenerate.
+ * finite in float; the facets can be checked a run at a time (a file read in pieces).
+ * ASCII: facet structure walked line by line, three vertices a loop; it returns each
+ * facet's corners. Both hold every corner to the physical envelope (envelope.h) and
+ * count the facets a reader drops as degenerate.
  *
  * The shared tokenizer, numbers and messages are in check_common.c (check_int.h).
  */
 #include "io/check_int.h"
+#include "io/envelope.h"
 
 #include <float.h>
 #include <math.h>
@@ -35,20 +38,56 @@ static int degenerate_facet(const float *c)
     return same_point(c, c + 3) || same_point(c, c + 6) || same_point(c + 3, c + 6);
 }
 
+sr_status sr_file_check_stl_facets(const unsigned char *records, size_t count, size_t first,
+                                   const char *name, size_t *degenerate, sr_err *err)
+{
+    for (size_t i = 0; i < count; i++) {
+        const unsigned char *rec = records + SR_STL_FACET_BYTES * i + 12; /* skip the normal */
+        float c[9];
+        for (int k = 0; k < 9; k++) {
+            c[k] = lef32(rec + 4 * k);
+            if (!isfinite(c[k]))
+                return fc_fail(err, SR_E_INVALID, name, "binary STL triangle %zu has %s coordinate",
+                               first + i, fc_nonfinite_word(c[k]));
+        }
+        sr_status st = sr_envelope_check_corners(c, 1, first + i, name, err);
+        if (st != SR_OK)
+            return st;
+        if (degenerate_facet(c))
+            ++*degenerate;
+    }
+    return SR_OK;
+}
+
+void sr_file_stl_facet(const unsigned char *record, float corners[9])
+{
+    for (int k = 0; k < 9; k++)
+        corners[k] = lef32(record + 12 + 4 * k);
+}
+
+size_t sr_file_stl_binary_count(const unsigned char *header, size_t size)
+{
+    if (size < SR_STL_HEADER_BYTES)
+        return 0;
+    uint32_t n = fc_le32(header + 80);
+    return n > 0 && size == SR_STL_HEADER_BYTES + (unsigned long long)SR_STL_FACET_BYTES * n ? n
+                                                                                             : 0;
+}
+
 static sr_status check_stl_binary(const unsigned char *data, size_t size, const char *name,
                                   sr_file_facts *out, sr_err *err)
 {
-    if (size < 84)
+    if (size < SR_STL_HEADER_BYTES)
         return fc_fail(err, SR_E_FORMAT, name,
                        "too short for a binary STL (%zu bytes, the header alone takes 84)", size);
     uint32_t n = fc_le32(data + 80);
-    unsigned long long expect = 84ull + 50ull * n;
-    size_t holds = (size - 84) / 50;
+    unsigned long long expect = SR_STL_HEADER_BYTES + (unsigned long long)SR_STL_FACET_BYTES * n;
+    size_t holds = (size - SR_STL_HEADER_BYTES) / SR_STL_FACET_BYTES;
     if (size < expect)
         return fc_fail(err, SR_E_FORMAT, name,
                        "truncated binary STL (header says %u triangles, file holds %zu)", n, holds);
     if (size > expect) {
-        if ((size - 84) % 50 == 0)
+        if ((size - SR_STL_HEADER_BYTES) % SR_STL_FACET_BYTES == 0)
             return fc_fail(err, SR_E_FORMAT, name,
                            "binary STL header says %u triangles, file holds %zu", n, holds);
         return fc_fail(err, SR_E_FORMAT, name,
@@ -59,27 +98,10 @@ static sr_status check_stl_binary(const unsigned char *data, size_t size, const 
     f.binary = 1;
     f.face_count = f.tri_count = n;
     f.vertex_count = 3 * (size_t)n;
-    if (n) {
-        f.corners = malloc((size_t)n * 9 * sizeof *f.corners);
-        if (!f.corners)
-            return fc_fail(err, SR_E_NOMEM, name, "out of memory for %u triangles", n);
-    }
-    for (size_t t = 0; t < n; t++) {
-        const unsigned char *rec = data + 84 + 50 * t + 12;   /* skip the normal */
-        float *c = f.corners + 9 * t;
-        for (int k = 0; k < 9; k++) {
-            float v = lef32(rec + 4 * k);
-            if (!isfinite(v)) {
-                sr_file_facts_release(&f);
-                return fc_fail(err, SR_E_INVALID, name,
-                               "binary STL triangle %zu has %s coordinate", t,
-                               fc_nonfinite_word(v));
-            }
-            c[k] = v;
-        }
-        if (degenerate_facet(c))
-            f.degenerate_tris++;
-    }
+    sr_status st =
+        sr_file_check_stl_facets(data + SR_STL_HEADER_BYTES, n, 0, name, &f.degenerate_tris, err);
+    if (st != SR_OK)
+        return st;
     *out = f;
     return SR_OK;
 }
@@ -163,6 +185,9 @@ static sr_status check_stl_ascii(const unsigned char *data, size_t size, const c
                 goto out;
             }
         }
+        st = sr_envelope_check_corners(c, 1, facet, name, err);
+        if (st != SR_OK)
+            goto out;
         if (degenerate_facet(c))
             f.degenerate_tris++;
         f.face_count++;

@@ -51,14 +51,14 @@ sr_status sr_envelope_check_points(const double *xyz, size_t count, int facet_co
     return SR_OK;
 }
 
-sr_status sr_envelope_check_corners(const float *corners, size_t facets, const char *name,
-                                    sr_err *err)
+sr_status sr_envelope_check_corners(const float *corners, size_t facets, size_t first_facet,
+                                    const char *name, sr_err *err)
 {
     for (size_t i = 0; i < 3 * facets; i++)
         for (int k = 0; k < 3; k++) {
             double v = corners[3 * i + (size_t)k];
             if (!(fabs(v) <= SR_ENVELOPE_COORD_MAX))
-                return outside(v, i, k, 3, name, err);
+                return outside(v, 3 * first_facet + i, k, 3, name, err);
         }
     return SR_OK;
 }

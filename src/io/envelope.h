@@ -51,10 +51,10 @@
 sr_status sr_envelope_check_points(const double *xyz, size_t count, int facet_corners,
                                    const char *name, sr_err *err);
 
-/* The same for an STL's facets as stored: corners facets by 9 floats, a failing point
- * named "facet I corner K". */
-sr_status sr_envelope_check_corners(const float *corners, size_t facets, const char *name,
-                                    sr_err *err);
+/* The same for an STL's facets as stored: corners facets by 9 floats, the file's facets
+ * first_facet on, a failing point named "facet I corner K" (I counted in the file). */
+sr_status sr_envelope_check_corners(const float *corners, size_t facets, size_t first_facet,
+                                    const char *name, sr_err *err);
 
 /* A whole mesh read from a file: xyz vertex_count by 3, tri tri_count by 3 (indices
  * below vertex_count, the caller guarantees it). Checks every vertex as

@@ -37,8 +37,9 @@ typedef struct sr_file_facts {
                                 a vertex repeats (STL: two corners at the same point) */
     double *xyz;             /* OBJ/OFF/PLY: vertex_count by 3, coordinates as written;
                                 owned */
-    float *corners;          /* STL: each facet's three corners by 3 (vertex_count by 3),
-                                as the float format stores them; owned */
+    float *corners;          /* ASCII STL: each facet's three corners by 3 (vertex_count
+                                by 3), as the float format stores them; owned. A binary
+                                STL's are its bytes (sr_file_stl_facet) */
     uint32_t *face_size;     /* OBJ/OFF/PLY: face_count corner counts (each >= 3); owned */
     uint32_t *face_index;    /* OBJ/OFF/PLY: the faces' 0-based vertex indices back to
                                 back, sum(face_size) entries, all < vertex_count; owned */
@@ -61,9 +62,27 @@ void sr_file_facts_release(sr_file_facts *facts);
 /* Binary STL: the size must be 84 + 50 n for the header's n, every coordinate finite.
  * A file starting with "solid" is binary when its size matches 84 + 50 n (n > 0) or it
  * holds non-text bytes; otherwise ASCII, where each "outer loop" line must be followed
- * by exactly three "vertex x y z" lines. */
+ * by exactly three "vertex x y z" lines. Both: every corner within the physical
+ * envelope (envelope.h). */
 sr_status sr_file_check_stl(const unsigned char *data, size_t size, const char *name,
                             sr_file_facts *out, sr_err *err);
+
+#define SR_STL_HEADER_BYTES 84 /* 80 bytes of header, the facet count */
+#define SR_STL_FACET_BYTES 50  /* normal, three corners (12 floats), attribute count */
+
+/* n > 0 when a file of size bytes whose first 84 bytes are header is a binary STL of n
+ * facets by size (84 + 50 n): what sr_file_check_stl takes for binary whatever the
+ * header says (a file read a run of facets at a time); 0 otherwise. */
+size_t sr_file_stl_binary_count(const unsigned char *header, size_t size);
+
+/* The binary check of sr_file_check_stl on count facet records (50 bytes each) that are
+ * the file's facets first on: finite, in the envelope; adds the degenerate ones (two
+ * corners at one point) to *degenerate. Messages name facets as counted in the file. */
+sr_status sr_file_check_stl_facets(const unsigned char *records, size_t count, size_t first,
+                                   const char *name, size_t *degenerate, sr_err *err);
+
+/* One binary STL facet record's corners, as stored. */
+void sr_file_stl_facet(const unsigned char *record, float corners[9]);
 
 /* Rewrites an ASCII STL in place, size unchanged, so that a line-based reader sees only
  * facet structure: every line whose first word is not facet, outer, vertex, endloop or
