@@ -179,54 +179,82 @@ std::atomic<unsigned> temp_counter{0};
 
 /* Writes bytes to path atomically: a new temporary file in the same folder, fsync,
  * rename over path, fsync of the folder. On failure nothing is left behind. */
-sr_status write_file_atomic(const char *path, const void *bytes, size_t size, sr_err *err)
+sr_status AtomicFile::open(const char *path, sr_err *err)
 {
+    path_ = path;
     std::string dir = dir_of(path);
-    std::string tmp;
-    int fd = -1;
-    for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
-        tmp = dir + "/.symrec-" + std::to_string((long)getpid()) + "-" +
-              std::to_string(temp_counter++) + ".tmp";
-        fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST)
+    for (int attempt = 0; attempt < 100 && fd_ < 0; attempt++) {
+        tmp_ = dir + "/.symrec-" + std::to_string((long)getpid()) + "-" +
+               std::to_string(temp_counter++) + ".tmp";
+        fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd_ < 0 && errno != EEXIST)
             break;
     }
-    if (fd < 0) {
+    if (fd_ < 0) {
         int e = errno;
         struct stat st;
         if ((e == ENOENT || e == ENOTDIR) && stat(dir.c_str(), &st) != 0)
             return wfail(err, SR_E_IO, path, "no such directory '%s'", dir.c_str());
         return wfail(err, SR_E_IO, path, "%s", errno_text(e).c_str());
     }
+    return SR_OK;
+}
+
+bool AtomicFile::write(const void *bytes, size_t size)
+{
     const unsigned char *p = (const unsigned char *)bytes;
     size_t done = 0;
-    int e = 0;
-    while (done < size) {
-        ssize_t n = write(fd, p + done, size - done);
+    while (!errno_ && done < size) {
+        ssize_t n = ::write(fd_, p + done, size - done);
         if (n < 0 && errno == EINTR)
             continue;
-        if (n <= 0) {
-            e = n < 0 ? errno : EIO;
-            break;
-        }
-        done += (size_t)n;
+        if (n <= 0)
+            errno_ = n < 0 ? errno : EIO;
+        else
+            done += (size_t)n;
     }
-    if (!e && fsync(fd) != 0)
+    return !errno_;
+}
+
+sr_status AtomicFile::commit(sr_err *err)
+{
+    int e = errno_;
+    if (!e && fsync(fd_) != 0)
         e = errno;
-    if (close(fd) != 0 && !e)
+    if (close(fd_) != 0 && !e)
         e = errno;
-    if (!e && rename(tmp.c_str(), path) != 0)
+    fd_ = -1;
+    if (!e && rename(tmp_.c_str(), path_.c_str()) != 0)
         e = errno;
     if (e) {
-        unlink(tmp.c_str());
-        return wfail(err, SR_E_IO, path, "%s", errno_text(e).c_str());
+        unlink(tmp_.c_str());
+        return wfail(err, SR_E_IO, path_.c_str(), "%s", errno_text(e).c_str());
     }
-    int dfd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    committed_ = true;
+    int dfd = ::open(dir_of(path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) {
         fsync(dfd);   /* best effort: some file systems refuse fsync on a directory */
         close(dfd);
     }
     return SR_OK;
+}
+
+AtomicFile::~AtomicFile()
+{
+    if (fd_ >= 0)
+        close(fd_);
+    if (!committed_ && !tmp_.empty())
+        unlink(tmp_.c_str());
+}
+
+sr_status write_file_atomic(const char *path, const void *bytes, size_t size, sr_err *err)
+{
+    AtomicFile f;
+    sr_status st = f.open(path, err);
+    if (st != SR_OK)
+        return st;
+    f.write(bytes, size);
+    return f.commit(err);
 }
 
 } // namespace sr_meshio

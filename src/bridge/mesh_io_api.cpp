@@ -180,6 +180,8 @@ sr_status mesh_write(const char *path, const sr_mesh *mesh, const sr_write_opts 
         sr_scene_mesh one = {nullptr, mesh, {0.8f, 0.8f, 0.8f, 1.0f}};
         return scene_write(path, &one, 1, nullptr, err);
     }
+    if (fmt == SR_FMT_STL && !ascii)
+        return write_stl_binary(path, *mesh, err);
     std::string bytes;
     if (fmt == SR_FMT_STL) {
         st = encode_stl(path, *mesh, ascii, &bytes, err);

@@ -25,11 +25,13 @@ extern "C" {
 #include "mesh/mesh_float.h"
 }
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <streambuf>
 #include <string>
+#include <vector>
 
 namespace tinygltf {
 class Model;
@@ -113,9 +115,80 @@ sr_status read_whole(int fd, size_t size, const char *path, Bytes &out, sr_err *
 /* The folder part of path: "." when it has none, "/" for a file in the root. */
 std::string dir_of(const std::string &path);
 
-/* Writes bytes to path atomically: a new temporary file in the same folder, fsync,
- * rename over path, fsync of the folder. On failure nothing is left behind. */
+/* A file written atomically: a new temporary file in the target's folder (open), the
+ * bytes (write, any number of times), then fsync, rename over the target and fsync of
+ * the folder (commit). Destroyed uncommitted, or when commit fails, nothing is left. */
+class AtomicFile
+{
+  public:
+    AtomicFile() = default;
+    AtomicFile(const AtomicFile &) = delete;
+    AtomicFile &operator=(const AtomicFile &) = delete;
+    ~AtomicFile();
+    sr_status open(const char *path, sr_err *err);
+    /* false once a write failed (commit then reports it) */
+    bool write(const void *bytes, size_t size);
+    sr_status commit(sr_err *err);
+
+  private:
+    std::string path_, tmp_;
+    int fd_ = -1, errno_ = 0;
+    bool committed_ = false;
+};
+
+/* Writes bytes to path atomically (AtomicFile). */
 sr_status write_file_atomic(const char *path, const void *bytes, size_t size, sr_err *err);
+
+/* An ostream sink into an AtomicFile through a buffer of 1 MiB: a writer's bytes go to
+ * the file as they come, never all in memory. Counts them and keeps the first ones, as
+ * many as keep(what is kept so far) asks for (a binary STL's 84-byte header; a GLB's
+ * header, JSON chunk and the BIN chunk's header). */
+class FileSink : public std::streambuf
+{
+  public:
+    typedef size_t (*Keep)(const std::string &head);
+    FileSink(AtomicFile &f, Keep keep) : f_(f), keep_(keep), buf_(1 << 20)
+    {
+        setp(buf_.data(), buf_.data() + buf_.size());
+    }
+    size_t size() const { return written_ + (size_t)(pptr() - pbase()); }
+    const std::string &head() const { return head_; }
+    /* the bytes still buffered to the file; false when a write failed */
+    bool flush() { return sync() == 0; }
+
+  protected:
+    int_type overflow(int_type c) override
+    {
+        if (sync() != 0)
+            return traits_type::eof();
+        if (!traits_type::eq_int_type(c, traits_type::eof())) {
+            *pptr() = traits_type::to_char_type(c);
+            pbump(1);
+        }
+        return traits_type::not_eof(c);
+    }
+    int sync() override
+    {
+        size_t n = (size_t)(pptr() - pbase()), i = 0;
+        for (size_t want;
+             head_.size() == written_ + i && i < n && (want = keep_(head_)) > head_.size();) {
+            size_t take = std::min(n - i, want - head_.size());
+            head_.append(pbase() + i, take);
+            i += take;
+        }
+        bool ok = f_.write(pbase(), n);
+        written_ += n;
+        setp(buf_.data(), buf_.data() + buf_.size());
+        return ok ? 0 : -1;
+    }
+
+  private:
+    AtomicFile &f_;
+    Keep keep_;
+    std::vector<char> buf_;
+    size_t written_ = 0;
+    std::string head_;
+};
 
 /* ---- meshes ---- */
 
@@ -170,6 +243,11 @@ sr_status scene_read(const char *path, sr_scene *out, sr_err *err);
 /* Binary or ASCII STL of m, through OpenMesh, into *out (openmesh_io.cpp). */
 sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string *out,
                      sr_err *err);
+
+/* Binary STL of m, through OpenMesh, written to path atomically as it is made (a
+ * restored scan of millions of triangles is 50 bytes a facet: never all in memory);
+ * the same bytes as encode_stl's (openmesh_io.cpp). */
+sr_status write_stl_binary(const char *path, const sr_mesh &m, sr_err *err);
 
 /* OBJ, OFF or PLY (fmt; PLY binary unless ascii) of m (write_text.cpp). */
 std::string encode_text(const sr_mesh &m, sr_format fmt, bool ascii);

@@ -736,11 +736,13 @@ class ArrayExporter : public OpenMesh::IO::BaseExporter
 };
 #undef NO_COLOURS
 
-/* STL through OpenMesh's writer, into memory (ArrayExporter), of the mesh as float
- * makes it (sr_mesh_float_ready). Triangles that repeat a vertex cannot be stored (and
- * no reader would keep them); non-manifold ones are written as they are, STL having no
- * topology. */
-sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string *out, sr_err *err)
+namespace
+{
+
+/* STL of m through OpenMesh's writer into os, of the mesh as float makes it; *expect:
+ * the triangles the stream must hold. */
+sr_status stl_to_stream(const char *path, const sr_mesh &m, bool ascii, std::ostream &os,
+                        size_t *expect_out, sr_err *err)
 {
     size_t expect = 0;
     for (size_t t = 0; t < m.tri_count; t++)
@@ -767,14 +769,10 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
     bool ok;
     size_t faces;
     std::string log;
-    out->clear();
-    out->reserve(ascii ? 0 : 84 + 50 * expect);
     {
         OmSession session;
         ArrayExporter ex(written);
         faces = ex.n_faces();
-        StringSink sink(*out);
-        std::ostream os(&sink);
         OpenMesh::IO::Options opt = ascii ? OpenMesh::IO::Options::Default
                                           : OpenMesh::IO::Options::Binary;
         ok = faces == expect && OpenMesh::IO::IOManager().write(os, ".stl", ex, opt, 17);
@@ -785,21 +783,77 @@ sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string
     if (!ok)
         return wfail(err, SR_E_INTERNAL, path, "OpenMesh could not write STL (%s)",
                      first_line(log).c_str());
-    if (!ascii) {
-        if (out->size() != 84 + 50 * expect ||
-            rd_le32((const unsigned char *)out->data() + 80) != expect)
-            return wfail(err, SR_E_INTERNAL, path,
-                         "OpenMesh wrote %zu bytes of binary STL, %zu triangles need %zu",
-                         out->size(), expect, 84 + 50 * expect);
-    } else {
-        size_t n = 0;
-        for (size_t at = out->find("endfacet"); at != std::string::npos;
-             at = out->find("endfacet", at + 8))
-            n++;
-        if (n != expect)
-            return wfail(err, SR_E_INTERNAL, path, "OpenMesh wrote %zu of %zu facets", n, expect);
-    }
+    *expect_out = expect;
     return SR_OK;
+}
+
+/* A binary STL as OpenMesh wrote it: 84 + 50 n bytes, n in the header. */
+sr_status check_binary_written(const char *path, size_t size, const unsigned char *head,
+                               size_t expect, sr_err *err)
+{
+    if (size != 84 + 50 * expect || rd_le32(head + 80) != expect)
+        return wfail(err, SR_E_INTERNAL, path,
+                     "OpenMesh wrote %zu bytes of binary STL, %zu triangles need %zu", size, expect,
+                     84 + 50 * expect);
+    return SR_OK;
+}
+
+} // namespace
+
+/* STL through OpenMesh's writer, into memory (ArrayExporter), of the mesh as float
+ * makes it (sr_mesh_float_ready). Triangles that repeat a vertex cannot be stored (and
+ * no reader would keep them); non-manifold ones are written as they are, STL having no
+ * topology. */
+sr_status encode_stl(const char *path, const sr_mesh &m, bool ascii, std::string *out, sr_err *err)
+{
+    out->clear();
+    size_t expect = 0;
+    StringSink sink(*out);
+    std::ostream os(&sink);
+    sr_status st = stl_to_stream(path, m, ascii, os, &expect, err);
+    if (st != SR_OK)
+        return st;
+    if (!ascii) {
+        if (out->size() < 84)
+            return wfail(err, SR_E_INTERNAL, path, "OpenMesh wrote %zu bytes of binary STL",
+                         out->size());
+        return check_binary_written(path, out->size(), (const unsigned char *)out->data(), expect,
+                                    err);
+    }
+    size_t n = 0;
+    for (size_t at = out->find("endfacet"); at != std::string::npos;
+         at = out->find("endfacet", at + 8))
+        n++;
+    if (n != expect)
+        return wfail(err, SR_E_INTERNAL, path, "OpenMesh wrote %zu of %zu facets", n, expect);
+    return SR_OK;
+}
+
+sr_status write_stl_binary(const char *path, const sr_mesh &m, sr_err *err)
+{
+    AtomicFile file;
+    sr_status st = file.open(path, err);
+    if (st != SR_OK)
+        return st;
+    size_t expect = 0;
+    FileSink sink(file, [](const std::string &) { return (size_t)84; });
+    {
+        std::ostream os(&sink);
+        st = stl_to_stream(path, m, false, os, &expect, err);
+    }
+    if (!sink.flush())
+        return file.commit(
+            err); /* the failed write's error (a full disk), whatever OpenMesh said */
+    if (st != SR_OK)
+        return st;
+    if (sink.head().size() < 84)
+        return wfail(err, SR_E_INTERNAL, path, "OpenMesh wrote %zu bytes of binary STL",
+                     sink.size());
+    st = check_binary_written(path, sink.size(), (const unsigned char *)sink.head().data(), expect,
+                              err);
+    if (st != SR_OK)
+        return st;
+    return file.commit(err);
 }
 
 } // namespace sr_meshio

@@ -66,6 +66,16 @@ double float_decimal(float f)
     return d;
 }
 
+/* How much of a GLB being written to keep for its check: the 20 bytes of header and
+ * JSON chunk header, then the JSON chunk and the next chunk's header. */
+size_t glb_head(const std::string &head)
+{
+    if (head.size() < 20)
+        return 20;
+    const unsigned char *h = (const unsigned char *)head.data();
+    return 28 + (size_t)rd_le32(h + 12);
+}
+
 void append_bytes(std::vector<unsigned char> &buf, const void *p, size_t n)
 {
     const unsigned char *b = (const unsigned char *)p;
@@ -95,7 +105,15 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
             return wfail(err, SR_E_INVALID, path, "extras are not a JSON object");
         model.asset.extras = to_value(j);
     }
+    /* the geometry's bytes sized up front: grown by doubling, a restored scan of a
+     * million triangles held its 21 MB twice over while they were copied */
     std::vector<unsigned char> bin;
+    size_t geometry = 0;
+    for (size_t i = 0; i < count; i++)
+        if (meshes[i].mesh && geometry <= (size_t)INT32_MAX)
+            geometry += 12 * (meshes[i].mesh->vertex_count * (rgb && rgb[i] ? 2 : 1) +
+                              meshes[i].mesh->tri_count);
+    bin.reserve(std::min(geometry, (size_t)INT32_MAX));
     tinygltf::Scene scene;
     for (size_t i = 0; i < count; i++) {
         const sr_scene_mesh &sm = meshes[i];
@@ -245,22 +263,33 @@ sr_status scene_write(const char *path, const sr_scene_mesh *meshes, size_t coun
     model.scenes.push_back(scene);
     model.defaultScene = 0;
 
-    std::string bytes;
-    StringSink sink(bytes);
-    std::ostream os(&sink);
-    tinygltf::TinyGLTF w;
+    /* written as tinygltf makes it (its BIN chunk is a copy of the geometry already) */
+    AtomicFile file;
+    sr_status st = file.open(path, err);
+    if (st != SR_OK)
+        return st;
     bool glb = fmt == SR_FMT_GLB;
-    if (!w.WriteGltfSceneToStream(&model, os, !glb, glb))
+    FileSink sink(
+        file, glb ? glb_head : [](const std::string &) { return (size_t)0; });
+    bool ok;
+    {
+        std::ostream os(&sink);
+        tinygltf::TinyGLTF w;
+        ok = w.WriteGltfSceneToStream(&model, os, !glb, glb);
+    }
+    if (!sink.flush())
+        return file.commit(err); /* the failed write's error (a full disk) */
+    if (!ok)
         return wfail(err, SR_E_INTERNAL, path, "tinygltf could not serialise the scene");
     if (glb) {
         sr_glb_layout layout;
         sr_err inner;
-        if (sr_file_check_glb((const unsigned char *)bytes.data(), bytes.size(), path, &layout,
-                              &inner) != SR_OK ||
+        if (sr_file_check_glb_head((const unsigned char *)sink.head().data(), sink.head().size(),
+                                   sink.size(), path, &layout, &inner) != SR_OK ||
             !layout.has_bin)
             return wfail(err, SR_E_INTERNAL, path, "tinygltf wrote a bad GLB (%s)", inner.msg);
     }
-    return write_file_atomic(path, bytes.data(), bytes.size(), err);
+    return file.commit(err);
 }
 
 } // namespace sr_meshio

@@ -14,6 +14,16 @@
 sr_status sr_file_check_glb(const unsigned char *data, size_t size, const char *name,
                             sr_glb_layout *out, sr_err *err)
 {
+    return sr_file_check_glb_head(data, size, size, name, out, err);
+}
+
+sr_status sr_file_check_glb_head(const unsigned char *data, size_t known, size_t size,
+                                 const char *name, sr_glb_layout *out, sr_err *err)
+{
+    if (known > size)
+        known = size;
+    if (known < 20 && known < size)
+        return fc_fail(err, SR_E_FORMAT, name, "GLB header not among the %zu bytes given", known);
     if (size < 12 || memcmp(data, "glTF", 4) != 0)
         return fc_fail(err, SR_E_FORMAT, name, "not a GLB file (no 'glTF' magic)");
     uint32_t version = fc_le32(data + 4), length = fc_le32(data + 8);
@@ -35,6 +45,10 @@ sr_status sr_file_check_glb(const unsigned char *data, size_t size, const char *
     sr_glb_layout g = {20, json_len, 0, 0, 0};
     size_t pos = 20 + (size_t)json_len;
     for (int chunk = 1; pos < size; chunk++) {
+        if (size - pos >= 8 && pos + 8 > known)
+            return fc_fail(err, SR_E_FORMAT, name,
+                           "GLB chunk %d's header at byte %zu is past the %zu bytes given", chunk,
+                           pos, known);
         uint32_t len = size - pos >= 8 ? fc_le32(data + pos) : 0;
         uint32_t type = size - pos >= 8 ? fc_le32(data + pos + 4) : 0;
         const char *what = type == GLB_BIN ? "BIN" : type == GLB_JSON ? "JSON" : "unknown";

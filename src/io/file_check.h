@@ -130,6 +130,12 @@ typedef struct sr_glb_layout {
 sr_status sr_file_check_glb(const unsigned char *data, size_t size, const char *name,
                             sr_glb_layout *out, sr_err *err);
 
+/* The same check of a GLB of size bytes of which only the first `known` are given (a
+ * file written as it was made: its header, JSON chunk and the chunk headers after it
+ * kept, the payloads gone to the file): a chunk header past them is refused. */
+sr_status sr_file_check_glb_head(const unsigned char *data, size_t known, size_t size,
+                                 const char *name, sr_glb_layout *out, sr_err *err);
+
 /* JSON nesting: refuses text whose arrays/objects nest deeper than max_depth (a
  * recursive parser would exhaust the stack). Strings are skipped, escapes honoured. */
 sr_status sr_file_check_json_depth(const unsigned char *text, size_t size, size_t max_depth,
