@@ -127,31 +127,43 @@ static uint32_t folded(const sr_mesh *mesh, size_t t, const plane *pl, size_t np
     return 0;
 }
 
+/* The index of key in the n sorted keys, n when absent. */
+static size_t key_at(const uint64_t *keys, size_t n, uint64_t key)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (keys[mid] < key)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && keys[lo] == key ? lo : n;
+}
+
 /* sr_scan_peel_folds and sr_scan_peel_plane_rims: the triangles lying in a chosen plane
- * and facing as rule peels, peeled from its rim. */
+ * and facing as rule peels, peeled from its rim. Only those triangles (the folds, a
+ * few thousand of a million) are indexed: their edges, each edge's uses by folds, and
+ * how many triangles of the scan use it; a scan of a million triangles indexed all of
+ * its edges four times over (190 MB) for them. */
 static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closing *how,
                       facing_rule rule, size_t *peeled, sr_err *err)
 {
-    size_t nt = mesh->tri_count, np = 0, removed = 0, nq = 0;
+    size_t nt = mesh->tri_count, nv = mesh->vertex_count, np = 0, removed = 0, nq = 0, nf = 0;
     sr_status st = SR_OK;
     sr_scan_closing *done = calloc(d->loop_count + 1, sizeof *done);
     size_t *group = malloc((d->loop_count + 1) * sizeof *group);
     plane *pl = malloc((d->loop_count + 1) * sizeof *pl);
-    edge_use *use = malloc((3 * nt + 1) * sizeof *use);
-    size_t *first = malloc((3 * nt + 2) * sizeof *first); /* each use's edge, its first use */
-    uint32_t *live = malloc((3 * nt + 1) * sizeof *live); /* per edge: triangles left on it */
-    size_t *tri_edge = malloc((3 * nt + 1) * sizeof *tri_edge);
-    uint32_t *queue = malloc((4 * nt + 1) * sizeof *queue); /* in once, and once per edge */
     bool *gone = calloc(nt + 1, sizeof *gone);
     uint32_t *fold = calloc(nt + 1, sizeof *fold); /* 1 + the plane a triangle peels off */
-    bool *rimv = calloc(mesh->vertex_count + 1, sizeof *rimv); /* the chosen groups' rims */
+    bool *rimv = calloc(nv + 1, sizeof *rimv);     /* the chosen groups' rims */
     bool *queued = calloc(nt + 1, sizeof *queued);
-    size_t nvt = rule.by_vertex ? mesh->vertex_count : 0; /* by_vertex: each vertex's triangles */
-    size_t *vt_first = calloc(nvt + 2, sizeof *vt_first);
-    uint32_t *vt_fill = calloc(nvt + 1, sizeof *vt_fill);
-    uint32_t *vt = malloc(((rule.by_vertex ? 3 * nt : 0) + 1) * sizeof *vt);
-    if (!done || !group || !pl || !use || !first || !live || !tri_edge || !queue || !gone ||
-        !fold || !rimv || !queued || !vt_first || !vt_fill || !vt) {
+    uint32_t *folds = NULL, *queue = NULL, *live = NULL, *vt = NULL;
+    edge_use *use = NULL;
+    uint64_t *key = NULL;
+    size_t *first = NULL, *tri_edge = NULL, *vt_first = NULL, *local = NULL;
+    bool *at_fold = NULL;
+    if (!done || !group || !pl || !gone || !fold || !rimv || !queued) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
         goto out;
     }
@@ -174,68 +186,108 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
     }
     if (np == 0)
         goto out;
-    /* the edges and the triangles on each; a triangle on the rim has an edge used once */
-    size_t nu = 0;
     for (size_t t = 0; t < nt; t++)
-        if (!stray(d, t))
-            for (int k = 0; k < 3; k++) {
-                uint64_t a = mesh->tri[3 * t + k], b = mesh->tri[3 * t + (k + 1) % 3];
-                use[nu++] = (edge_use){a < b ? a << 32 | b : b << 32 | a, (uint32_t)t};
-            }
-    st = sr_scan_sort_edges(use, nu, sizeof *use, mesh->vertex_count); /* by key, then t */
+        if (!stray(d, t) && (fold[t] = folded(mesh, t, pl, np, rule)) != 0)
+            nf++;
+    if (nf == 0)
+        goto out;
+    /* the folds (in order), their edges' uses sorted by edge then triangle, the edges */
+    folds = malloc(nf * sizeof *folds);
+    local = malloc((nt + 1) * sizeof *local); /* a fold's place in folds */
+    use = malloc(3 * nf * sizeof *use);
+    key = malloc(3 * nf * sizeof *key);
+    first = malloc((3 * nf + 1) * sizeof *first); /* each edge's first use */
+    live = calloc(3 * nf + 1, sizeof *live);      /* per edge: the scan's triangles on it */
+    tri_edge = malloc(3 * nf * sizeof *tri_edge);
+    queue = malloc((5 * nf + 1) * sizeof *queue); /* in once, once per edge, once by corner */
+    at_fold = calloc(nv + 1, sizeof *at_fold);    /* a corner of a fold */
+    if (!folds || !local || !use || !key || !first || !live || !tri_edge || !queue || !at_fold) {
+        st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
+        goto out;
+    }
+    size_t nu = 0;
+    for (size_t t = 0, f = 0; t < nt; t++) {
+        if (!fold[t])
+            continue;
+        local[t] = f;
+        folds[f++] = (uint32_t)t;
+        for (int k = 0; k < 3; k++) {
+            uint64_t a = mesh->tri[3 * t + k], b = mesh->tri[3 * t + (k + 1) % 3];
+            at_fold[a] = true;
+            use[nu++] = (edge_use){a < b ? a << 32 | b : b << 32 | a, (uint32_t)t};
+        }
+    }
+    st = sr_scan_sort_edges(use, nu, sizeof *use, nv); /* by key, then t */
     if (st != SR_OK) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
         goto out;
     }
     size_t ne = 0;
-    for (size_t u = 0; u < nu; u++) {
+    for (size_t u = 0; u < nu; u++)
         if (u == 0 || use[u].key != use[u - 1].key) {
             first[ne] = u;
-            live[ne++] = 0;
+            key[ne++] = use[u].key;
         }
-        live[ne - 1]++;
-    }
     first[ne] = nu;
-    /* each triangle's three edges */
-    size_t *fill = calloc(nt + 1, sizeof *fill);
+    /* how many of the scan's triangles (strays aside) use each such edge */
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *c = mesh->tri + 3 * t;
+        if (stray(d, t) || !(at_fold[c[0]] || at_fold[c[1]] || at_fold[c[2]]))
+            continue;
+        for (int k = 0; k < 3; k++) {
+            uint64_t a = c[k], b = c[(k + 1) % 3];
+            size_t e = key_at(key, ne, a < b ? a << 32 | b : b << 32 | a);
+            if (e < ne)
+                live[e]++;
+        }
+    }
+    /* each fold's three edges, in the order of the edges */
+    size_t *fill = calloc(nf + 1, sizeof *fill);
     if (!fill) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
         goto out;
     }
     for (size_t e = 0; e < ne; e++)
         for (size_t u = first[e]; u < first[e + 1]; u++) {
-            size_t t = use[u].t;
-            if (fill[t] < 3)
-                tri_edge[3 * t + fill[t]++] = e;
+            size_t f = local[use[u].t];
+            if (fill[f] < 3)
+                tri_edge[3 * f + fill[f]++] = e;
         }
-    for (size_t t = 0; t < nt; t++) {
-        if (stray(d, t) || fill[t] < 3)
-            continue;
-        fold[t] = folded(mesh, t, pl, np, rule);
-        if (!fold[t])
-            continue;     /* most triangles: their edges' uses not looked up */
+    for (size_t f = 0; f < nf; f++) {
+        size_t t = folds[f];
         bool rim = false; /* an edge on a chosen group's rim (by_vertex: a corner) */
-        for (int k = 0; k < 3; k++) {
-            size_t e = tri_edge[3 * t + k];
-            uint64_t key = use[first[e]].key;
-            rim |= rule.by_vertex ? rimv[mesh->tri[3 * t + k]]
-                                  : live[e] == 1 && rimv[key >> 32] && rimv[key & UINT32_MAX];
+        for (int k = 0; fill[f] == 3 && k < 3; k++) {
+            uint64_t ek = key[tri_edge[3 * f + k]];
+            rim |= rule.by_vertex
+                       ? rimv[mesh->tri[3 * t + k]]
+                       : live[tri_edge[3 * f + k]] == 1 && rimv[ek >> 32] && rimv[ek & UINT32_MAX];
         }
-        if (fold[t] && rim) {
+        if (rim) {
             queue[nq++] = (uint32_t)t;
             queued[t] = true;
         }
     }
     free(fill);
-    if (rule.by_vertex) { /* each vertex's triangles */
-        for (size_t t = 0; t < nt; t++)
+    if (rule.by_vertex) { /* each vertex's folds, in order */
+        vt_first = calloc(nv + 2, sizeof *vt_first);
+        vt = malloc((3 * nf + 1) * sizeof *vt);
+        size_t *vt_fill = calloc(nv + 1, sizeof *vt_fill);
+        if (!vt_first || !vt || !vt_fill) {
+            free(vt_fill);
+            st = sr_err_set(err, SR_E_NOMEM, "out of memory peeling the scan's folds");
+            goto out;
+        }
+        for (size_t f = 0; f < nf; f++)
             for (int k = 0; k < 3; k++)
-                vt_first[mesh->tri[3 * t + k] + 1]++;
-        for (size_t v = 0; v < mesh->vertex_count; v++)
+                vt_first[mesh->tri[3 * (size_t)folds[f] + k] + 1]++;
+        for (size_t v = 0; v < nv; v++)
             vt_first[v + 1] += vt_first[v];
-        for (size_t t = 0; t < nt; t++)
-            for (int k = 0; k < 3; k++)
-                vt[vt_first[mesh->tri[3 * t + k]] + vt_fill[mesh->tri[3 * t + k]]++] = (uint32_t)t;
+        for (size_t f = 0; f < nf; f++)
+            for (int k = 0; k < 3; k++) {
+                uint32_t v = mesh->tri[3 * (size_t)folds[f] + k];
+                vt[vt_first[v] + vt_fill[v]++] = folds[f];
+            }
+        free(vt_fill);
     }
     while (nq > 0) {
         uint32_t t = queue[--nq];
@@ -247,17 +299,17 @@ static sr_status peel(sr_mesh *mesh, const sr_scan_desc *d, const sr_scan_closin
         sr_mesh_tri_normal(mesh, t, a);
         pl[fold[t] - 1].peeled_mm2 += 0.5 * sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         for (int k = 0; k < 3; k++) {
-            size_t e = tri_edge[3 * (size_t)t + k];
+            size_t e = tri_edge[3 * local[t] + k];
             if (--live[e] != 1 || rule.by_vertex)
                 continue;
             for (size_t u = first[e]; u < first[e + 1]; u++) /* its neighbour now on the rim */
-                if (!gone[use[u].t] && fold[use[u].t])
+                if (!gone[use[u].t])
                     queue[nq++] = use[u].t;
         }
-        for (int k = 0; rule.by_vertex && k < 3; k++) { /* every triangle at its corners */
+        for (int k = 0; rule.by_vertex && k < 3; k++) { /* every fold at its corners */
             uint32_t v = mesh->tri[3 * (size_t)t + k];
             for (size_t j = vt_first[v]; j < vt_first[v + 1]; j++)
-                if (!gone[vt[j]] && fold[vt[j]] && !queued[vt[j]]) {
+                if (!gone[vt[j]] && !queued[vt[j]]) {
                     queued[vt[j]] = true;
                     queue[nq++] = vt[j];
                 }
@@ -276,17 +328,20 @@ out:
     free(done);
     free(group);
     free(pl);
-    free(use);
-    free(first);
-    free(live);
-    free(tri_edge);
-    free(queue);
     free(gone);
     free(fold);
     free(rimv);
     free(queued);
+    free(folds);
+    free(local);
+    free(use);
+    free(key);
+    free(first);
+    free(live);
+    free(tri_edge);
+    free(queue);
+    free(at_fold);
     free(vt_first);
-    free(vt_fill);
     free(vt);
     return st;
 }
@@ -322,16 +377,27 @@ typedef struct closing_cost {
 /* mesh described, closed (every opening) and rid of its strays, in place, with the walls
  * lost beside its planes hung back first when hang (*hung: the loops so hung); *c gets
  * what the closing left wrong (closing_cost). On error d and *how are freed. */
-static sr_status close_as(sr_mesh *mesh, bool hang, sr_scan_desc *d, sr_scan_closing **how,
-                          closing_cost *c, size_t *hung_out, sr_err *err)
+static sr_status close_as(sr_mesh *mesh, bool hang, sr_mesh *unhung, sr_scan_desc *d,
+                          sr_scan_closing **how, closing_cost *c, size_t *hung_out, sr_err *err)
 {
     *how = NULL;
     sr_status st = sr_scan_describe(mesh, NULL, d, err);
     if (st != SR_OK)
         return st;
-    size_t hung = 0;
+    size_t hung = 0, nv = mesh->vertex_count, nt = mesh->tri_count;
     if (hang)
         st = sr_scan_hang_curtains(mesh, d, &hung, err);
+    /* the walls hung are appended: the mesh before them is the first nv vertices and nt
+     * triangles (copied only when a wall was hung, not ahead of every closing) */
+    if (st == SR_OK && hung > 0 && unhung) {
+        st = sr_mesh_alloc(unhung, nv, nt);
+        if (st == SR_OK) {
+            memcpy(unhung->xyz, mesh->xyz, 3 * nv * sizeof *mesh->xyz);
+            memcpy(unhung->tri, mesh->tri, 3 * nt * sizeof *mesh->tri);
+        } else {
+            st = sr_err_set(err, st, "out of memory closing the scan's openings");
+        }
+    }
     *hung_out = hung;
     if (st == SR_OK && hung > 0) { /* the walls hung change the loops */
         sr_scan_desc_release(d);
@@ -388,16 +454,14 @@ static sr_status close_as(sr_mesh *mesh, bool hang, sr_scan_desc *d, sr_scan_clo
 static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **how, closing_cost *c,
                             sr_err *err)
 {
-    sr_mesh plain = {0};
-    if (sr_mesh_copy(&plain, mesh) != SR_OK)
-        return sr_err_set(err, SR_E_NOMEM, "out of memory closing the scan's openings");
+    sr_mesh plain = {0}; /* the mesh as given, when close_as hung walls */
     size_t hung = 0, unused = 0;
-    sr_status st = close_as(mesh, true, d, how, c, &hung, err);
+    sr_status st = close_as(mesh, true, &plain, d, how, c, &hung, err);
     if (st == SR_OK && hung > 0) {
         sr_scan_desc d2 = {0};
         sr_scan_closing *h2 = NULL;
         closing_cost c2;
-        st = close_as(&plain, false, &d2, &h2, &c2, &unused, err);
+        st = close_as(&plain, false, NULL, &d2, &h2, &c2, &unused, err);
         if (st == SR_OK && (c2.bad_edges < c->bad_edges ||
                             (c2.bad_edges == c->bad_edges && c2.fan_mm2 <= c->fan_mm2))) {
             sr_mesh_release(mesh);
