@@ -86,10 +86,11 @@ struct Classify_visitor : public PMP::Corefinement::Default_visitor<Mesh> {
 };
 
 /* N's triangles (in[t] set, n of them) as compact arrays in the frame xf maps a into
- * (NULL: a's own): xyz, tri, and orig (a's vertex number of each vertex). */
+ * (NULL: a's own): xyz, tri, and orig (a's vertex number of each vertex). turned: each
+ * triangle's last two corners swapped (sr_mesh_flip: a reflection's image faces out). */
 void neighbourhood_arrays(const sr_mesh *a, const double *xf, const std::vector<uint8_t> &in,
                           size_t n, std::vector<double> &xyz, std::vector<uint32_t> &tri,
-                          std::vector<uint32_t> &orig);
+                          std::vector<uint32_t> &orig, bool turned = false);
 
 /* The neighbourhood as a halfedge mesh with property "v:orig" (a's vertex number), from
  * its arrays: only vertices some triangle uses. False when a triangle is refused. */

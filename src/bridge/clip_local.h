@@ -38,4 +38,14 @@ sr_status sr_boolean_intersection_local(const sr_mesh *a, const char *a_what, co
                                         const char *b_what, double margin_mm, sr_mesh *out,
                                         sr_local_clip_info *info, sr_err *err);
 
+/* The same of a mapped by a_xf (3x4, any non-singular affine map; a reflection's image
+ * has its faces turned as sr_mesh_flip turns them) with b, without a mapped copy of a:
+ * only the neighbourhood's vertices are mapped (sr_xform_apply, as sr_mesh_transform
+ * maps them, so the result is the one the mapped copy gives), and a copy is made only
+ * when the whole-mesh intersection runs. A singular a_xf: SR_E_RANGE. */
+sr_status sr_boolean_intersection_local_mapped(const sr_mesh *a, const char *a_what,
+                                               const double *a_xf, const sr_mesh *b,
+                                               const char *b_what, double margin_mm, sr_mesh *out,
+                                               sr_local_clip_info *info, sr_err *err);
+
 #endif

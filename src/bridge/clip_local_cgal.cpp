@@ -8,6 +8,8 @@
  * classification (classify_cgal.hpp's visitor); b's patches no triangle of N cuts are
  * placed by rays against the whole of a, N's by CGAL's point-in-volume against b.
  * Whenever that cannot be trusted the whole-mesh intersection (boolean_cgal.cpp) runs.
+ * a may come mapped (a symmetry image of the scan): only N's vertices are mapped, and a
+ * mapped copy of a is made only for the whole-mesh fallback.
  */
 #include "bridge/boolean_cgal.hpp"
 #include "bridge/classify_cgal.hpp"
@@ -79,11 +81,47 @@ sr_status join_patches(const Mesh &sm, const Mesh &mb, const Patch_flags flags[2
     return SR_OK;
 }
 
+double det3(const double m[12])
+{
+    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+           m[2] * (m[4] * m[9] - m[5] * m[8]);
+}
+
+/* The bounding box of a's vertices mapped by xf (NULL: as they are), as sr_mesh_bbox
+ * gives it of the mapped copy. */
+void mapped_bbox(const sr_mesh *a, const double *xf, double box[6])
+{
+    for (int k = 0; k < 6; k++)
+        box[k] = 0;
+    for (size_t v = 0; v < a->vertex_count; v++) {
+        double p[3];
+        frame_point(a, v, xf, p);
+        for (int k = 0; k < 3; k++) {
+            if (v == 0 || p[k] < box[k])
+                box[k] = p[k];
+            if (v == 0 || p[k] > box[3 + k])
+                box[3 + k] = p[k];
+        }
+    }
+}
+
+/* a mapped by xf (det < 0: its faces turned, sr_mesh_flip), a copy in *out. */
+sr_status mapped_copy(const sr_mesh *a, const double *xf, sr_mesh *out)
+{
+    sr_status st = sr_mesh_copy(out, a);
+    if (st != SR_OK || !xf)
+        return st;
+    sr_mesh_transform(out, xf);
+    if (det3(xf) < 0)
+        sr_mesh_flip(out);
+    return SR_OK;
+}
+
 /* The local intersection proper. SR_OK with *done = false when a condition for it fails
  * (why in `why`): the caller runs the whole-mesh intersection. */
-sr_status clip_local(const sr_mesh *a, const char *a_what, const sr_mesh *b, const char *b_what,
-                     double margin, sr_mesh *out, bool *done, char *why, size_t why_size,
-                     size_t *n_tris, sr_err *err)
+sr_status clip_local(const sr_mesh *a, const char *a_what, const double *xf, const sr_mesh *b,
+                     const char *b_what, double margin, sr_mesh *out, bool *done, char *why,
+                     size_t why_size, size_t *n_tris, sr_err *err)
 {
     *done = false;
     sr_mesh_edges edges;
@@ -95,7 +133,7 @@ sr_status clip_local(const sr_mesh *a, const char *a_what, const sr_mesh *b, con
         return SR_OK;
     }
     double box_a[6], box_b[6];
-    sr_mesh_bbox(a, box_a, box_a + 3);
+    mapped_bbox(a, xf, box_a);
     sr_mesh_bbox(b, box_b, box_b + 3);
     Mesh mb;
     sr_err berr = {{0}};
@@ -107,14 +145,14 @@ sr_status clip_local(const sr_mesh *a, const char *a_what, const sr_mesh *b, con
     grown_box(box_b, margin, box);
     std::vector<uint8_t> in;
     size_t n = 0;
-    if (!select_neighbourhood(a, nullptr, box, in, &n)) {
+    if (!select_neighbourhood(a, xf, box, in, &n)) {
         snprintf(why, why_size, "the neighbourhood's fans could not be mended");
         return SR_OK;
     }
     *n_tris = n;
     std::vector<double> loc_xyz;
     std::vector<uint32_t> loc_tri, loc_orig;
-    neighbourhood_arrays(a, nullptr, in, n, loc_xyz, loc_tri, loc_orig);
+    neighbourhood_arrays(a, xf, in, n, loc_xyz, loc_tri, loc_orig, xf && det3(xf) < 0);
     sr_mesh loc = {loc_xyz.data(), loc_tri.data(), loc_orig.size(), n};
     Mesh sm;
     if (!build_neighbourhood(loc, loc_orig, sm)) {
@@ -141,7 +179,7 @@ sr_status clip_local(const sr_mesh *a, const char *a_what, const sr_mesh *b, con
     }
     Patch_flags &f1 = flags[0], &f2 = flags[1];
     if (f2.not_set.any() && !classify_free_patches(mb, f2, [&](std::size_t pid, const Point &p) {
-            int side = inside_by_rays(a, nullptr, p);
+            int side = inside_by_rays(a, xf, p);
             if (side < 0) {
                 snprintf(why, why_size, "a part of '%s' meets no triangle of '%s'", b_what, a_what);
                 return false;
@@ -194,10 +232,11 @@ sr_status clip_local(const sr_mesh *a, const char *a_what, const sr_mesh *b, con
 
 using namespace sr_bool;
 
-extern "C" sr_status sr_boolean_intersection_local(const sr_mesh *a, const char *a_what,
-                                                   const sr_mesh *b, const char *b_what,
-                                                   double margin_mm, sr_mesh *out,
-                                                   sr_local_clip_info *info, sr_err *err)
+/* The local intersection of a mapped by xf (NULL: as it is) with b, or the whole-mesh
+ * one of the mapped copy when the local one cannot be trusted. */
+static sr_status intersection_local(const sr_mesh *a, const char *a_what, const double *xf,
+                                    const sr_mesh *b, const char *b_what, double margin_mm,
+                                    sr_mesh *out, sr_local_clip_info *info, sr_err *err)
 {
     sr_local_clip_info local_info;
     if (!info)
@@ -212,7 +251,7 @@ extern "C" sr_status sr_boolean_intersection_local(const sr_mesh *a, const char 
     try {
         bool done = false;
         size_t n = 0;
-        sr_status st = clip_local(a, a_what, b, b_what, margin_mm, out, &done, info->fallback,
+        sr_status st = clip_local(a, a_what, xf, b, b_what, margin_mm, out, &done, info->fallback,
                                   sizeof info->fallback, &n, err);
         info->neighbourhood_tris = n;
         if (st != SR_OK || done) {
@@ -223,5 +262,33 @@ extern "C" sr_status sr_boolean_intersection_local(const sr_mesh *a, const char 
         snprintf(info->fallback, sizeof info->fallback,
                  "the intersection of the neighbourhood failed");
     }
-    return boolean_entry(SR_BOOLEAN_INTERSECTION, a, a_what, b, b_what, out, err);
+    if (!xf)
+        return boolean_entry(SR_BOOLEAN_INTERSECTION, a, a_what, b, b_what, out, err);
+    sr_mesh img;
+    sr_mesh_init(&img);
+    if (mapped_copy(a, xf, &img) != SR_OK)
+        return sr_err_set(err, SR_E_NOMEM, "out of memory mapping '%s'", a_what);
+    sr_status st = boolean_entry(SR_BOOLEAN_INTERSECTION, &img, a_what, b, b_what, out, err);
+    sr_mesh_release(&img);
+    return st;
+}
+
+extern "C" sr_status sr_boolean_intersection_local(const sr_mesh *a, const char *a_what,
+                                                   const sr_mesh *b, const char *b_what,
+                                                   double margin_mm, sr_mesh *out,
+                                                   sr_local_clip_info *info, sr_err *err)
+{
+    return intersection_local(a, a_what, nullptr, b, b_what, margin_mm, out, info, err);
+}
+
+extern "C" sr_status sr_boolean_intersection_local_mapped(const sr_mesh *a, const char *a_what,
+                                                          const double *a_xf, const sr_mesh *b,
+                                                          const char *b_what, double margin_mm,
+                                                          sr_mesh *out, sr_local_clip_info *info,
+                                                          sr_err *err)
+{
+    if (!a_xf || det3(a_xf) == 0 || !std::isfinite(det3(a_xf)))
+        return sr_err_set(err, SR_E_RANGE, "the map of '%s' is singular",
+                          a_what ? a_what : "first mesh");
+    return intersection_local(a, a_what, a_xf, b, b_what, margin_mm, out, info, err);
 }

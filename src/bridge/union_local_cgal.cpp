@@ -28,14 +28,16 @@ namespace sr_bool {
 /* declared in classify_cgal.hpp */
 void neighbourhood_arrays(const sr_mesh *a, const double *xf, const std::vector<uint8_t> &in,
                           size_t n, std::vector<double> &xyz, std::vector<uint32_t> &tri,
-                          std::vector<uint32_t> &orig)
+                          std::vector<uint32_t> &orig, bool turned)
 {
+    static const int in_order[3] = {0, 1, 2}, turned_order[3] = {0, 2, 1};
+    const int *corner = turned ? turned_order : in_order;
     std::vector<uint32_t> local(a->vertex_count, no_vertex);
     tri.reserve(3 * n);
     for (size_t t = 0; t < a->tri_count; t++)
         if (in[t])
             for (int k = 0; k < 3; k++) {
-                uint32_t v = a->tri[3 * t + k];
+                uint32_t v = a->tri[3 * t + corner[k]];
                 if (local[v] == no_vertex) {
                     double p[3];
                     frame_point(a, v, xf, p);

@@ -388,23 +388,34 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
     return mend_and_retry(op, a, a_what, b, b_what, out, mended, &e1, err);
 }
 
-/* An image of the scan clipped to a section's hull: near the hull only
+static double det3(const double m[12]);
+
+/* The image of the scan under xf clipped to a section's hull: near the hull only
  * (clip_local.h: the same surface as the whole-mesh intersection, without a
- * million-triangle scan going through CGAL for each image), mended and tried again as
- * boolean_mending does when refused. */
-static sr_status clip_mending(const sr_mesh *img, const sr_mesh *hull, sr_mesh *out, size_t *mended,
-                              sr_err *err)
+ * million-triangle scan going through CGAL for each image, nor copied and mapped for
+ * it), mended and tried again as boolean_mending does when refused. */
+static sr_status clip_mending(const sr_mesh *aligned, const double xf[12], const sr_mesh *hull,
+                              sr_mesh *out, size_t *mended, sr_err *err)
 {
     sr_err e1 = {{0}};
-    sr_status st =
-        sr_boolean_intersection_local(img, "scan image", hull, "section hull", 0, out, NULL, &e1);
+    sr_status st = sr_boolean_intersection_local_mapped(aligned, "scan image", xf, hull,
+                                                        "section hull", 0, out, NULL, &e1);
     if (st != SR_E_INVALID) {
         if (st != SR_OK)
             *err = e1;
         return st;
     }
-    return mend_and_retry(SR_BOOLEAN_INTERSECTION, img, "scan image", hull, "section hull", out,
-                          mended, &e1, err);
+    sr_mesh img = {0};
+    st = sr_mesh_copy(&img, aligned);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory copying the scan");
+    sr_mesh_transform(&img, xf);
+    if (det3(xf) < 0)
+        sr_mesh_flip(&img); /* a reflection turns the faces inside out */
+    st = mend_and_retry(SR_BOOLEAN_INTERSECTION, &img, "scan image", hull, "section hull", out,
+                        mended, &e1, err);
+    sr_mesh_release(&img);
+    return st;
 }
 
 sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh *out,
@@ -466,18 +477,15 @@ static sr_status clip_images(const sr_mesh *aligned, const sr_image *im, const s
 {
     sr_mesh q = {0};
     for (size_t u = 0; u < np; u++) {
-        sr_mesh img = {0}, piece = {0};
-        sr_status st = sr_mesh_copy(&img, aligned);
-        if (st != SR_OK) {
-            sr_mesh_release(&q);
-            return sr_err_set(err, st, "out of memory copying the scan");
-        }
-        sr_mesh_transform(&img, im[pick[u]].xf);
-        if (det3(im[pick[u]].xf) < 0)
-            sr_mesh_flip(&img); /* a reflection turns the faces inside out */
+        sr_mesh piece = {0};
         sr_err berr = {{0}};
-        sr_status bs = clip_mending(&img, hull, &piece, &info->mended_tris, &berr);
-        sr_mesh_release(&img);
+        sr_status bs =
+            clip_mending(aligned, im[pick[u]].xf, hull, &piece, &info->mended_tris, &berr);
+        if (bs == SR_E_NOMEM) {
+            sr_mesh_release(&q);
+            *err = berr;
+            return bs;
+        }
         if (bs != SR_OK || piece.tri_count == 0) {
             sr_mesh_release(&piece);
             continue;
