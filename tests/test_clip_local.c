@@ -8,7 +8,9 @@
  * cylinder (as the image method makes them), and with a piece of the small mesh no
  * triangle of the large one cuts; then the fall-backs to the whole-mesh intersection (a
  * box inside the cylinder, one away from it) and the refusals, which must be the
- * whole-mesh intersection's.
+ * whole-mesh intersection's. The mapped form (sr_boolean_intersection_local_mapped,
+ * no copy of the large mesh) gives the very arrays the mapped copy gives, for a turn, a
+ * mirror, a rotation about a skew axis and a fall-back, and refuses a singular map.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -137,6 +139,70 @@ static void turned_and_mirrored_images_clip_locally_as_whole(void **state)
     }
 }
 
+/* The mapped form is the mapped copy's intersection, to the bit: the same vertices and
+ * triangles in the same order (a box across the chip, and one inside: the fall-back). */
+static void mapped_clip_is_the_mapped_copys(void **state)
+{
+    (void)state;
+    static const double turn[12] = {-1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1, 0};
+    static const double mirror[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    double skew[12]; /* 0.7 rad about (1, 2, 2)/3, then moved */
+    double u[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3}, c = cos(0.7), sn = sin(0.7);
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++) {
+            double cross = r == k ? 0 : ((r + 1) % 3 == k ? -1 : 1) * u[3 - r - k];
+            skew[4 * r + k] = (r == k ? c : 0) + (1 - c) * u[r] * u[k] + sn * cross;
+        }
+        skew[4 * r + 3] = 0.3 * (r + 1);
+    }
+    const double *xf[3] = {turn, mirror, skew};
+    const double boxes[2][6] = {{14, -7, 13.5, 21, 7, 26.5}, {-5, -5, 5, 5, 5, 10}};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 2; j++) {
+            sr_mesh cyl, img, box, a = {0}, b = {0};
+            make_cylinder(&cyl);
+            make_cylinder(&img);
+            sr_mesh_transform(&img, xf[i]);
+            if (i == 1)
+                sr_mesh_flip(&img);
+            const double *q = boxes[j];
+            make_box(&box, q[0], q[1], q[2], q[3], q[4], q[5]);
+            sr_local_clip_info ia, ib;
+            sr_err err;
+            assert_int_equal(
+                sr_boolean_intersection_local(&img, "image", &box, "hull", 0, &a, &ia, &err),
+                SR_OK);
+            assert_int_equal(sr_boolean_intersection_local_mapped(&cyl, "image", xf[i], &box,
+                                                                  "hull", 0, &b, &ib, &err),
+                             SR_OK);
+            assert_int_equal(ia.local, ib.local);
+            if (i < 2) /* the second box lies inside the turned and mirrored cylinder */
+                assert_int_equal(ia.local, j == 0);
+            assert_int_equal(ia.neighbourhood_tris, ib.neighbourhood_tris);
+            assert_true(a.tri_count > 0);
+            assert_int_equal(a.tri_count, b.tri_count);
+            assert_int_equal(a.vertex_count, b.vertex_count);
+            assert_memory_equal(a.tri, b.tri, 3 * a.tri_count * sizeof *a.tri);
+            assert_memory_equal(a.xyz, b.xyz, 3 * a.vertex_count * sizeof *a.xyz);
+            sr_mesh_release(&a);
+            sr_mesh_release(&b);
+            sr_mesh_release(&cyl);
+            sr_mesh_release(&img);
+            sr_mesh_release(&box);
+        }
+    sr_mesh cyl, box, out;
+    make_cylinder(&cyl);
+    make_box(&box, 14, -7, 13.5, 21, 7, 26.5);
+    static const double flat[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
+    sr_err err;
+    assert_int_equal(sr_boolean_intersection_local_mapped(&cyl, "image", flat, &box, "hull", 0,
+                                                          &out, NULL, &err),
+                     SR_E_RANGE);
+    assert_non_null(strstr(err.msg, "singular"));
+    sr_mesh_release(&cyl);
+    sr_mesh_release(&box);
+}
+
 /* A hull of two pieces, one across the surface and one inside the cylinder that no
  * triangle cuts (placed by rays: kept whole), and a third outside it (dropped). */
 static void piece_no_triangle_cuts_is_placed_by_rays(void **state)
@@ -229,6 +295,7 @@ int main(void)
         cmocka_unit_test(box_across_the_chip_clips_locally_as_whole),
         cmocka_unit_test(slab_of_the_cylinder_has_its_known_volume),
         cmocka_unit_test(turned_and_mirrored_images_clip_locally_as_whole),
+        cmocka_unit_test(mapped_clip_is_the_mapped_copys),
         cmocka_unit_test(piece_no_triangle_cuts_is_placed_by_rays),
         cmocka_unit_test(box_inside_falls_back_and_is_kept),
         cmocka_unit_test(box_away_falls_back_and_gives_nothing),
