@@ -20,6 +20,8 @@
  * scrap joined to the first at a corner, a tent standing on its edges, is peeled too
  * (growth through corners). A box without its top and no
  * fold: closed at once, nothing peeled. The fills reported are the triangles made.
+ * Which pass's closing is kept (sr_scan_peel_kept): not one that leaves an edge fewer
+ * bad by fanning an opening the first closing filled (a bracket's base, 2,717 mm^2).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -34,6 +36,7 @@
 #include "bridge/boolean.h"
 #include "mesh/mesh.h"
 #include "mesh/scan_describe.h"
+#include "mesh/scan_int.h"
 #include "mesh/shapes.h"
 #include "reconstruct.h"
 #include "support/assert_near.h"
@@ -328,6 +331,35 @@ static void a_scrap_reached_only_through_corners_is_peeled(void **state)
     sr_mesh_release(&scan);
 }
 
+/* The open bracket s1346269p06's closings: the first left one edge bad and fanned
+ * 10.9 mm^2 of specks; peeling every plane's folds mended the edge but fanned its base
+ * (2,727.8 mm^2, its largest opening 2,717.2 mm^2), across its bores. */
+static void a_peel_fanning_a_filled_opening_is_not_kept(void **state)
+{
+    (void)state;
+    const double top = 2717.2;
+    sr_scan_closing_cost first = {1, 0, 10.9, 0}, peeled = {0, 0, 2727.8, 0};
+    assert_false(sr_scan_peel_kept(1, &first, &peeled, top));
+    assert_false(sr_scan_peel_kept(0, &first, &peeled, top));
+    /* an edge fewer with no more than a speck (1 % of the largest opening) more fanned */
+    peeled.fan_mm2 = 10.9 + 0.009 * top;
+    assert_true(sr_scan_peel_kept(1, &first, &peeled, top));
+    peeled.fan_mm2 = 10.9 + 0.011 * top;
+    assert_false(sr_scan_peel_kept(1, &first, &peeled, top));
+    /* as many edges bad: kept when every plane then fills and the fans fall by at least
+     * half the span the planes fanned */
+    sr_scan_closing_cost fanned = {1, 1, 800, 700}, filled = {1, 0, 449, 0};
+    assert_true(sr_scan_peel_kept(1, &fanned, &filled, top));
+    filled.fan_mm2 = 451;
+    assert_false(sr_scan_peel_kept(1, &fanned, &filled, top));
+    /* pass 2 (scraps peeled off failed planes): every plane filled, no more bad, less
+     * fanned */
+    filled.fan_mm2 = 799;
+    assert_true(sr_scan_peel_kept(2, &fanned, &filled, top));
+    filled.bad_edges = 2;
+    assert_false(sr_scan_peel_kept(2, &fanned, &filled, top));
+}
+
 static void an_open_box_without_folds_is_closed_at_once(void **state)
 {
     (void)state;
@@ -382,6 +414,7 @@ int main(void)
         cmocka_unit_test(a_needle_on_the_rim_is_closed_alone_and_the_face_in_its_plane),
         cmocka_unit_test(scraps_of_the_base_facing_out_are_filled_round_or_peeled),
         cmocka_unit_test(a_scrap_reached_only_through_corners_is_peeled),
+        cmocka_unit_test(a_peel_fanning_a_filled_opening_is_not_kept),
         cmocka_unit_test(an_open_box_without_folds_is_closed_at_once),
         cmocka_unit_test(the_fills_are_the_triangles_the_closing_made),
     };

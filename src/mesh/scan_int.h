@@ -71,4 +71,21 @@ sr_status sr_scan_fill_triangles(const sr_mesh *before, const sr_mesh *after, sr
  * they used; the rest keep their order (scan_describe.c). SR_E_NOMEM: mesh unchanged. */
 sr_status sr_scan_drop_triangles(sr_mesh *mesh, const bool *gone, sr_err *err);
 
+/* What a closing of a scan left wrong: edges used other than twice, plane loops fanned
+ * (their fill failed), and the spans fanned (all fans; plane fans). */
+typedef struct sr_scan_closing_cost {
+    size_t bad_edges, plane_fans;
+    double fan_mm2, plane_fan_mm2;
+} sr_scan_closing_cost;
+
+/* Whether sr_scan_close_peeling keeps a pass's closing (`now`) over the one it has
+ * (`was`); top_mm2: the span of the scan's largest opening. Passes 0 and 1 (folds
+ * peeled): fewer edges left bad without fanning more than a speck (1 % of the largest
+ * opening) beyond what was fanned, or as many with every plane then filled and the span
+ * fanned falling by at least half the span the planes fanned. Pass 2 (scraps peeled off
+ * failed planes) and later: every plane filled, no more edges bad, less fanned.
+ * (scan_peel.c) */
+bool sr_scan_peel_kept(int pass, const sr_scan_closing_cost *was, const sr_scan_closing_cost *now,
+                       double top_mm2);
+
 #endif
