@@ -85,6 +85,11 @@ Fill fill_from_points(const Mesh &sm, const Region &reg, size_t id,
 std::vector<std::pair<Face_index, Face_index>>
 crossing_pairs(const Mesh &sm, const std::vector<Face_index> &range, int threads);
 
+/* The same search, the faces of the pairs marked in mark (sm.num_faces() bytes, 1: in a
+ * crossing pair) instead of the pairs kept; returns how many pairs crossing_pairs gives. */
+size_t crossing_faces(const Mesh &sm, const std::vector<Face_index> &range, int threads,
+                      std::vector<uint8_t> &mark);
+
 /* ---- mend_unfold_cgal.cpp ---- */
 
 /* The faces around seeds (removed vertices skipped) and rings - 1 rings more. */

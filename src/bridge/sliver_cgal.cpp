@@ -43,23 +43,25 @@ typedef Mesh::Face_index Face_index;
 #define NEEDLE_RATIO 4.0    /* a needle: longest edge over shortest above this */
 
 /* The crossing faces of sm and their neighbours across an edge, each once, in index
- * order (marked, not kept in a tree: a noisy spline's scan crossed itself 10.6 million
- * times, and a std::set of its faces took 2 of its 30 s). */
+ * order (marked, not kept in a tree nor as pairs: a noisy spline's scan crossed itself
+ * 10.6 million times, a std::set of its faces took 2 of its 30 s and the pairs 170 MB). */
 std::vector<Face_index> folded_faces(const Mesh &sm, size_t *pairs)
 {
     std::vector<Face_index> all(sm.faces().begin(), sm.faces().end());
-    std::vector<std::pair<Face_index, Face_index>> crossing = sr_mend::crossing_pairs(sm, all, 0);
-    *pairs = crossing.size();
-    std::vector<uint8_t> mark(sm.num_faces(), 0);
-    for (const auto &c : crossing)
-        for (Face_index f : {c.first, c.second}) {
-            mark[f.idx()] = 1;
-            for (auto h : CGAL::halfedges_around_face(sm.halfedge(f), sm)) {
-                Face_index g = sm.face(sm.opposite(h));
-                if (g != Mesh::null_face())
-                    mark[g.idx()] = 1;
-            }
+    std::vector<uint8_t> crossing;
+    *pairs = sr_mend::crossing_faces(sm, all, 0, crossing);
+    std::vector<Face_index>().swap(all);
+    std::vector<uint8_t> mark(crossing);
+    for (size_t i = 0; i < crossing.size(); i++) {
+        if (!crossing[i])
+            continue;
+        Face_index f((uint32_t)i);
+        for (auto h : CGAL::halfedges_around_face(sm.halfedge(f), sm)) {
+            Face_index g = sm.face(sm.opposite(h));
+            if (g != Mesh::null_face())
+                mark[g.idx()] = 1;
         }
+    }
     std::vector<Face_index> faces;
     for (size_t i = 0; i < mark.size(); i++)
         if (mark[i])
