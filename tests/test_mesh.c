@@ -385,6 +385,35 @@ static void rotation_keeps_volume_and_inverse_restores(void **state)
     sr_mesh_release(&orig);
 }
 
+/* A mirror's image of a closed prism, mapped (sr_mesh_map), still faces out: the same
+ * positive volume; transformed alone it is inside out. A turn keeps the orientation. */
+static void a_mapped_mirror_image_faces_out(void **state)
+{
+    (void)state;
+    sr_mesh m, t;
+    make_prism(&m, 24, 10, 30);
+    double v = sr_mesh_volume(&m);
+    const double mirror[12] = {-1, 0, 0, 3, 0, 1, 0, 0, 0, 0, 1, 0};
+    const double turn[12] = {0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1, 2};
+    assert_near(sr_xform_det(mirror), -1, 0);
+    assert_near(sr_xform_det(turn), 1, 0);
+    assert_int_equal(sr_mesh_copy(&t, &m), SR_OK);
+    sr_mesh_transform(&t, mirror);
+    assert_near(sr_mesh_volume(&t), -v, 1e-9);
+    sr_mesh_release(&t);
+    assert_int_equal(sr_mesh_copy(&t, &m), SR_OK);
+    sr_mesh_map(&t, mirror);
+    assert_near(sr_mesh_volume(&t), v, 1e-9);
+    assert_near(t.xyz[0], 3 - m.xyz[0], 1e-12);
+    sr_mesh_release(&t);
+    assert_int_equal(sr_mesh_copy(&t, &m), SR_OK);
+    sr_mesh_map(&t, turn);
+    assert_near(sr_mesh_volume(&t), v, 1e-9);
+    assert_memory_equal(t.tri, m.tri, 3 * m.tri_count * sizeof *m.tri);
+    sr_mesh_release(&t);
+    sr_mesh_release(&m);
+}
+
 static void xform_mul_applies_right_first(void **state)
 {
     double t[12] = {1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 0};            /* x += 1 */
@@ -438,6 +467,7 @@ int main(void)
         cmocka_unit_test(weld_merges_split_vertices),
         cmocka_unit_test(weld_drops_collapsed_triangles),
         cmocka_unit_test(rotation_keeps_volume_and_inverse_restores),
+        cmocka_unit_test(a_mapped_mirror_image_faces_out),
         cmocka_unit_test(xform_mul_applies_right_first),
         cmocka_unit_test(append_and_copy_keep_geometry),
     };

@@ -81,12 +81,6 @@ sr_status join_patches(const Mesh &sm, const Mesh &mb, const Patch_flags flags[2
     return SR_OK;
 }
 
-double det3(const double m[12])
-{
-    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-           m[2] * (m[4] * m[9] - m[5] * m[8]);
-}
-
 /* The bounding box of a's vertices mapped by xf (NULL: as they are), as sr_mesh_bbox
  * gives it of the mapped copy. */
 void mapped_bbox(const sr_mesh *a, const double *xf, double box[6])
@@ -103,18 +97,6 @@ void mapped_bbox(const sr_mesh *a, const double *xf, double box[6])
                 box[3 + k] = p[k];
         }
     }
-}
-
-/* a mapped by xf (det < 0: its faces turned, sr_mesh_flip), a copy in *out. */
-sr_status mapped_copy(const sr_mesh *a, const double *xf, sr_mesh *out)
-{
-    sr_status st = sr_mesh_copy(out, a);
-    if (st != SR_OK || !xf)
-        return st;
-    sr_mesh_transform(out, xf);
-    if (det3(xf) < 0)
-        sr_mesh_flip(out);
-    return SR_OK;
 }
 
 /* The local intersection proper. SR_OK with *done = false when a condition for it fails
@@ -152,7 +134,7 @@ sr_status clip_local(const sr_mesh *a, const char *a_what, const double *xf, con
     *n_tris = n;
     std::vector<double> loc_xyz;
     std::vector<uint32_t> loc_tri, loc_orig;
-    neighbourhood_arrays(a, xf, in, n, loc_xyz, loc_tri, loc_orig, xf && det3(xf) < 0);
+    neighbourhood_arrays(a, xf, in, n, loc_xyz, loc_tri, loc_orig, xf && sr_xform_det(xf) < 0);
     sr_mesh loc = {loc_xyz.data(), loc_tri.data(), loc_orig.size(), n};
     Mesh sm;
     if (!build_neighbourhood(loc, loc_orig, sm)) {
@@ -266,8 +248,9 @@ static sr_status intersection_local(const sr_mesh *a, const char *a_what, const 
         return boolean_entry(SR_BOOLEAN_INTERSECTION, a, a_what, b, b_what, out, err);
     sr_mesh img;
     sr_mesh_init(&img);
-    if (mapped_copy(a, xf, &img) != SR_OK)
+    if (sr_mesh_copy(&img, a) != SR_OK)
         return sr_err_set(err, SR_E_NOMEM, "out of memory mapping '%s'", a_what);
+    sr_mesh_map(&img, xf);
     sr_status st = boolean_entry(SR_BOOLEAN_INTERSECTION, &img, a_what, b, b_what, out, err);
     sr_mesh_release(&img);
     return st;
@@ -287,7 +270,7 @@ extern "C" sr_status sr_boolean_intersection_local_mapped(const sr_mesh *a, cons
                                                           sr_mesh *out, sr_local_clip_info *info,
                                                           sr_err *err)
 {
-    if (!a_xf || det3(a_xf) == 0 || !std::isfinite(det3(a_xf)))
+    if (!a_xf || sr_xform_det(a_xf) == 0 || !std::isfinite(sr_xform_det(a_xf)))
         return sr_err_set(err, SR_E_RANGE, "the map of '%s' is singular",
                           a_what ? a_what : "first mesh");
     return intersection_local(a, a_what, a_xf, b, b_what, margin_mm, out, info, err);

@@ -230,12 +230,6 @@ void node_xform(const tinygltf::Node &n, double m[12])
     }
 }
 
-double det3(const double m[12])
-{
-    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-           m[2] * (m[4] * m[9] - m[5] * m[8]);
-}
-
 struct Instance {
     int mesh;
     double xf[12];
@@ -260,7 +254,7 @@ sr_status visit_node(const char *path, const tinygltf::Model &m, int ni, const d
                          ni, n.mesh);
         /* A singular transform (a scale of 0 on some axis) flattens the mesh into a
          * plane, line or point: no solid part (envelope.h's rule on degenerate input). */
-        if (det3(in.xf) == 0)
+        if (sr_xform_det(in.xf) == 0)
             return rfail(err, SR_E_INVALID, path,
                          "node %d's transform is singular (a scale of 0?): it flattens mesh %d "
                          "to no volume",
@@ -348,9 +342,7 @@ sr_status place(const sr_mesh &src, const double xf_in[12], sr_mesh *out)
     sr_status st = sr_mesh_copy(&c, &src);
     if (st != SR_OK)
         return st;
-    sr_mesh_transform(&c, xf);
-    if (det3(xf) < 0)
-        sr_mesh_flip(&c);
+    sr_mesh_map(&c, xf);
     *out = c;
     return SR_OK;
 }

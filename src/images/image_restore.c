@@ -388,8 +388,6 @@ static sr_status boolean_mending(sr_boolean_op op, const sr_mesh *a, const char 
     return mend_and_retry(op, a, a_what, b, b_what, out, mended, &e1, err);
 }
 
-static double det3(const double m[12]);
-
 /* The image of the scan under xf clipped to a section's hull: near the hull only
  * (clip_local.h: the same surface as the whole-mesh intersection, without a
  * million-triangle scan going through CGAL for each image, nor copied and mapped for
@@ -409,9 +407,7 @@ static sr_status clip_mending(const sr_mesh *aligned, const double xf[12], const
     st = sr_mesh_copy(&img, aligned);
     if (st != SR_OK)
         return sr_err_set(err, st, "out of memory copying the scan");
-    sr_mesh_transform(&img, xf);
-    if (det3(xf) < 0)
-        sr_mesh_flip(&img); /* a reflection turns the faces inside out */
+    sr_mesh_map(&img, xf); /* a reflection's faces turned back out */
     st = mend_and_retry(SR_BOOLEAN_INTERSECTION, &img, "scan image", hull, "section hull", out,
                         mended, &e1, err);
     sr_mesh_release(&img);
@@ -427,12 +423,6 @@ sr_status sr_image_patch_alone(const sr_mesh *q, const sr_mesh *aligned, sr_mesh
     if (st == SR_OK)
         sr_mesh_drop_small_shells(out, 0, NULL, NULL);
     return st;
-}
-
-static double det3(const double m[12])
-{
-    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-           m[2] * (m[4] * m[9] - m[5] * m[8]);
 }
 
 static int cmp_section(const void *pa, const void *pb)

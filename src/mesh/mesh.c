@@ -576,6 +576,19 @@ void sr_mesh_flip(sr_mesh *mesh)
     }
 }
 
+double sr_xform_det(const double m[12])
+{
+    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+           m[2] * (m[4] * m[9] - m[5] * m[8]);
+}
+
+void sr_mesh_map(sr_mesh *mesh, const double m[12])
+{
+    sr_mesh_transform(mesh, m);
+    if (sr_xform_det(m) < 0)
+        sr_mesh_flip(mesh);
+}
+
 void sr_xform_identity(double m[12])
 {
     static const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};

@@ -113,7 +113,14 @@ void sr_mesh_transform(sr_mesh *mesh, const double m[12]);
 /* Reverses the orientation of every triangle (swaps two indices). */
 void sr_mesh_flip(sr_mesh *mesh);
 
+/* sr_mesh_transform, then sr_mesh_flip when m reflects (sr_xform_det < 0), so that a
+ * closed mesh's image still faces out. */
+void sr_mesh_map(sr_mesh *mesh, const double m[12]);
+
 /* Affine transform helpers on the same 3x4 row-major layout. */
+
+/* The determinant of m's linear part (negative: m reflects; 0: singular). */
+double sr_xform_det(const double m[12]);
 void sr_xform_identity(double m[12]);
 /* out = a * b (apply b first, then a). out may alias a or b. */
 void sr_xform_mul(double out[12], const double a[12], const double b[12]);
