@@ -56,6 +56,49 @@ static void add_triangle(sr_mesh *m, const double a[3], const double b[3], const
     sr_mesh_release(&t);
 }
 
+/* A fin of three triangles on one edge: that edge is non-manifold, the other six are
+ * boundary edges kept as their triangles walk them, in one loop; a stray triangle far
+ * off adds no edge of either kind. */
+static void a_fins_edge_is_non_manifold_and_a_strays_edges_are_not_counted(void **state)
+{
+    (void)state;
+    const double xyz[] = {0, 0, 0, 0, 0, 10, 10, 0, 5, -10, 0, 5, 0, 10, 5};
+    const uint32_t tri[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+    sr_mesh m;
+    assert_int_equal(sr_mesh_alloc(&m, 5, 3), SR_OK);
+    memcpy(m.xyz, xyz, sizeof xyz);
+    memcpy(m.tri, tri, sizeof tri);
+    const double a[3] = {100, 100, 100}, b[3] = {100.1, 100, 100}, c[3] = {100, 100.1, 100};
+    add_triangle(&m, a, b, c);
+    sr_scan_desc d;
+    assert_int_equal(sr_scan_describe(&m, NULL, &d, NULL), SR_OK);
+    assert_int_equal(d.strays, 1);
+    assert_int_equal(d.nonmanifold_edges, 1);
+    assert_int_equal(d.boundary_edges, 6);
+    /* each boundary edge walked as its triangle walks it: (1 2) (2 0) (0 3) (3 1)
+     * (1 4) (4 0); the walk from vertex 0 closes 0 3 1 2, and 1 4 is left open (out of
+     * 0 again, its one edge is used) */
+    size_t in_loops = 0;
+    for (size_t i = 0; i < d.loop_count; i++)
+        in_loops += d.loops[i].edges;
+    assert_int_equal(in_loops, 6);
+    assert_int_equal(d.loop_count, 2);
+    const uint32_t walked[6][2] = {{1, 2}, {2, 0}, {0, 3}, {3, 1}, {1, 4}, {4, 0}};
+    for (size_t i = 0; i < d.loop_count; i++) {
+        const sr_scan_loop *l = &d.loops[i];
+        for (size_t k = 0; k + (l->closed ? 0 : 1) < l->edges; k++) {
+            uint32_t from = d.loop_verts[l->first + k];
+            uint32_t to = d.loop_verts[l->first + (k + 1) % l->edges];
+            bool found = false;
+            for (int e = 0; e < 6; e++)
+                found = found || (walked[e][0] == from && walked[e][1] == to);
+            assert_true(found);
+        }
+    }
+    sr_scan_desc_release(&d);
+    sr_mesh_release(&m);
+}
+
 static void a_closed_box_has_no_opening_and_one_component(void **state)
 {
     (void)state;
@@ -557,6 +600,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_closed_box_has_no_opening_and_one_component),
         cmocka_unit_test(a_box_without_its_top_has_one_loop_round_it),
+        cmocka_unit_test(a_fins_edge_is_non_manifold_and_a_strays_edges_are_not_counted),
         cmocka_unit_test(a_base_with_a_bore_or_a_concave_rim_is_closed_in_its_plane),
         cmocka_unit_test(rims_crossing_in_their_plane_are_cut_where_they_cross),
         cmocka_unit_test(two_pyramids_touching_at_a_corner_close_without_a_pinch),

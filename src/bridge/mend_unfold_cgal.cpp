@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <iterator>
@@ -63,10 +64,11 @@ std::vector<Face_index> faces_near(const Mesh &sm, std::vector<Vertex_index> see
 /* The rounds of sr_mesh_unfold (see mend.h) on sm, looking first among range. */
 void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_unfold_report *rep)
 {
-    std::vector<Point> start(sm.num_vertices());
-    for (Vertex_index v : sm.vertices())
-        start[v.idx()] = sm.point(v);
-    std::vector<uint8_t> moved(sm.num_vertices(), 0);
+    /* where each moved vertex started: slot[v] indexes start, kept for the moved ones
+     * only (4 bytes a vertex, not a copy of every point) */
+    const uint32_t unmoved = UINT32_MAX;
+    std::vector<uint32_t> slot(sm.num_vertices(), unmoved);
+    std::vector<Point> start;
     for (int round = 0; round < unfold_rounds_max; round++) {
         std::vector<std::pair<Face_index, Face_index>> pairs = crossing_pairs(sm, range, 0);
         if (round == 0)
@@ -103,7 +105,7 @@ void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_
             double t[3] = {0.5 * (p.x() + c[0] / n), 0.5 * (p.y() + c[1] / n),
                            0.5 * (p.z() + c[2] / n)};
             /* never farther than max_move from where the scan put it */
-            const Point &o = start[v.idx()];
+            const Point &o = slot[v.idx()] == unmoved ? p : start[slot[v.idx()]];
             double d[3] = {t[0] - o.x(), t[1] - o.y(), t[2] - o.z()};
             double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             if (len > max_move) {
@@ -115,8 +117,12 @@ void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_
             next.push_back(Point(t[0], t[1], t[2]));
         }
         for (size_t i = 0; i < verts.size(); i++) {
+            uint32_t &k = slot[verts[i].idx()];
+            if (k == unmoved) {
+                k = (uint32_t)start.size();
+                start.push_back(sm.point(verts[i]));
+            }
             sm.point(verts[i]) = next[i];
-            moved[verts[i].idx()] = 1;
         }
         /* the next round looks where this one moved: the triangles around the moved
          * vertices and two rings more */
@@ -124,10 +130,11 @@ void unfold_rounds(Mesh &sm, std::vector<Face_index> range, double max_move, sr_
     }
     double worst = 0;
     for (Vertex_index v : sm.vertices()) {
-        if (!moved[v.idx()])
+        if (slot[v.idx()] == unmoved)
             continue;
         rep->moved_vertices++;
-        worst = std::max(worst, std::sqrt(CGAL::squared_distance(sm.point(v), start[v.idx()])));
+        worst =
+            std::max(worst, std::sqrt(CGAL::squared_distance(sm.point(v), start[slot[v.idx()]])));
     }
     rep->max_move_mm = worst;
 }

@@ -24,21 +24,21 @@ static uint32_t find(uint32_t *parent, uint32_t x)
 sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
 {
     size_t nv = mesh->vertex_count, nt = mesh->tri_count;
-    size_t *start = calloc(nv + 2, sizeof *start);
+    if (3 * nt >= UINT32_MAX)
+        return sr_err_set(err, SR_E_RANGE, "too many triangles to split pinched vertices");
+    uint32_t *start = calloc(nv + 2, sizeof *start);
     uint32_t *corner = malloc((3 * nt + 1) * sizeof *corner);
-    uint32_t *newv = malloc((3 * nt + 1) * sizeof *newv); /* per corner: its vertex after */
     sr_pair32 *nb = NULL;
     uint32_t *parent = NULL, *root_v = NULL;
-    size_t cap = 0, extra = 0;
+    sr_pair32 *moved = NULL; /* (corner, its new vertex): the fans moved, applied at the end */
+    size_t cap = 0, extra = 0, n_moved = 0, cap_moved = 0;
     sr_status st = SR_OK;
-    if (!start || !corner || !newv) {
+    if (!start || !corner) {
         st = sr_err_set(err, SR_E_NOMEM, "out of memory splitting pinched vertices");
         goto out;
     }
-    for (size_t i = 0; i < 3 * nt; i++) {
+    for (size_t i = 0; i < 3 * nt; i++)
         start[mesh->tri[i] + 1]++;
-        newv[i] = mesh->tri[i];
-    }
     for (size_t v = 0; v < nv; v++)
         start[v + 1] += start[v];
     for (size_t i = 0; i < 3 * nt; i++)
@@ -97,7 +97,19 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
                 }
                 root_v[r] = (uint32_t)(nv + extra++);
             }
-            newv[corner[c0 + j]] = root_v[r];
+            if (root_v[r] == u)
+                continue;
+            if (n_moved == cap_moved) {
+                size_t c2 = cap_moved ? 2 * cap_moved : 64;
+                sr_pair32 *m2 = realloc(moved, c2 * sizeof *moved);
+                if (!m2) {
+                    st = sr_err_set(err, SR_E_NOMEM, "out of memory splitting pinched vertices");
+                    goto out;
+                }
+                moved = m2;
+                cap_moved = c2;
+            }
+            moved[n_moved++] = (sr_pair32){corner[c0 + j], root_v[r]};
         }
     }
     if (extra > 0) {
@@ -107,10 +119,11 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
             goto out;
         }
         mesh->xyz = xyz;
-        for (size_t i = 0; i < 3 * nt; i++)
-            if (newv[i] >= nv)
-                memcpy(xyz + 3 * (size_t)newv[i], xyz + 3 * (size_t)mesh->tri[i], 3 * sizeof *xyz);
-        memcpy(mesh->tri, newv, 3 * nt * sizeof *newv);
+        for (size_t i = 0; i < n_moved; i++) {
+            uint32_t *v = &mesh->tri[moved[i].key];
+            memcpy(xyz + 3 * (size_t)moved[i].tag, xyz + 3 * (size_t)*v, 3 * sizeof *xyz);
+            *v = moved[i].tag;
+        }
         mesh->vertex_count = nv + extra;
     }
     if (added)
@@ -118,7 +131,7 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
 out:
     free(start);
     free(corner);
-    free(newv);
+    free(moved);
     free(nb);
     free(parent);
     free(root_v);

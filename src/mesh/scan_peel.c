@@ -483,25 +483,49 @@ static sr_status close_once(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **ho
     return st;
 }
 
-/* close_once, and when a plane's fill still failed, the scan as given untwisted
- * (sr_scan_uncurl_rims, on every plane's rims) and closed again, kept when that is
- * better: fewer edges left bad, or as few and fewer plane loops fanned. *uncurled gets
- * the vertices merged away in what is kept. */
-static sr_status close_untwisting(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closing **h,
-                                  closing_cost *c, size_t *uncurled, sr_err *err)
+/* One pass of sr_scan_close_peeling: the scan as it came (orig, described d0, closed
+ * first as h0 says) copied and peeled (pass 0: the folds off the planes whose fill
+ * failed, 1: off every plane, 2: the plane rims' scraps) or untwisted (-1). Made again
+ * rather than kept when close_untwisting needs it once more: a mesh's copy fewer through
+ * the closing (a 1.85M-triangle open scan's peak). *n: the triangles peeled (vertices
+ * merged for -1). */
+typedef struct peel_pass {
+    const sr_mesh *orig;
+    const sr_scan_desc *d0;
+    const sr_scan_closing *h0;
+    int pass;
+} peel_pass;
+
+static sr_status peel_pass_make(const peel_pass *p, sr_mesh *m, size_t *n, sr_err *err)
+{
+    sr_status st = sr_mesh_copy(m, p->orig);
+    if (st != SR_OK)
+        return sr_err_set(err, st, "out of memory closing the scan's openings");
+    return p->pass == 2   ? sr_scan_peel_plane_rims(m, p->d0, p->h0, n, err)
+           : p->pass == 1 ? sr_scan_peel_folds(m, p->d0, NULL, n, err)
+           : p->pass == 0 ? sr_scan_peel_folds(m, p->d0, p->h0, n, err)
+                          : sr_scan_uncurl_rims(m, p->d0, p->h0, n, err);
+}
+
+/* close_once on mesh (pass p's, as peel_pass_make made it), and when a plane's fill still
+ * failed, that mesh made again, untwisted (sr_scan_uncurl_rims, on every plane's rims)
+ * and closed again, kept when that is better: fewer edges left bad, or as few and fewer
+ * plane loops fanned. *uncurled gets the vertices merged away in what is kept. */
+static sr_status close_untwisting(sr_mesh *mesh, const peel_pass *p, sr_scan_desc *d,
+                                  sr_scan_closing **h, closing_cost *c, size_t *uncurled,
+                                  sr_err *err)
 {
     sr_mesh m = {0};
     sr_scan_desc dm = {0}, d2 = {0};
     sr_scan_closing *h2 = NULL;
     closing_cost c2 = {0, 0, 0, 0};
-    size_t merged = 0;
+    size_t merged = 0, peeled = 0;
     *uncurled = 0;
-    sr_status st = sr_mesh_copy(&m, mesh);
-    if (st != SR_OK)
-        return sr_err_set(err, st, "out of memory closing the scan's openings");
-    st = close_once(mesh, d, h, c, err);
+    sr_status st = close_once(mesh, d, h, c, err);
     if (st == SR_OK && c->plane_fans > 0) {
-        st = sr_scan_describe(&m, NULL, &dm, err);
+        st = peel_pass_make(p, &m, &peeled, err);
+        if (st == SR_OK)
+            st = sr_scan_describe(&m, NULL, &dm, err);
         if (st == SR_OK)
             st = sr_scan_uncurl_rims(&m, &dm, NULL, &merged, err);
         if (st == SR_OK && merged > 0)
@@ -527,6 +551,29 @@ static sr_status close_untwisting(sr_mesh *mesh, sr_scan_desc *d, sr_scan_closin
     sr_scan_desc_release(&d2);
     free(h2);
     return st;
+}
+
+/* One pass made and closed (peel_pass_make, then close_once for -1, close_untwisting for
+ * the peels), with what it left wrong; st and err its outcome. */
+typedef struct pass_result {
+    peel_pass pp;
+    sr_mesh m;
+    sr_scan_desc d;
+    sr_scan_closing *h;
+    closing_cost bad;
+    size_t n, un; /* triangles peeled (vertices merged for -1); vertices uncurled */
+    sr_status st;
+    sr_err err;
+} pass_result;
+
+static void run_pass(pass_result *r)
+{
+    r->st = peel_pass_make(&r->pp, &r->m, &r->n, &r->err);
+    r->un = r->pp.pass < 0 ? r->n : 0;
+    if (r->st == SR_OK && r->n > 0)
+        r->st = r->pp.pass < 0
+                    ? close_once(&r->m, &r->d, &r->h, &r->bad, &r->err)
+                    : close_untwisting(&r->m, &r->pp, &r->d, &r->h, &r->bad, &r->un, &r->err);
 }
 
 bool sr_scan_peel_kept(int pass, const sr_scan_closing_cost *was, const sr_scan_closing_cost *now,
@@ -583,52 +630,43 @@ sr_status sr_scan_close_peeling(sr_mesh *mesh, sr_scan_desc *out, sr_scan_closin
      * are; each peel's closing is itself untwisted when a plane still fails
      * (close_untwisting). */
     sr_scan_desc d0 = {0};
-    bool described = false;
     size_t uncurled = 0;
-    for (int pass = -1; st == SR_OK && (bad.bad_edges > 0 || bad.plane_fans > 0) && pass < 3;
-         pass++) {
-        if ((pass == 2 || pass < 0) && !plane_failed)
-            continue; /* no plane failed at first: nothing to untwist, no rim to peel */
-        sr_mesh m = {0};
-        sr_scan_desc d2 = {0};
-        sr_scan_closing *h2 = NULL;
-        size_t n = 0;
-        closing_cost bad2 = {0, 0, 0, 0};
-        if (!described) /* the scan as it came, described once for every pass */
-            st = sr_scan_describe(&orig, NULL, &d0, err);
-        described = st == SR_OK;
-        if (st == SR_OK)
-            st = sr_mesh_copy(&m, &orig);
-        if (st == SR_OK)
-            st = pass == 2   ? sr_scan_peel_plane_rims(&m, &d0, h0, &n, err)
-                 : pass == 1 ? sr_scan_peel_folds(&m, &d0, NULL, &n, err)
-                 : pass == 0 ? sr_scan_peel_folds(&m, &d0, h0, &n, err)
-                             : sr_scan_uncurl_rims(&m, &d0, h0, &n, err);
-        size_t un = pass < 0 ? n : 0;
-        if (st == SR_OK && n > 0)
-            st = pass < 0 ? close_once(&m, &d2, &h2, &bad2, err)
-                          : close_untwisting(&m, &d2, &h2, &bad2, &un, err);
-        double top = 0; /* the largest opening of the scan as it came */
-        for (size_t i = 0; described && i < d0.loop_count; i++)
-            top = d0.loops[i].span_mm > top ? d0.loops[i].span_mm : top;
-        bool better = sr_scan_peel_kept(pass, &bad, &bad2, top);
-        if (st == SR_OK && n > 0 && better) {
+    int passes[4], np = 0;
+    for (int pass = -1; pass < 3; pass++)
+        if (plane_failed || (pass != 2 && pass >= 0)) /* else nothing to untwist, no rim */
+            passes[np++] = pass;
+    bool open = bad.bad_edges > 0 || bad.plane_fans > 0;
+    if (st == SR_OK && open) /* the scan as it came, described once for every pass */
+        st = sr_scan_describe(&orig, NULL, &d0, err);
+    double top = 0; /* the largest opening of the scan as it came */
+    for (size_t i = 0; st == SR_OK && open && i < d0.loop_count; i++)
+        top = d0.loops[i].span_mm > top ? d0.loops[i].span_mm : top;
+    for (int i = 0; st == SR_OK && open && i < np; i++) {
+        pass_result r;
+        memset(&r, 0, sizeof r);
+        r.pp = (peel_pass){&orig, &d0, h0, passes[i]};
+        run_pass(&r);
+        st = r.st;
+        if (st != SR_OK && err)
+            *err = r.err;
+        if (st == SR_OK && r.n > 0 && sr_scan_peel_kept(r.pp.pass, &bad, &r.bad, top)) {
             sr_mesh_release(mesh);
-            *mesh = m;
-            m = (sr_mesh){0};
+            *mesh = r.m;
+            r.m = (sr_mesh){0};
             sr_scan_desc_release(&d);
             free(h);
-            d = d2;
-            h = h2;
-            d2 = (sr_scan_desc){0};
-            h2 = NULL;
-            bad = bad2;
-            n_kept = pass < 0 ? 0 : n;
-            uncurled = un;
+            d = r.d;
+            h = r.h;
+            r.d = (sr_scan_desc){0};
+            r.h = NULL;
+            bad = r.bad;
+            n_kept = r.pp.pass < 0 ? 0 : r.n;
+            uncurled = r.un;
         }
-        sr_mesh_release(&m);
-        sr_scan_desc_release(&d2);
-        free(h2);
+        open = bad.bad_edges > 0 || bad.plane_fans > 0;
+        sr_mesh_release(&r.m);
+        sr_scan_desc_release(&r.d);
+        free(r.h);
     }
     sr_scan_desc_release(&d0);
     free(h0);
