@@ -69,6 +69,12 @@ int cmd_plan(const cli_ctx *ctx, int argc, char **argv);
 int cmd_symmetry(const cli_ctx *ctx, int argc, char **argv);
 int cmd_inspect(const cli_ctx *ctx, int argc, char **argv);
 
+/* ---- the heap (cli/main.c): big blocks kept on one heap, not trimmed ---- */
+
+/* Gives the heap's free pages back to the system: once, before a command writes its
+ * files after long work (reconstruct). */
+void cli_heap_give_back(void);
+
 /* ---- diagnostics (cli/diag.c): each prints exactly one line to stderr ---- */
 
 /* "symrec: error: <msg>"; returns CLI_FAIL. */

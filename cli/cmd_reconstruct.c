@@ -819,6 +819,7 @@ int cmd_reconstruct(const cli_ctx *ctx, int argc, char **argv)
     if (rc != CLI_OK)
         cli_outset_abort(&set);
     if (rc == CLI_OK && out) {
+        cli_heap_give_back(); /* the outputs' buffers in the phases' holes */
         rc = write_outputs(set.stage, fmt, &scan, &r, &nominal_patches);
         if (rc != CLI_OK)
             cli_outset_abort(&set);

@@ -38,6 +38,18 @@ static void keep_big_blocks(void)
 #endif
 }
 
+/* Once, when the work is done and only the files are left to write: the free pages
+ * the phases left between their blocks go back to the system, so the files' buffers
+ * (a GLB holds the scan's geometry twice while tinygltf writes it) take pages in
+ * those holes rather than growing the heap past the run's peak (a 1.02M open scan:
+ * 195 -> 177 MB; the 1 and 2M closed and the 2M open scans 1-2 MB lower, as fast). */
+void cli_heap_give_back(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
+
 static const char usage[] =
     "usage: symrec [--db FILE] [--read-only] [--quiet] COMMAND [ARGS...]\n"
     "       symrec --help | --version | help COMMAND [SUBCOMMAND]\n"
