@@ -6,6 +6,7 @@
  * appended in the order their fans are met.
  */
 #include "mesh/mesh_pinch.h"
+#include "base/grow.h"
 #include "mesh/pair_sort.h"
 
 #include <stdint.h>
@@ -99,16 +100,12 @@ sr_status sr_mesh_split_pinches(sr_mesh *mesh, size_t *added, sr_err *err)
             }
             if (root_v[r] == u)
                 continue;
-            if (n_moved == cap_moved) {
-                size_t c2 = cap_moved ? 2 * cap_moved : 64;
-                sr_pair32 *m2 = realloc(moved, c2 * sizeof *moved);
-                if (!m2) {
-                    st = sr_err_set(err, SR_E_NOMEM, "out of memory splitting pinched vertices");
-                    goto out;
-                }
-                moved = m2;
-                cap_moved = c2;
+            sr_pair32 *m2 = sr_grow(moved, n_moved, &cap_moved, sizeof *moved);
+            if (!m2) {
+                st = sr_err_set(err, SR_E_NOMEM, "out of memory splitting pinched vertices");
+                goto out;
             }
+            moved = m2;
             moved[n_moved++] = (sr_pair32){corner[c0 + j], root_v[r]};
         }
     }

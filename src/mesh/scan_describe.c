@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/grow.h"
 #include "mesh/pair_sort.h"
 #include "mesh/scan_int.h"
 
@@ -109,16 +110,16 @@ static const double *vtx(const sr_mesh *m, uint32_t v)
  * triangles, SR_E_RANGE. */
 static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out, sr_scan_desc *d)
 {
-    size_t nv = m->vertex_count, nt = m->tri_count, cap = 64, nb = 0, cap_b = 64;
+    size_t nv = m->vertex_count, nt = m->tri_count, cap = 64, nb = 0, cap_b = 0;
     size_t nonmanifold = 0;
     if (nt > UINT32_MAX / 3)
         return SR_E_RANGE;
     uint32_t *start = calloc(nv + 2, sizeof *start);
     uint32_t *corner = malloc((3 * nt + 1) * sizeof *corner);
     sr_pair32 *rec = malloc(cap * sizeof *rec);
-    uint32_t *b = malloc(2 * cap_b * sizeof *b);
+    uint32_t *b = NULL; /* (from, to) pairs */
     sr_status st = SR_OK;
-    if (!start || !corner || !rec || !b) {
+    if (!start || !corner || !rec) {
         st = SR_E_NOMEM;
         goto out;
     }
@@ -166,15 +167,12 @@ static sr_status boundary_edges(const sr_mesh *m, uint32_t **out, size_t *n_out,
             if (j - i >= 3) {
                 nonmanifold++;
             } else if (j - i == 1) {
-                if (nb == cap_b) {
-                    uint32_t *b2 = realloc(b, 4 * cap_b * sizeof *b);
-                    if (!b2) {
-                        st = SR_E_NOMEM;
-                        goto out;
-                    }
-                    b = b2;
-                    cap_b *= 2;
+                uint32_t *b2 = sr_grow(b, nb, &cap_b, 2 * sizeof *b);
+                if (!b2) {
+                    st = SR_E_NOMEM;
+                    goto out;
                 }
+                b = b2;
                 b[2 * nb] = rec[i].tag ? (uint32_t)u : rec[i].key;
                 b[2 * nb + 1] = rec[i].tag ? rec[i].key : (uint32_t)u;
                 nb++;
@@ -733,7 +731,8 @@ sr_status sr_scan_describe(const sr_mesh *mesh, const sr_scan_opts *opts, sr_sca
     if (st == SR_OK)
         st = boundary_edges(mesh, &b, &nb, &d);
     if (st == SR_OK) {
-        qsort(b, nb, 2 * sizeof *b, by_from);
+        if (nb > 1) /* b is NULL when there are none */
+            qsort(b, nb, 2 * sizeof *b, by_from);
         st = walk_loops(mesh, b, nb, &d);
     }
     free(b);
