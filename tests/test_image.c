@@ -22,6 +22,7 @@
 
 #include "bridge/boolean.h"
 #include "images/axis_seam.h"
+#include "images/image_lookup.h"
 #include "images/image_restore.h"
 #include "images/image_vote.h"
 #include "images/images_int.h"
@@ -761,6 +762,67 @@ static void a_noisy_fracture_is_told_from_a_face_of_the_frame(void **state)
     }
 }
 
+/* ---- the images' voxel tables (image_lookup.h) ----------------------------------------- */
+
+/* Every voxel's material under every image, from the tables, is sr_image_material's:
+ * a mirror, a glide (whose images fall beyond the part's ends near them), a
+ * continuous axis's 23 turns and a 5-fold one's 4, on a grid whose origin and pitch
+ * are not round, filled from a box off the axis and the plane (so the images land on
+ * material and air alike, and off the grid). The tables are refused past their budget
+ * and for an image of neither form. */
+static void the_lookup_answers_as_the_images_do(void **state)
+{
+    (void)state;
+    sr_mesh part;
+    box(&part, -3.3, -7.1, -2.9, 9.7, 4.2, 13.4);
+    size_t n[3] = {43, 37, 29};
+    double origin[3] = {-10.37, -9.83, -4.61};
+    sr_voxels g;
+    assert_int_equal(sr_voxels_alloc(&g, n, 0.613, origin), SR_OK);
+    assert_int_equal(sr_voxels_fill(&g, &part, NULL), SR_OK);
+    double z_lo = -2.6, z_hi = 13.1;
+    sr_symmetry syms[4] = {
+        {SR_SYM_MIRROR, 0, 0}, {SR_SYM_GLIDE, 0, 4.37}, {SR_SYM_AXIAL, 0, 0}, {SR_SYM_AXIAL, 5, 0}};
+    size_t want_images[4] = {1, 2, 23, 4};
+    for (int s = 0; s < 4; s++) {
+        sr_image *im = NULL;
+        size_t count = 0;
+        assert_int_equal(sr_images_of(&syms[s], &im, &count, NULL), SR_OK);
+        assert_int_equal(count, want_images[s]);
+        int glide = syms[s].kind == SR_SYM_GLIDE;
+        sr_image_lookup *l =
+            sr_image_lookup_make(&g, im, count, z_lo, z_hi, glide, SR_IMAGE_LOOKUP_BUDGET);
+        assert_non_null(l);
+        size_t seen[3] = {0, 0, 0}; /* answers -1, 0, 1 */
+        for (size_t q = 0; q < count; q++)
+            for (size_t k = 0; k < n[2]; k++)
+                for (size_t j = 0; j < n[1]; j++)
+                    for (size_t i = 0; i < n[0]; i++) {
+                        double c[3] = {g.origin[0] + (double)i * g.h, g.origin[1] + (double)j * g.h,
+                                       g.origin[2] + (double)k * g.h};
+                        int want = sr_image_material(&g, &im[q], c, z_lo, z_hi, glide);
+                        assert_int_equal(sr_image_lookup_material(l, &g, q, i, j, k), want);
+                        seen[want + 1]++;
+                    }
+        assert_true(seen[1] > 0 && seen[2] > 0); /* air and material both met */
+        if (glide)
+            assert_true(seen[0] > 0); /* and images beyond the ends */
+        sr_image_lookup_free(l);
+        /* the tables' budget: one image's columns need nx ny 4 bytes */
+        assert_null(
+            sr_image_lookup_make(&g, im, count, z_lo, z_hi, glide, count * n[0] * n[1] * 4 - 1));
+        l = sr_image_lookup_make(&g, im, count, z_lo, z_hi, glide, count * n[0] * n[1] * 4);
+        assert_non_null(l);
+        sr_image_lookup_free(l);
+        im[0].form = SR_IMAGE_GENERAL;
+        assert_null(sr_image_lookup_make(&g, im, count, z_lo, z_hi, glide, SR_IMAGE_LOOKUP_BUDGET));
+        free(im);
+    }
+    sr_image_lookup_free(NULL);
+    sr_voxels_release(&g);
+    sr_mesh_release(&part);
+}
+
 /* The vote spread over two threads gives what one gives, to the bit (every voxel's
  * label, and the list of the labelled ones); the reconstructions from either give the
  * same meshes, to the bit: every patch and the restored part, vertex for vertex and
@@ -955,6 +1017,7 @@ int main(void)
         cmocka_unit_test(glide_rack_chipped_at_its_end_builds_no_phantom_tooth),
         cmocka_unit_test(glide_rack_end_chip_keeps_its_material_behind_the_face),
         cmocka_unit_test(a_noisy_fracture_is_told_from_a_face_of_the_frame),
+        cmocka_unit_test(the_lookup_answers_as_the_images_do),
         cmocka_unit_test(one_thread_and_two_give_the_same_result),
         cmocka_unit_test(a_micrometre_crossing_is_moved_apart_not_filled),
         cmocka_unit_test(a_deep_crossing_is_filled_only_within_the_volume_share),

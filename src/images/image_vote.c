@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "base/grow.h"
+#include "images/image_lookup.h"
 
 #define AXIAL_TURNS 24          /* continuous axial: turns by 15 degrees */
 #define AXIAL_SHARE 0.6         /* ... of which this share must carry material */
@@ -97,15 +98,26 @@ int sr_image_material(const sr_voxels *scan, const sr_image *im, const double c[
     return v >= 0 ? (scan->v[v] & 1) : 0;
 }
 
+/* sr_image_material of image q at voxel (i, j, k), centre c: by the lookup when the
+ * vote has one. */
+static inline int material_at(const sr_voxels *scan, const sr_image *im, const sr_image_lookup *lut,
+                              size_t q, size_t i, size_t j, size_t k, const double c[3],
+                              double z_lo, double z_hi, int glide)
+{
+    return lut ? sr_image_lookup_material(lut, scan, q, i, j, k)
+               : sr_image_material(scan, &im[q], c, z_lo, z_hi, glide);
+}
+
 /* The vote at one voxel the scan lacks: 2 when the images say material (strong), 1
  * for a glide voxel that one image says material and the other does not confirm, or
  * an n-fold one that a majority of the turns but not all say material (weak), 0
  * otherwise. */
-static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_symmetry *sym,
-                const double c[3], double z_lo, double z_hi)
+static int vote(const sr_voxels *scan, const sr_image *im, const sr_image_lookup *lut, size_t n,
+                const sr_symmetry *sym, size_t i, size_t j, size_t k, const double c[3],
+                double z_lo, double z_hi)
 {
     if (sym->kind == SR_SYM_MIRROR)
-        return sr_image_material(scan, &im[0], c, z_lo, z_hi, 0) == 1 ? 2 : 0;
+        return material_at(scan, im, lut, 0, i, j, k, c, z_lo, z_hi, 0) == 1 ? 2 : 0;
     if (sym->kind == SR_SYM_GLIDE) {
         /* both images, inside the part's length, are strong evidence. Within a
          * feature of the ends a rail's or rack's pattern ends on one side first, so
@@ -120,8 +132,8 @@ static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_sy
          * tooth). */
         if (c[2] < z_lo || c[2] > z_hi)
             return 0; /* beyond the ends the images say nothing */
-        int a = sr_image_material(scan, &im[0], c, z_lo, z_hi, 1);
-        int b = sr_image_material(scan, &im[1], c, z_lo, z_hi, 1);
+        int a = material_at(scan, im, lut, 0, i, j, k, c, z_lo, z_hi, 1);
+        int b = material_at(scan, im, lut, 1, i, j, k, c, z_lo, z_hi, 1);
         int inward = 2.0 * c[2] < z_lo + z_hi ? b : a; /* the image from the middle's side */
         return a == 1 && b == 1 ? 2 : inward == 1 ? 1 : 0;
     }
@@ -133,8 +145,8 @@ static int vote(const sr_voxels *scan, const sr_image *im, size_t n, const sr_sy
      * chip beside a broken merlon stood 1.7 mm deep, the images voting 2 of 3) */
     size_t weak_fails = sym->order >= 2 ? (n - 1) / 2 : allowed;
     size_t fails = 0;
-    for (size_t k = 0; k < n; k++)
-        if (sr_image_material(scan, &im[k], c, z_lo, z_hi, 0) != 1 && ++fails > weak_fails)
+    for (size_t q = 0; q < n; q++)
+        if (material_at(scan, im, lut, q, i, j, k, c, z_lo, z_hi, 0) != 1 && ++fails > weak_fails)
             return 0;
     return fails <= allowed ? 2 : 1;
 }
@@ -169,8 +181,9 @@ static int cmp_dbl(const void *pa, const void *pb)
 
 /* Where the scan's voxels that image g lacks lie (out->misfit_where): the central 80 %
  * of their distance from the axis (axial) or the plane (planar), and of their z. */
-static void misfit_where(const sr_voxels *scan, const sr_image *g, const sr_symmetry *sym,
-                         double z_lo, double z_hi, sr_vote_result *out)
+static void misfit_where(const sr_voxels *scan, const sr_image *im, const sr_image_lookup *lut,
+                         size_t g, const sr_symmetry *sym, double z_lo, double z_hi,
+                         sr_vote_result *out)
 {
     size_t nx = scan->nx, ny = scan->ny, total = nx * ny * scan->nz, cap = 4096, n = 0;
     double *d = malloc(cap * sizeof *d), *z = malloc(cap * sizeof *z);
@@ -183,10 +196,10 @@ static void misfit_where(const sr_voxels *scan, const sr_image *g, const sr_symm
     for (size_t v = 0; v < total; v += 7) {
         if (!(scan->v[v] & 1))
             continue;
-        double c[3] = {scan->origin[0] + (double)(v % nx) * scan->h,
-                       scan->origin[1] + (double)((v / nx) % ny) * scan->h,
-                       scan->origin[2] + (double)(v / (nx * ny)) * scan->h};
-        if (sr_image_material(scan, g, c, z_lo, z_hi, sym->kind == SR_SYM_GLIDE) != 0)
+        size_t i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+        double c[3] = {scan->origin[0] + (double)i * scan->h, scan->origin[1] + (double)j * scan->h,
+                       scan->origin[2] + (double)k * scan->h};
+        if (material_at(scan, im, lut, g, i, j, k, c, z_lo, z_hi, sym->kind == SR_SYM_GLIDE) != 0)
             continue;
         if (n == cap) {
             double *d2 = realloc(d, 2 * cap * sizeof *d), *z2 = d2 ? realloc(z, 2 * cap * sizeof *z) : NULL;
@@ -454,6 +467,8 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
      * over the threads give the same votes for any number of them */
     int nt = threads > 0 ? threads : omp_get_max_threads();
     double inv_h = 1.0 / scan->h;
+    sr_image_lookup *lut = sr_image_lookup_make(scan, im, n, z_lo, z_hi, sym->kind == SR_SYM_GLIDE,
+                                                SR_IMAGE_LOOKUP_BUDGET);
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 4)
     for (size_t k = 0; k < nz; k++)
         for (size_t j = 0; j < ny; j++)
@@ -466,7 +481,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
                                scan->origin[2] + (double)k * scan->h};
                 if (ring && ring_empty(ring, nb, k, sqrt(c[0] * c[0] + c[1] * c[1]) * inv_h))
                     continue; /* every turn lands in the same empty ring: air */
-                int e = vote(scan, im, n, sym, c, z_lo, z_hi);
+                int e = vote(scan, im, lut, n, sym, i, j, k, c, z_lo, z_hi);
                 m[v] = e == 2 ? 1 : e == 1 ? 4 : 0;
             }
     free(ring);
@@ -488,12 +503,13 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
             for (size_t v = 0; v < total; v += 7) { /* a sample is plenty */
                 if (!my || !(scan->v[v] & 1))
                     continue;
-                double c[3] = {scan->origin[0] + (double)(v % nx) * scan->h,
-                               scan->origin[1] + (double)((v / nx) % ny) * scan->h,
-                               scan->origin[2] + (double)(v / (nx * ny)) * scan->h};
+                size_t i = v % nx, j = (v / nx) % ny, k = v / (nx * ny);
+                double c[3] = {scan->origin[0] + (double)i * scan->h,
+                               scan->origin[1] + (double)j * scan->h,
+                               scan->origin[2] + (double)k * scan->h};
                 for (size_t q = 0; q < n; q++) {
-                    int mat = sr_image_material(scan, &im[q], c, z_lo, z_hi,
-                                                sym->kind == SR_SYM_GLIDE);
+                    int mat = material_at(scan, im, lut, q, i, j, k, c, z_lo, z_hi,
+                                          sym->kind == SR_SYM_GLIDE);
                     if (mat < 0)
                         continue;
                     my[q]++;
@@ -522,7 +538,7 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
                     rank[b - 1] = t;
                 }
             out->misfit = share[rank[n / 2]];
-            misfit_where(scan, &im[rank[n / 2]], sym, z_lo, z_hi, out);
+            misfit_where(scan, im, lut, rank[n / 2], sym, z_lo, z_hi, out);
             free(rank);
         }
     }
@@ -535,9 +551,11 @@ sr_status sr_vote_missing(const sr_voxels *scan, const sr_symmetry *sym, double 
         free(im);
         free(m);
         free(label);
+        sr_image_lookup_free(lut);
         return sr_err_set(err, SR_E_NOMEM, "out of memory for the missing voxels");
     }
     free(im);
+    sr_image_lookup_free(lut);
     /* n-fold: the majority's weak evidence only where the turns fit the scan (its
      * misfit explained by what the strong vote finds missing, as reconstruct.c's
      * poor-fit test reads it): a wrong order's turns agree by majority across the
