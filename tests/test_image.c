@@ -762,6 +762,58 @@ static void a_noisy_fracture_is_told_from_a_face_of_the_frame(void **state)
     }
 }
 
+/* The share of fracture facing a few voxels by a box's large face, looked at in parts
+ * (dense): the same to the bit when the voxels' box is given, so the parts of the
+ * triangles far from it are skipped; and nothing faces them when the box given lies
+ * elsewhere (the parts near them skipped too: the box is what is used). */
+static void a_box_round_the_voxels_changes_no_share(void **state)
+{
+    (void)state;
+    sr_mesh m;
+    box(&m, 1, 0, 0, 9, 10, 10); /* 12 triangles; its +x face has no mirror image */
+    double c = cos(30 * M_PI / 180), sn = sin(30 * M_PI / 180);
+    double turn[12] = {c, 0, sn, 0, 0, 1, 0, 0, -sn, 0, c, 0}; /* off the frame */
+    sr_mesh_transform(&m, turn);
+    /* the voxels 0.2-0.6 mm off the turned +x face by its corner (9, 1, 1) */
+    double corner[3] = {9 * c + sn, 1, -9 * sn + c}, nrm[3] = {c, 0, -sn};
+    const size_t dims[3] = {80, 70, 90};
+    const double origin[3] = {-1.1, -1.1, -6.1};
+    sr_voxels g;
+    assert_int_equal(sr_voxels_alloc(&g, dims, 0.2, origin), SR_OK);
+    int *label = calloc(dims[0] * dims[1] * dims[2], sizeof *label);
+    assert_non_null(label);
+    size_t vbox[6] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, 0, 0, 0}, n = 0;
+    for (size_t k = 0; k < dims[2]; k++)
+        for (size_t j = 0; j < dims[1]; j++)
+            for (size_t i = 0; i < dims[0]; i++) {
+                double p[3] = {origin[0] + 0.2 * (double)i, origin[1] + 0.2 * (double)j,
+                               origin[2] + 0.2 * (double)k};
+                double d[3] = {p[0] - corner[0], p[1] - corner[1], p[2] - corner[2]};
+                double off = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
+                double along2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - off * off;
+                if (off < 0.2 || off > 0.6 || along2 > 0.8 * 0.8)
+                    continue;
+                label[sr_voxel_index(&g, i, j, k)] = 1;
+                size_t ijk[3] = {i, j, k};
+                for (int a = 0; a < 3; a++) {
+                    vbox[a] = ijk[a] < vbox[a] ? ijk[a] : vbox[a];
+                    vbox[3 + a] = ijk[a] > vbox[3 + a] ? ijk[a] : vbox[3 + a];
+                }
+                n++;
+            }
+    assert_true(n > 0);
+    sr_symmetry sym = {SR_SYM_MIRROR, 0, 0};
+    double whole = sr_img_fracture_share(&m, &g, label, 1, &sym, 0.01, true, true, NULL);
+    double boxed = sr_img_fracture_share(&m, &g, label, 1, &sym, 0.01, true, true, vbox);
+    assert_true(whole > 0.99); /* the face's parts by the voxels, all fracture */
+    assert_memory_equal(&whole, &boxed, sizeof whole);
+    size_t away[6] = {5, 5, 5, 8, 8, 8}; /* by the far corner of the grid */
+    assert_true(sr_img_fracture_share(&m, &g, label, 1, &sym, 0.01, true, true, away) == 0);
+    free(label);
+    sr_voxels_release(&g);
+    sr_mesh_release(&m);
+}
+
 /* ---- the images' voxel tables (image_lookup.h) ----------------------------------------- */
 
 /* Every voxel's material under every image, from the tables, is sr_image_material's:
@@ -1017,6 +1069,7 @@ int main(void)
         cmocka_unit_test(glide_rack_chipped_at_its_end_builds_no_phantom_tooth),
         cmocka_unit_test(glide_rack_end_chip_keeps_its_material_behind_the_face),
         cmocka_unit_test(a_noisy_fracture_is_told_from_a_face_of_the_frame),
+        cmocka_unit_test(a_box_round_the_voxels_changes_no_share),
         cmocka_unit_test(the_lookup_answers_as_the_images_do),
         cmocka_unit_test(one_thread_and_two_give_the_same_result),
         cmocka_unit_test(a_micrometre_crossing_is_moved_apart_not_filled),

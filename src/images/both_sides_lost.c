@@ -151,11 +151,15 @@ static sr_status build_region(const sr_mesh *m, const sr_voxels *g, sr_vote_resu
 {
     *sec = 0;
     int probe = (int)vr->sections + 1;
+    size_t vbox[6] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, 0, 0, 0};
     for (size_t r = 0; r < n; r++) {
         vr->label[region[r]] = probe;
         vr->label[mirror_of(g, region[r])] = probe;
+        box_add(vbox, region[r], g);
+        box_add(vbox, mirror_of(g, region[r]), g);
     }
-    double share = sr_img_fracture_share(m, g, vr->label, probe, sym, noise_mm, true, true);
+    double share =
+        sr_img_fracture_share(m, g, vr->label, probe, sym, noise_mm, true, true, n ? vbox : NULL);
     for (size_t r = 0; r < n; r++) {
         vr->label[region[r]] = 0;
         vr->label[mirror_of(g, region[r])] = 0;

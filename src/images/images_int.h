@@ -75,10 +75,13 @@ int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *lab
  * fracture: without a twin under the symmetry's images, and not along the frame (with
  * continued, only faces of the frame that go on as faces of the part away from every
  * loss count as the design's). dense: triangles longer than a pitch looked at in
- * parts (a thin region beside a coarse mesh's large faces). 0 when no facet faces
- * them; -1 when out of memory. */
+ * parts (a thin region beside a coarse mesh's large faces). vbox (i0 j0 k0 i1 j1 k1,
+ * or NULL): the voxel indices the labelled voxels lie within, so the parts of a
+ * triangle farther away are not looked at (the same answer, the triangles near them
+ * alone cut up). 0 when no facet faces them; -1 when out of memory. */
 double sr_img_fracture_share(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
-                             const sr_symmetry *sym, double noise_mm, bool continued, bool dense);
+                             const sr_symmetry *sym, double noise_mm, bool continued, bool dense,
+                             const size_t *vbox);
 
 /* Glide: the regions of weak evidence inside the sections that also hold strong
  * evidence (vr->weak; 26-connected, at least min_voxels), each parted between the

@@ -241,9 +241,28 @@ static void part_centroid(const double *a, const double *b, const double *c, siz
 
 #define DENSE_MAX_PARTS 64 /* a triangle looked at in at most 64 x 64 parts */
 
+/* Whether triangle (a, b, c) lies within reach of the voxels whose indices lie in vbox
+ * (NULL: the whole grid): a part's centroid p is in the triangle's box, the point
+ * looked at is p + n h, and the voxel nearest it is within half a pitch: so no part of
+ * a triangle whose box is more than 1.5 pitches from vbox's centres (2 taken) faces
+ * one of them. */
+static bool near_box(const sr_voxels *g, const size_t *vbox, const double *a, const double *b,
+                     const double *c)
+{
+    if (!vbox)
+        return true;
+    for (int d = 0; d < 3; d++) {
+        double lo = g->origin[d] + (double)vbox[d] * g->h - 2.0 * g->h,
+               hi = g->origin[d] + (double)vbox[3 + d] * g->h + 2.0 * g->h;
+        if (fmax(a[d], fmax(b[d], c[d])) < lo || fmin(a[d], fmin(b[d], c[d])) > hi)
+            return false;
+    }
+    return true;
+}
+
 static bool judge_facets(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
                          const sr_symmetry *sym, double noise_mm, bool continued, bool dense,
-                         facet **out, size_t *count)
+                         const size_t *vbox, facet **out, size_t *count)
 {
     sr_image *im = NULL;
     size_t n_im = 0;
@@ -276,7 +295,7 @@ static bool judge_facets(const sr_mesh *m, const sr_voxels *g, const int *label,
             for (int ax = 0; continued && away && ax < 3; ax++)
                 if (fabs(un[ax]) > cos(FRAME_DEG * M_PI / 180.0))
                     ff[nff++] = (frame_face){2 * ax + (un[ax] < 0), cen[ax], 0.5 * len};
-            if (!dense)
+            if (!dense || !near_box(g, vbox, a, b, c))
                 continue;
         }
         /* dense: a triangle longer than a pitch is looked at in parts, each facing its
@@ -385,11 +404,12 @@ static bool judge_facets(const sr_mesh *m, const sr_voxels *g, const int *label,
 }
 
 double sr_img_fracture_share(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
-                             const sr_symmetry *sym, double noise_mm, bool continued, bool dense)
+                             const sr_symmetry *sym, double noise_mm, bool continued, bool dense,
+                             const size_t *vbox)
 {
     facet *f = NULL;
     size_t nf = 0;
-    if (!judge_facets(m, g, label, s, sym, noise_mm, continued, dense, &f, &nf))
+    if (!judge_facets(m, g, label, s, sym, noise_mm, continued, dense, vbox, &f, &nf))
         return -1;
     double total = 0, fracture = 0;
     for (size_t i = 0; i < nf; i++) {
@@ -403,7 +423,7 @@ double sr_img_fracture_share(const sr_mesh *m, const sr_voxels *g, const int *la
 int sr_img_fracture_bounded(const sr_mesh *m, const sr_voxels *g, const int *label, int s,
                             const sr_symmetry *sym, double noise_mm)
 {
-    double share = sr_img_fracture_share(m, g, label, s, sym, noise_mm, false, false);
+    double share = sr_img_fracture_share(m, g, label, s, sym, noise_mm, false, false, NULL);
     return share < 0 /* built: a loss left out is the worse mistake */ || share >= FRACTURE_SHARE;
 }
 
@@ -442,7 +462,7 @@ static size_t claim(const sr_mesh *m, const sr_voxels *g, int *label, int probe,
 {
     facet *f = NULL;
     size_t nf = 0;
-    if (!judge_facets(m, g, label, probe, sym, noise_mm, true, false, &f, &nf))
+    if (!judge_facets(m, g, label, probe, sym, noise_mm, true, false, NULL, &f, &nf))
         return SIZE_MAX;
     size_t head = 0, tail = 0, design = 0;
     /* the fracture's seeds first: the voxels its facets face */
