@@ -296,11 +296,13 @@ valgrind: deps
 # flat across a chip, a noisy rack's pattern end whose facets noise tilted off the frame
 # built as a phantom tooth), and open scans of a gear whose base's scraps, peeled, left
 # its rim off the plane, fanned across the bore, and of a fork whose base rim ran out
-# and back along its walls' needles, fanned across the gap between its prongs, and of a
-# bracket whose peeled base rim left the base fanned across its bores to mend one edge.
+# and back along its walls' needles, fanned across the gap between its prongs, of a
+# bracket whose peeled base rim left the base fanned across its bores to mend one edge,
+# and of a plate whose mended scan kept a fin where a fill took the diagonal across the
+# sharp edge between a bore's wall and its base.
 PARTGEN_SAMPLES := 777:3,4,5,6:16 1202:2:24 271828:9:24 55441:13:24 \
   987654:0,13:24 2718:7,20:24 8128:7:24 41207:7:8 16180:5:16:open 46368:10:16:open \
-  1346269:6:8:open
+  1346269:6:8:open 75025:6:7:open
 partgen-check: deps
 	$(Q)$(MAKE) --no-print-directory -j$(NPROC) config=release all
 	$(Q)sh tests/partgen/check_generated.sh build/release/symrec $(PARTGEN_SAMPLES)

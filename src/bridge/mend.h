@@ -30,6 +30,8 @@ typedef struct sr_mend_report {
     int rounds;            /* attempts made (0: nothing crossed) */
     int reached_border;    /* an attempt failed because the triangles taken out reach the
                             * border (a larger neighbourhood may succeed) */
+    size_t folds_flipped;  /* edges between two filled triangles lying back to back,
+                            * flipped (mesh/tri_folds.h) */
 } sr_mend_report;
 
 /* Mends the crossings among mesh's triangles whose bounding boxes meet box (min xyz,
@@ -39,7 +41,9 @@ typedef struct sr_mend_report {
  * up to three times. Each r is tried twice (the later passes' fills checked against
  * the faces around them, then not); of those that leave no crossing, the one that
  * fills fewer triangles' holes from their rims alone wins, and no larger r is tried.
- * mesh must be an
+ * Two filled triangles left back to back across an edge (a fill across a sharp edge
+ * that took the other diagonal: a fin of no volume) get that edge flipped
+ * (mesh/tri_folds.h), kept when nothing near box crosses after. mesh must be an
  * oriented manifold (it may be open: a scan's neighbourhood); its border is never
  * touched. The vertex array is kept
  * as it is (indices stay valid; vertices of removed triangles may be left unused); the

@@ -16,7 +16,10 @@
  * later passes' fills checked against the faces around them (a fill that crosses them
  * takes them too, rather than the same crossing coming back pass after pass), and
  * without; the one with fewer holes filled from their rims wins. The mesh's own border
- * (a neighbourhood's rim) is recorded first and must stay as it is.
+ * (a neighbourhood's rim) is recorded first and must stay as it is. Last, two filled
+ * triangles lying back to back (a fill across a bore's wall and a base took the other
+ * diagonal of the quad that had their sharp edge: a fin 1.4 mm high on a plate) have
+ * their edge flipped back (mesh/tri_folds.h), kept when nothing crosses after.
  *
  * The fill from a region's own points (CDT_2) is in mend_fill_cgal.cpp, mend.h's other
  * two repairs (sr_mesh_unfold, sr_mesh_collapse_short_edges) in mend_unfold_cgal.cpp;
@@ -31,8 +34,11 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <cstring>
 #include <exception>
 #include <iterator>
@@ -274,6 +280,38 @@ Pairs crossings_near(const Mesh &sm, const double *box)
     return pairs;
 }
 
+/* The fills' folds (tri_folds.h) in tri (nt triangles on mesh's vertices, the mended
+ * mesh), flipped flat where that leaves nothing crossing near box: the triangles of tri
+ * that are no triangle of mesh (the fills) may flip. Returns how many were flipped. */
+size_t flip_fill_folds(const sr_mesh *mesh, uint32_t *tri, size_t nt, const double *box)
+{
+    typedef std::array<uint32_t, 3> Tri;
+    auto sorted = [](const uint32_t *v) {
+        Tri t = {v[0], v[1], v[2]};
+        std::sort(t.begin(), t.end());
+        return t;
+    };
+    std::vector<Tri> old(mesh->tri_count);
+    for (size_t t = 0; t < mesh->tri_count; t++)
+        old[t] = sorted(mesh->tri + 3 * t);
+    std::sort(old.begin(), old.end());
+    std::unique_ptr<bool[]> pick(new bool[nt + 1]);
+    for (size_t t = 0; t < nt; t++)
+        pick[t] = !std::binary_search(old.begin(), old.end(), sorted(tri + 3 * t));
+    std::vector<uint32_t> before(tri, tri + 3 * nt);
+    sr_mesh m = *mesh;
+    m.tri = tri;
+    m.tri_count = nt;
+    size_t flipped = sr_tri_folds_flip(&m, pick.get());
+    if (flipped == 0 || flipped == SIZE_MAX)
+        return 0;
+    Mesh sm;
+    if (build(&m, sm) && crossings_near(sm, box).empty())
+        return flipped;
+    std::copy(before.begin(), before.end(), tri); /* a flip crossed something: undone */
+    return 0;
+}
+
 /* One attempt with `rings` on sm (mesh as built, its crossings `pairs`): up to
  * max_passes of cut / fill / look again (checked: the fills of the passes after the
  * first must not cross the faces around them, see cut_and_fill). True with sm mended
@@ -355,6 +393,7 @@ sr_status mend(sr_mesh *mesh, const double *box, sr_mend_report *rep, sr_err *er
     for (Face_index f : sm.faces())
         for (Vertex_index v : sm.vertices_around_face(sm.halfedge(f)))
             tri[w++] = static_cast<uint32_t>(v.idx());
+    rep->folds_flipped = flip_fill_folds(mesh, tri, nt, box);
     free(mesh->tri);
     mesh->tri = tri;
     mesh->tri_count = nt;

@@ -36,6 +36,7 @@
 extern "C" {
 #include "bridge/mend.h"
 #include "mesh/mesh.h"
+#include "mesh/tri_folds.h"
 #include "base/status.h"
 }
 
