@@ -18,12 +18,12 @@
  *    Queries visit cubic shells of cells around p and stop once the best distance
  *    found is below the shell's inner distance (or past max_dist). A per-triangle stamp
  *    skips triangles already tested through another cell; each querying thread keeps
- *    its own stamps, so a parallel loop's queries answer as they would one by one. A chessboard distance
- *    transform of the occupied bricks (two raster passes over the 26-neighbourhood,
- *    exact for that metric) lets a query far from the surface skip its empty shells,
- *    or give up at once when even the nearest occupied brick is beyond max_dist; a cell
- *    whose box is farther than the best triangle so far, and a triangle whose plane is,
- *    are skipped. The cell size is 1.5 x the mean triangle size, but at least 1/250 of
+ *    its own stamps, so a parallel loop's queries answer as they would one by one. A
+ *    chessboard distance transform of the occupied bricks (two raster passes over the
+ *    26-neighbourhood, exact for that metric) lets a query far from the surface skip
+ *    its empty shells, or give up at once when even the nearest occupied brick is
+ *    beyond max_dist; a cell whose box is farther than the best triangle so far, and a
+ *    triangle whose plane is, are skipped. The cell size is 1.5 x the mean triangle size, but at least 1/250 of
  *    the bounding-box diagonal (on a million-triangle scan finer cells make wide
  *    queries walk too many of them) and such that the grid has at most about 16M cells.
  */
