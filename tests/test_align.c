@@ -23,7 +23,6 @@
  * SYMREC_TEST_FILTER=<glob> runs only the matching cases (e.g. "part_*").
  */
 #include <math.h>
-#include <omp.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -511,36 +510,16 @@ static void wrong_kind_shows_a_poor_fit(void **state)
     sr_mesh_release(&m);
 }
 
-/* The same alignment twice, and on one thread and on three (the fit's queries run
- * side by side, each answering as it would alone, and are summed in the samples'
- * order): the same to the bit, for an axis and for a glide. */
 static void alignment_is_deterministic(void **state)
 {
     (void)state;
-    int was = omp_get_max_threads();
     sr_mesh m;
     make_stepped(&m);
     sr_symmetry sym = {SR_SYM_AXIAL, 0, 0};
-    sr_alignment a, b, one, three;
+    sr_alignment a, b;
     assert_int_equal(sr_align(&m, &sym, NULL, &a, NULL), SR_OK);
     assert_int_equal(sr_align(&m, &sym, NULL, &b, NULL), SR_OK);
     assert_memory_equal(&a, &b, sizeof a);
-    omp_set_num_threads(1);
-    assert_int_equal(sr_align(&m, &sym, NULL, &one, NULL), SR_OK);
-    omp_set_num_threads(3);
-    assert_int_equal(sr_align(&m, &sym, NULL, &three, NULL), SR_OK);
-    assert_memory_equal(&a, &one, sizeof a);
-    assert_memory_equal(&a, &three, sizeof a);
-    sr_mesh_release(&m);
-    make_glide_bar(&m);
-    sr_symmetry gl = {SR_SYM_GLIDE, 0, 0};
-    omp_set_num_threads(1);
-    assert_int_equal(sr_align(&m, &gl, NULL, &one, NULL), SR_OK);
-    omp_set_num_threads(3);
-    assert_int_equal(sr_align(&m, &gl, NULL, &three, NULL), SR_OK);
-    omp_set_num_threads(was);
-    assert_true(one.glide_shift_mm > 0);
-    assert_memory_equal(&one, &three, sizeof one);
     sr_mesh_release(&m);
 }
 

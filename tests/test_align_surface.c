@@ -4,11 +4,9 @@
  * must be the one a brute-force scan of every triangle finds, on meshes that stress
  * the filing (a tilted cylinder whose end caps are fans of long thin triangles, a
  * mesh with a zero-area triangle), for queries on, near and far from the surface and
- * beyond max_dist; queries on several threads answer as one thread's; the recomputed
- * normals and areas are the exact ones.
+ * beyond max_dist; the recomputed normals and areas are the exact ones.
  */
 #include <math.h>
-#include <omp.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -136,60 +134,6 @@ static void closest_points_match_brute_force_on_a_tilted_fan_capped_cylinder(voi
 }
 
 /* A zero-area triangle is left out: the surface keeps its own triangle list. */
-/* Queries on several threads at once, each with its own stamps, answer what one
- * thread answers, to the bit; inside a parallel region the surface offers one. */
-static void queries_on_threads_answer_as_one_thread(void **state)
-{
-    (void)state;
-    int was = omp_get_max_threads();
-    sr_mesh m;
-    assert_int_equal(sr_shape_cylinder(20, 0, 30, 200, &m, NULL), SR_OK);
-    al_surface s;
-    assert_int_equal(al_surface_build(&s, &m, NULL), SR_OK);
-    enum { N = 3000 };
-    double *p = malloc(N * 3 * sizeof *p), *want = malloc(N * 7 * sizeof *want),
-           *got = malloc(N * 7 * sizeof *got);
-    int ok_want[N], ok_got[N];
-    assert_non_null(p);
-    assert_non_null(want);
-    assert_non_null(got);
-    for (int i = 0; i < 3 * N; i++)
-        p[i] = -30 + 70 * urand();
-    for (int i = 0; i < N; i++)
-        ok_want[i] = al_surface_closest(&s, p + 3 * i, 12.0, want + 7 * i, want + 7 * i + 3,
-                                        want + 7 * i + 6);
-    omp_set_num_threads(4);
-    int nt = al_surface_threads(&s);
-    assert_int_equal(nt, 4);
-    memset(got, 0, N * 7 * sizeof *got);
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 7)
-    for (int i = 0; i < N; i++)
-        ok_got[i] = al_surface_closest_by(&s, omp_get_thread_num(), p + 3 * i, 12.0, got + 7 * i,
-                                          got + 7 * i + 3, got + 7 * i + 6);
-    int found = 0;
-    for (int i = 0; i < N; i++) {
-        assert_int_equal(ok_got[i], ok_want[i]);
-        if (ok_want[i]) {
-            found++;
-            assert_memory_equal(got + 7 * i, want + 7 * i, 7 * sizeof *got);
-        }
-    }
-    assert_true(found > N / 4 && found < N);
-    int inner = 0;
-#pragma omp parallel num_threads(2)
-    {
-#pragma omp single
-        inner = al_surface_threads(&s);
-    }
-    assert_int_equal(inner, 1);
-    omp_set_num_threads(was);
-    free(p);
-    free(want);
-    free(got);
-    al_surface_release(&s);
-    sr_mesh_release(&m);
-}
-
 static void zero_area_triangle_is_left_out(void **state)
 {
     sr_mesh m, extra;
@@ -241,7 +185,6 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(closest_points_match_brute_force_on_a_tilted_fan_capped_cylinder),
-        cmocka_unit_test(queries_on_threads_answer_as_one_thread),
         cmocka_unit_test(zero_area_triangle_is_left_out),
         cmocka_unit_test(recomputed_normals_and_areas_are_exact),
     };

@@ -28,7 +28,6 @@
  */
 #include "align/align_internal.h"
 
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -190,21 +189,17 @@ void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double
         al_model_matrix(m, NULL, v, mats + 12 * v);
     size_t in = 0;
     double ss = 0;
-    int nt = al_surface_threads(s);
-    /* each sample's query by itself, on the threads; the sums in the samples' order */
-#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
     for (size_t i = 0; i < smp->count; i++) {
         double x[3], q[3], n[3], dist;
         apply(mats + 12 * (i % (size_t)V), smp->p + 3 * i, x);
-        if (!al_surface_closest_by(s, omp_get_thread_num(), x, tol, q, n, &dist))
+        if (!al_surface_closest(s, x, tol, q, n, &dist))
             dist = INFINITY;
         d[i] = dist;
-    }
-    for (size_t i = 0; i < smp->count; i++)
-        if (d[i] <= tol) {
+        if (dist <= tol) {
             in++;
-            ss += d[i] * d[i];
+            ss += dist * dist;
         }
+    }
     f.score = smp->count ? (double)in / (double)smp->count : 0;
     f.inlier_rms = in ? sqrt(ss / (double)in) : INFINITY;
     f.median = median_of(d, smp->count, d + smp->count);
@@ -262,7 +257,6 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
      * by an arbitrary angle misses itself by its sagitta, symmetrically) */
     double floor_cut = 1e-3 * (m->scale > 0 ? m->scale : 1);
     int at_level = 0;
-    int nt = al_surface_threads(s);
     for (it = 0; it < max_iter; it++) {
         for (int v = 0; v < V; v++) {
             double *mv = mats + (size_t)v * nm * 12;
@@ -275,15 +269,13 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
                 al_model_matrix(m, dp, v, mv + 12 * (2 + 2 * j));
             }
         }
-        /* each sample's query and row by itself, on the threads */
-#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
         for (size_t i = 0; i < n; i++) {
             const double *p = smp->p + 3 * i;
             const double *mv = mats + (i % (size_t)V) * nm * 12;
             double x[3], q[3], nq[3], dist;
             apply(mv, p, x);
             double *row = rows + i * (size_t)(np + 1);
-            if (!al_surface_closest_by(s, omp_get_thread_num(), x, cut, q, nq, &dist)) {
+            if (!al_surface_closest(s, x, cut, q, nq, &dist)) {
                 d[i] = INFINITY;
                 continue;
             }

@@ -86,16 +86,6 @@ void al_rot_axis(const double k[3], double ang, double r[9]);
 
 /* ---- align_surface.c ---- */
 
-/* The threads that may query one surface at once (al_surface_threads). */
-#define AL_QUERY_THREADS 8
-
-/* One thread's query stamps: per triangle, the last query that tested it (so a
- * triangle met through several cells is tested once a query). */
-typedef struct al_visits {
-    uint32_t *stamp; /* count */
-    uint32_t id;
-} al_visits;
-
 typedef struct al_surface {
     const sr_mesh *mesh;
     size_t count;          /* triangles with non-zero area */
@@ -120,8 +110,8 @@ typedef struct al_surface {
     uint32_t *cell_items;
     uint8_t *brick_rings;  /* per brick: Chebyshev distance (in bricks, <= 255) to the
                             * nearest brick holding a triangle */
-    al_visits visit[AL_QUERY_THREADS]; /* per querying thread; [0] made by the build,
-                                        * the others by al_surface_threads */
+    uint32_t *stamp;       /* count: last query that tested the triangle */
+    uint32_t stamp_id;
 } al_surface;
 
 /* The mesh triangle of surface triangle i. */
@@ -142,18 +132,6 @@ void al_surface_release(al_surface *s);
  * there is none. q: the closest point, n: its triangle's unit normal, *dist: |p - q|. */
 bool al_surface_closest(al_surface *s, const double p[3], double max_dist, double q[3],
                         double n[3], double *dist);
-
-/* The same query by thread t of a parallel loop (0 <= t < al_surface_threads(s)):
- * each thread keeps its own stamps, so the threads' queries of one surface may run at
- * once, and each answers as it would alone. */
-bool al_surface_closest_by(al_surface *s, int t, const double p[3], double max_dist, double q[3],
-                           double n[3], double *dist);
-
-/* How many threads may query s at once: OpenMP's thread count (at most
- * AL_QUERY_THREADS), their stamps made on the first call; 1 inside a parallel region
- * (the caller's threads already share the cores) or when memory is short. Call it
- * outside the parallel loop. */
-int al_surface_threads(al_surface *s);
 
 /* Area-uniform points on the surface (stratified, deterministic for a given seed). */
 typedef struct al_samples {

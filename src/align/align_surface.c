@@ -17,19 +17,17 @@
  *    a grid's cells, and a dense offset array for a million-triangle scan took 34 MB.
  *    Queries visit cubic shells of cells around p and stop once the best distance
  *    found is below the shell's inner distance (or past max_dist). A per-triangle stamp
- *    skips triangles already tested through another cell; each querying thread keeps
- *    its own stamps, so a parallel loop's queries answer as they would one by one. A
- *    chessboard distance transform of the occupied bricks (two raster passes over the
- *    26-neighbourhood, exact for that metric) lets a query far from the surface skip
- *    its empty shells, or give up at once when even the nearest occupied brick is
- *    beyond max_dist; a cell whose box is farther than the best triangle so far, and a
- *    triangle whose plane is, are skipped. The cell size is 1.5 x the mean triangle size, but at least 1/250 of
+ *    skips triangles already tested through another cell. A chessboard distance
+ *    transform of the occupied bricks (two raster passes over the 26-neighbourhood,
+ *    exact for that metric) lets a query far from the surface skip its empty shells,
+ *    or give up at once when even the nearest occupied brick is beyond max_dist; a cell
+ *    whose box is farther than the best triangle so far, and a triangle whose plane is,
+ *    are skipped. The cell size is 1.5 x the mean triangle size, but at least 1/250 of
  *    the bounding-box diagonal (on a million-triangle scan finer cells make wide
  *    queries walk too many of them) and such that the grid has at most about 16M cells.
  */
 #include "align/align_internal.h"
 
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,8 +48,7 @@ void al_surface_release(al_surface *s)
     free(s->brick_slot);
     free(s->cell_start);
     free(s->cell_items);
-    for (int t = 0; t < AL_QUERY_THREADS; t++)
-        free(s->visit[t].stamp);
+    free(s->stamp);
     free(s->brick_rings);
     memset(s, 0, sizeof *s);
 }
@@ -364,8 +361,8 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
     /* bricks the triangles' boxes reach get slots (a few more than needed: harmless) */
     s->brick_slot = malloc(nbrick * sizeof *s->brick_slot);
     s->brick_rings = malloc(nbrick);
-    s->visit[0].stamp = calloc(s->count, sizeof *s->visit[0].stamp);
-    if (!s->brick_slot || !s->brick_rings || !s->visit[0].stamp) {
+    s->stamp = calloc(s->count, sizeof *s->stamp);
+    if (!s->brick_slot || !s->brick_rings || !s->stamp) {
         al_surface_release(s);
         return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for the search grid");
     }
@@ -416,8 +413,8 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
     return SR_OK;
 }
 
-static void scan_cell(const al_surface *s, al_visits *vis, int x, int y, int z, const double p[3],
-                      double *best2, size_t *best)
+static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], double *best2,
+                      size_t *best)
 {
     size_t cidx = cell_index(s, x, y, z);
     if (cidx == SIZE_MAX || s->cell_start[cidx + 1] == s->cell_start[cidx])
@@ -434,9 +431,9 @@ static void scan_cell(const al_surface *s, al_visits *vis, int x, int y, int z, 
         return;
     for (uint32_t j = s->cell_start[cidx]; j < s->cell_start[cidx + 1]; j++) {
         uint32_t i = s->cell_items[j];
-        if (vis->stamp[i] == vis->id)
+        if (s->stamp[i] == s->stamp_id)
             continue;
-        vis->stamp[i] = vis->id;
+        s->stamp[i] = s->stamp_id;
         /* the distance to the triangle's plane bounds the distance to the triangle; the
          * float normal is off by < 1.1e-7 of |p - a|: take that off the bound, so no
          * triangle the exact normal would keep is skipped */
@@ -458,32 +455,12 @@ static void scan_cell(const al_surface *s, al_visits *vis, int x, int y, int z, 
     }
 }
 
-int al_surface_threads(al_surface *s)
-{
-    if (omp_in_parallel())
-        return 1;
-    int nt = omp_get_max_threads();
-    nt = nt < 1 ? 1 : nt > AL_QUERY_THREADS ? AL_QUERY_THREADS : nt;
-    for (int t = 1; t < nt; t++)
-        if (!s->visit[t].stamp && !(s->visit[t].stamp = calloc(s->count, sizeof(uint32_t))))
-            return t;
-    return nt;
-}
-
 bool al_surface_closest(al_surface *s, const double p[3], double max_dist, double q[3],
                         double n[3], double *dist)
 {
-    return al_surface_closest_by(s, 0, p, max_dist, q, n, dist);
-}
-
-bool al_surface_closest_by(al_surface *s, int t, const double p[3], double max_dist, double q[3],
-                           double n[3], double *dist)
-{
-    al_visits *vis = &s->visit[t];
-
-    if (++vis->id == 0) { /* wrapped: reset the stamps */
-        memset(vis->stamp, 0, s->count * sizeof *vis->stamp);
-        vis->id = 1;
+    if (++s->stamp_id == 0) { /* wrapped: reset the stamps */
+        memset(s->stamp, 0, s->count * sizeof *s->stamp);
+        s->stamp_id = 1;
     }
     /* distance from p to the grid box: nothing is closer */
     double out2 = 0;
@@ -527,14 +504,14 @@ bool al_surface_closest_by(al_surface *s, int t, const double p[3], double max_d
                 if (face) {
                     int xlo = c0[0] - k, xhi = c0[0] + k;
                     for (int x = xlo < 0 ? 0 : xlo; x <= xhi && x < s->dim[0]; x++)
-                        scan_cell(s, vis, x, y, z, p, &best2, &best);
+                        scan_cell(s, x, y, z, p, &best2, &best);
                 } else {
                     int x = c0[0] - k;
                     if (x >= 0)
-                        scan_cell(s, vis, x, y, z, p, &best2, &best);
+                        scan_cell(s, x, y, z, p, &best2, &best);
                     x = c0[0] + k;
                     if (k > 0 && x < s->dim[0])
-                        scan_cell(s, vis, x, y, z, p, &best2, &best);
+                        scan_cell(s, x, y, z, p, &best2, &best);
                 }
             }
         }
