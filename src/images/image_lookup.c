@@ -5,17 +5,6 @@
 
 #include <stdlib.h>
 
-/* The index along one axis that sr_voxels_locate gives coordinate p (o the first
- * centre, h the pitch, n voxels); -1 when it lies outside by more than half a pitch. */
-static long axis_index(double p, double o, double h, size_t n)
-{
-    double f = (p - o) / h;
-    if (!(f > -0.5 && f < (double)n - 0.5))
-        return -1;
-    size_t i = (size_t)(f + 0.5);
-    return (long)(i >= n ? n - 1 : i);
-}
-
 void sr_image_lookup_free(sr_image_lookup *l)
 {
     if (!l)
@@ -42,15 +31,15 @@ static void tables_fill(const sr_voxels *scan, const sr_image *im, double z_lo, 
                    c1 = scan->origin[1] + (double)j * scan->h;
             double p0 = reflect ? -c0 : m[0] * c0 + m[1] * c1;
             double p1 = reflect ? c1 : m[4] * c0 + m[5] * c1;
-            long a = axis_index(p0, scan->origin[0], scan->h, nx),
-                 b = axis_index(p1, scan->origin[1], scan->h, ny);
+            long a = sr_voxel_axis_index(p0, scan->origin[0], scan->h, nx),
+                 b = sr_voxel_axis_index(p1, scan->origin[1], scan->h, ny);
             one->col[j * nx + i] = a < 0 || b < 0 ? -1 : (int32_t)((size_t)b * nx + (size_t)a);
         }
     for (size_t k = 0; k < nz; k++) {
         double c2 = scan->origin[2] + (double)k * scan->h, p2 = reflect ? c2 + m[11] : c2;
         one->lay[k] = glide && (p2 < z_lo || p2 > z_hi)
                           ? -2
-                          : (int32_t)axis_index(p2, scan->origin[2], scan->h, nz);
+                          : (int32_t)sr_voxel_axis_index(p2, scan->origin[2], scan->h, nz);
     }
 }
 

@@ -37,23 +37,29 @@ static inline size_t sr_voxel_index(const sr_voxels *g, size_t i, size_t j, size
     return (k * g->ny + j) * g->nx + i;
 }
 
+/* Along one axis of a grid (first centre o, pitch h, n voxels): the index of the centre
+ * nearest to coordinate p, -1 when p lies outside by more than half a pitch.
+ * sr_voxels_locate is this on each axis; the vote's image tables (image_lookup.h) use
+ * it too, so they round as the locate does. */
+static inline long sr_voxel_axis_index(double p, double o, double h, size_t n)
+{
+    double f = (p - o) / h;
+    if (!(f > -0.5 && f < (double)n - 0.5))
+        return -1;
+    size_t i = (size_t)(f + 0.5);
+    return (long)(i >= n ? n - 1 : i);
+}
+
 /* The voxel nearest to point p; -1 when p lies outside the grid by more than half a
  * pitch. Inline: the vote calls it a hundred million times. */
 static inline long sr_voxels_locate(const sr_voxels *g, const double p[3])
 {
-    double fi = (p[0] - g->origin[0]) / g->h, fj = (p[1] - g->origin[1]) / g->h,
-           fk = (p[2] - g->origin[2]) / g->h;
-    if (!(fi > -0.5 && fj > -0.5 && fk > -0.5 && fi < (double)g->nx - 0.5 &&
-          fj < (double)g->ny - 0.5 && fk < (double)g->nz - 0.5))
+    long i = sr_voxel_axis_index(p[0], g->origin[0], g->h, g->nx),
+         j = sr_voxel_axis_index(p[1], g->origin[1], g->h, g->ny),
+         k = sr_voxel_axis_index(p[2], g->origin[2], g->h, g->nz);
+    if (i < 0 || j < 0 || k < 0)
         return -1;
-    size_t i = (size_t)(fi + 0.5), j = (size_t)(fj + 0.5), k = (size_t)(fk + 0.5);
-    if (i >= g->nx)
-        i = g->nx - 1;
-    if (j >= g->ny)
-        j = g->ny - 1;
-    if (k >= g->nz)
-        k = g->nz - 1;
-    return (long)sr_voxel_index(g, i, j, k);
+    return (long)sr_voxel_index(g, (size_t)i, (size_t)j, (size_t)k);
 }
 
 /* The voxels round v inside the grid (face, edge and corner neighbours: up to 26) into
