@@ -2,7 +2,7 @@
  * test_polygon.c: the Clipper bridge (src/bridge/polygon.h): booleans of squares with
  * areas known by hand, a square with a hole, offsets with the closed-form area of a
  * rounded square, point location, clipping a raster against a square with a hole,
- * components, empty inputs, and every refusal (NaN, coordinates out of range, bad
+ * components, cleaning an outline to a tolerance, empty inputs, and every refusal (NaN, coordinates out of range, bad
  * start arrays, bad operation, bad offset) with the caller's output left untouched.
  */
 #include <math.h>
@@ -439,6 +439,45 @@ static void bad_operation_and_offset_refused(void **state)
     sr_poly2_release(&a);
 }
 
+/* A 10 mm square whose bottom edge carries 99 collinear points and a notch 2 um deep,
+ * and whose top edge a bump 0.1 mm high: cleaned at 5 um, the collinear points and the
+ * notch go, the bump (20 times the tolerance) stays. */
+static void clean_drops_what_moves_the_outline_less_than_the_tolerance(void **state)
+{
+    double xy[2 * 120];
+    size_t n = 0;
+    for (int i = 0; i < 100; i++) { /* (0,0) .. (9.9,0), a notch at x = 5 */
+        xy[2 * n] = 0.1 * i;
+        xy[2 * n + 1] = i == 50 ? -0.002 : 0;
+        n++;
+    }
+    double rest[] = {10, 0, 10, 10, 6, 10, 5.5, 10.1, 5, 10, 0, 10};
+    for (size_t i = 0; i < sizeof rest / sizeof rest[0]; i += 2, n++) {
+        xy[2 * n] = rest[i];
+        xy[2 * n + 1] = rest[i + 1];
+    }
+    sr_poly2 a, out;
+    sr_poly2_init(&a);
+    sr_poly2_init(&out);
+    assert_int_equal(sr_poly2_add_contour(&a, xy, n, NULL), SR_OK);
+    assert_int_equal(sr_poly2_clean(&a, 0.005, &out, NULL), SR_OK);
+    assert_int_equal(out.contour_count, 1);
+    assert_int_equal(sr_poly2_point_count(&out), 7); /* 4 corners and the bump's 3 */
+    assert_near(sr_poly2_area(&out), 100.0 + 0.5 * 1.0 * 0.1, 1e-6);
+    /* every kept point is a point of the input */
+    for (size_t i = 0; i < sr_poly2_point_count(&out); i++)
+        assert_true(sr_poly2_boundary_distance(&a, out.xy[2 * i], out.xy[2 * i + 1]) < 1e-5);
+    /* at tolerance 0 only repeated points go: the notch stays */
+    assert_int_equal(sr_poly2_clean(&a, 0, &out, NULL), SR_OK);
+    assert_true(sr_poly2_point_count(&out) >= 9);
+    sr_err err = {{0}};
+    assert_int_equal(sr_poly2_clean(&a, -1, &out, &err), SR_E_RANGE);
+    assert_msg_has(err, "clean tolerance -1 mm");
+    assert_int_equal(sr_poly2_clean(&a, NAN, &out, &err), SR_E_RANGE);
+    sr_poly2_release(&a);
+    sr_poly2_release(&out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -463,6 +502,7 @@ int main(void)
         cmocka_unit_test(nan_in_hand_built_region_refused_by_boolean),
         cmocka_unit_test(malformed_start_array_refused),
         cmocka_unit_test(bad_operation_and_offset_refused),
+        cmocka_unit_test(clean_drops_what_moves_the_outline_less_than_the_tolerance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

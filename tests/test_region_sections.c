@@ -5,7 +5,8 @@
  * on one side: the whole run finds it; a box holding the notch finds the same section
  * to the bit and makes no restored outline; a box that cuts the notch drops it (its
  * size is not known); a `want` that refuses gets no section, and the box it is shown
- * holds the section's patch.
+ * holds the section's patch. A block whose face is meshed in fine strips gets the
+ * patch of the plain block.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -163,12 +164,62 @@ static void want_chooses_the_sections_that_get_a_patch(void **state)
     sr_layer_grid_release(&g);
 }
 
+/* The notched block with its y = 10 face cut into 0.2 mm strips (101 collinear points
+ * on every slice of it): the patch is built from the outline, not from how finely the
+ * scan happens to be meshed, so it has as many triangles as the plain block's and the
+ * same volume. */
+static void collinear_points_do_not_weigh_on_the_patch(void **state)
+{
+    (void)state;
+    double xy[2 * 104];
+    size_t n = 0;
+    double corners[] = {-10, -10, 10, -10};
+    for (int i = 0; i < 4; i++)
+        xy[n++] = corners[i];
+    for (int i = 0; i <= 100; i++) { /* (10, 10) to (-10, 10) */
+        xy[n++] = 10 - 0.2 * i;
+        xy[n++] = 10;
+    }
+    sr_mesh prism, notch, fine, plain;
+    sr_layer_grid gf, gp;
+    double nlo[3] = {3, 6, 3}, nhi[3] = {8, 11, 7};
+    assert_int_equal(sr_shape_prism(xy, n / 2, 0, 10, &prism, NULL), SR_OK);
+    assert_int_equal(sr_shape_box(nlo, nhi, &notch, NULL), SR_OK);
+    assert_int_equal(sr_boolean_difference(&prism, &notch, &fine, NULL), SR_OK);
+    sr_slice_opts so = {.layers = 100, .sectors = 120};
+    assert_int_equal(sr_slice_accurate(&fine, &so, &gf, NULL), SR_OK);
+    notched_block(&plain, &gp);
+    sr_region_opts o = mirror_opts();
+    sr_analysis af = {0}, ap = {0};
+    sr_section *f = NULL, *p = NULL;
+    size_t nf = 0, np = 0;
+    run(&fine, &gf, &o, &af, &f, &nf);
+    run(&plain, &gp, &o, &ap, &p, &np);
+    assert_int_equal(nf, 1);
+    assert_int_equal(np, 1);
+    print_message("patch: %zu triangles (fine mesh), %zu (plain)\n", f[0].patch.tri_count,
+                  p[0].patch.tri_count);
+    assert_int_equal(f[0].patch.tri_count, p[0].patch.tri_count);
+    assert_near(sr_mesh_volume(&f[0].patch), sr_mesh_volume(&p[0].patch), 1e-6);
+    sr_sections_release(f, nf);
+    sr_sections_release(p, np);
+    sr_analysis_release(&af);
+    sr_analysis_release(&ap);
+    sr_mesh_release(&prism);
+    sr_mesh_release(&notch);
+    sr_mesh_release(&fine);
+    sr_mesh_release(&plain);
+    sr_layer_grid_release(&gf);
+    sr_layer_grid_release(&gp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_box_holding_the_notch_finds_the_same_section),
         cmocka_unit_test(a_box_that_cuts_the_notch_drops_it),
         cmocka_unit_test(want_chooses_the_sections_that_get_a_patch),
+        cmocka_unit_test(collinear_points_do_not_weigh_on_the_patch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -98,6 +98,14 @@ sr_status sr_poly2_boolean(sr_poly_op op, const sr_poly2 *a, const sr_poly2 *b,
 sr_status sr_poly2_offset(const sr_poly2 *a, double delta_mm, int round_joins,
                           sr_poly2 *out, sr_err *err);
 
+/* out = a with the vertices that move it less than tol_mm taken out (Clipper's
+ * CleanPolygons: a vertex within tol_mm of the line through its neighbours, or of a
+ * neighbour, goes), then cleaned as sr_poly2_boolean's union cleans (non-zero rule,
+ * oriented, self-intersections resolved). Every point of the result's boundary lies
+ * within tol_mm of a's and the other way round, to the grid. tol_mm finite and in
+ * [0, SR_POLY2_MAX_MM] (SR_E_RANGE). */
+sr_status sr_poly2_clean(const sr_poly2 *a, double tol_mm, sr_poly2 *out, sr_err *err);
+
 /* Signed area, mm^2: the sum of the contours' shoelace areas (CCW positive), so holes
  * of an oriented region subtract. 0 for an empty region. */
 double sr_poly2_area(const sr_poly2 *a);

@@ -393,6 +393,29 @@ sr_status sr_poly2_offset(const sr_poly2 *a, double delta_mm, int round_joins,
     }
 }
 
+sr_status sr_poly2_clean(const sr_poly2 *a, double tol_mm, sr_poly2 *out, sr_err *err)
+{
+    if (!std::isfinite(tol_mm) || tol_mm < 0 || tol_mm > SR_POLY2_MAX_MM)
+        return sr_err_set(err, SR_E_RANGE, "clean tolerance %g mm is not within [0, %g] mm", tol_mm,
+                          SR_POLY2_MAX_MM);
+    try {
+        Paths pa, res_paths;
+        sr_status st = region_to_paths(a, "region", pa, err);
+        if (st != SR_OK)
+            return st;
+        ClipperLib::CleanPolygons(pa, tol_mm * SR_POLY2_SCALE);
+        run_boolean(ClipperLib::ctUnion, pa, Paths(), res_paths);
+        sr_poly2 res;
+        st = paths_to_region(res_paths, &res, err, "polygon clean");
+        if (st != SR_OK)
+            return st;
+        replace(out, &res);
+        return SR_OK;
+    } catch (...) {
+        return status_from_exception(err, "polygon clean");
+    }
+}
+
 double sr_poly2_area(const sr_poly2 *a)
 {
     if (!a || a->contour_count == 0)

@@ -91,6 +91,10 @@ typedef struct layer_data {
                                  * (layer_flats.h) */
 } layer_data;
 
+/* The finest detail a patch's layer outline keeps, mm: the closing below fills slits
+ * narrower than twice this, so the outline is only defined to it. */
+#define OUTLINE_MM 0.005
+
 static sr_status grown(const sr_poly2 *missing, const sr_poly2 *restored, double grow,
                        sr_poly2 *out, sr_err *err)
 {
@@ -98,14 +102,19 @@ static sr_status grown(const sr_poly2 *missing, const sr_poly2 *restored, double
     sr_status st = sr_poly2_offset(missing, grow, 0, &g, err);
     if (st == SR_OK)
         st = sr_poly2_boolean(SR_POLY_INTERSECTION, &g, restored, &g, err);
-    /* close by 5 µm, then pull in by 1e-4 mm more: slits and holes narrower than 10 µm
-     * (where grown pieces meet edge to edge) are filled rather than opened into
+    /* vertices that move the outline less than OUTLINE_MM go: runs of collinear points
+     * and notches of the sector vote that each layer's walls and caps were cut at (the
+     * lever's continuation patch 106 k -> 74 k triangles, its union 2.9 -> 1.3 s) */
+    if (st == SR_OK && g.contour_count > 0)
+        st = sr_poly2_clean(&g, OUTLINE_MM, &g, err);
+    /* close by OUTLINE_MM, then pull in by 1e-4 mm more: slits and holes narrower than
+     * 10 µm (where grown pieces meet edge to edge) are filled rather than opened into
      * 0.2 µm-thin voids inside the patch, and pieces touching at a single point (which
      * the 2D booleans may output) come apart, so no wall edge is shared by four faces */
     if (st == SR_OK && g.contour_count > 0)
-        st = sr_poly2_offset(&g, 0.005, 0, &g, err);
+        st = sr_poly2_offset(&g, OUTLINE_MM, 0, &g, err);
     if (st == SR_OK && g.contour_count > 0)
-        st = sr_poly2_offset(&g, -0.005 - 1e-4, 0, &g, err);
+        st = sr_poly2_offset(&g, -OUTLINE_MM - 1e-4, 0, &g, err);
     if (st != SR_OK) {
         sr_poly2_release(&g);
         return st;

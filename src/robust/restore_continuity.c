@@ -365,10 +365,13 @@ static sr_status carry(const tri_index *t, const sr_continuity_opts *o, double f
     /* slivers thinner than 2 x open_mm go, but what is kept keeps its exact outline
      * (the opened candidate grown by half the opening again, clipped to the raw one):
      * an opened outline rounds the candidate's convex corners, and what the rounding
-     * leaves out becomes a pinhole in this layer that every later layer would copy */
+     * leaves out becomes a pinhole in this layer that every later layer would copy.
+     * The shrink is mitred: round joins put an arc of 1 um chords at every concave
+     * vertex of a noisy candidate, and growing that back took a noisy plate's
+     * continuation 2.2 of its 4.7 s (mitred: 0.16 s, the same restored part) */
     if (st == SR_OK && cand.contour_count && o->open_mm > 0) {
         sr_poly2 op = {0};
-        st = sr_poly2_offset(&cand, -o->open_mm, 1, &op, err);
+        st = sr_poly2_offset(&cand, -o->open_mm, 0, &op, err);
         if (st == SR_OK && op.contour_count)
             st = sr_poly2_offset(&op, 1.5 * o->open_mm, 0, &op, err);
         if (st == SR_OK)
