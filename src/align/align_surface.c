@@ -413,6 +413,13 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
     return SR_OK;
 }
 
+/* The distance along axis a from v to the cells of index i on that axis (0 inside). */
+static inline double axis_gap(const al_surface *s, int a, int i, double v)
+{
+    double lo = s->origin[a] + i * s->cell, hi = lo + s->cell;
+    return v < lo ? lo - v : (v > hi ? v - hi : 0);
+}
+
 static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], double *best2,
                       size_t *best)
 {
@@ -497,9 +504,17 @@ bool al_surface_closest(al_surface *s, const double p[3], double max_dist, doubl
     for (int k = k0; k <= kmax; k++) {
         int zlo = c0[2] - k, zhi = c0[2] + k;
         for (int z = zlo < 0 ? 0 : zlo; z <= zhi && z < s->dim[2]; z++) {
+            /* a slab of cells, then a row, farther than the best triangle holds nothing
+             * scan_cell would look at (its box test is the sum of these terms) */
+            double ez = axis_gap(s, 2, z, p[2]);
+            if (ez * ez >= best2)
+                continue;
             int ylo = c0[1] - k, yhi = c0[1] + k;
             bool zface = (z == zlo || z == zhi);
             for (int y = ylo < 0 ? 0 : ylo; y <= yhi && y < s->dim[1]; y++) {
+                double ey = axis_gap(s, 1, y, p[1]);
+                if (ez * ez + ey * ey >= best2)
+                    continue;
                 bool face = zface || y == ylo || y == yhi;
                 if (face) {
                     int xlo = c0[0] - k, xhi = c0[0] + k;
