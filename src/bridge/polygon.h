@@ -100,10 +100,11 @@ sr_status sr_poly2_offset(const sr_poly2 *a, double delta_mm, int round_joins,
 
 /* out = a with the vertices that move it less than tol_mm taken out (Clipper's
  * CleanPolygons: a vertex within tol_mm of the line through its neighbours, or of a
- * neighbour, goes), then cleaned as sr_poly2_boolean's union cleans (non-zero rule,
- * oriented, self-intersections resolved). Every point of the result's boundary lies
- * within tol_mm of a's and the other way round, to the grid. tol_mm finite and in
- * [0, SR_POLY2_MAX_MM] (SR_E_RANGE). */
+ * neighbour, goes, and its neighbours are then looked at again), then cleaned as
+ * sr_poly2_boolean's union cleans (non-zero rule, oriented, self-intersections
+ * resolved). Every vertex kept is one of a's; each one dropped lay within tol_mm of
+ * the outline as it was when it went, so a long gentle curve may move by a few times
+ * tol_mm. tol_mm finite and in [0, SR_POLY2_MAX_MM] (SR_E_RANGE). */
 sr_status sr_poly2_clean(const sr_poly2 *a, double tol_mm, sr_poly2 *out, sr_err *err);
 
 /* Signed area, mm^2: the sum of the contours' shoelace areas (CCW positive), so holes
