@@ -29,18 +29,25 @@
  * [3, 8] x [6, 11] x [3, 7] in its y = 10 face: 5 x 4 x 4 = 80 mm^3 */
 #define NOTCH_MM3 80.0
 
-static void notched_block(sr_mesh *out, sr_layer_grid *grid)
+/* block (released here) less the notch, sliced into *grid */
+static void notch_and_slice(sr_mesh *block, sr_mesh *out, sr_layer_grid *grid)
 {
-    sr_mesh block, notch;
-    double lo[3] = {-10, -10, 0}, hi[3] = {10, 10, 10};
+    sr_mesh notch;
     double nlo[3] = {3, 6, 3}, nhi[3] = {8, 11, 7};
-    assert_int_equal(sr_shape_box(lo, hi, &block, NULL), SR_OK);
     assert_int_equal(sr_shape_box(nlo, nhi, &notch, NULL), SR_OK);
-    assert_int_equal(sr_boolean_difference(&block, &notch, out, NULL), SR_OK);
+    assert_int_equal(sr_boolean_difference(block, &notch, out, NULL), SR_OK);
     sr_slice_opts so = {.layers = 100, .sectors = 120};
     assert_int_equal(sr_slice_accurate(out, &so, grid, NULL), SR_OK);
-    sr_mesh_release(&block);
+    sr_mesh_release(block);
     sr_mesh_release(&notch);
+}
+
+static void notched_block(sr_mesh *out, sr_layer_grid *grid)
+{
+    sr_mesh block;
+    double lo[3] = {-10, -10, 0}, hi[3] = {10, 10, 10};
+    assert_int_equal(sr_shape_box(lo, hi, &block, NULL), SR_OK);
+    notch_and_slice(&block, out, grid);
 }
 
 static sr_region_opts mirror_opts(void)
@@ -180,14 +187,10 @@ static void collinear_points_do_not_weigh_on_the_patch(void **state)
         xy[n++] = 10 - 0.2 * i;
         xy[n++] = 10;
     }
-    sr_mesh prism, notch, fine, plain;
+    sr_mesh prism, fine, plain;
     sr_layer_grid gf, gp;
-    double nlo[3] = {3, 6, 3}, nhi[3] = {8, 11, 7};
     assert_int_equal(sr_shape_prism(xy, n / 2, 0, 10, &prism, NULL), SR_OK);
-    assert_int_equal(sr_shape_box(nlo, nhi, &notch, NULL), SR_OK);
-    assert_int_equal(sr_boolean_difference(&prism, &notch, &fine, NULL), SR_OK);
-    sr_slice_opts so = {.layers = 100, .sectors = 120};
-    assert_int_equal(sr_slice_accurate(&fine, &so, &gf, NULL), SR_OK);
+    notch_and_slice(&prism, &fine, &gf);
     notched_block(&plain, &gp);
     sr_region_opts o = mirror_opts();
     sr_analysis af = {0}, ap = {0};
@@ -205,8 +208,6 @@ static void collinear_points_do_not_weigh_on_the_patch(void **state)
     sr_sections_release(p, np);
     sr_analysis_release(&af);
     sr_analysis_release(&ap);
-    sr_mesh_release(&prism);
-    sr_mesh_release(&notch);
     sr_mesh_release(&fine);
     sr_mesh_release(&plain);
     sr_layer_grid_release(&gf);

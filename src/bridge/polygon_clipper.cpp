@@ -183,6 +183,16 @@ void replace(sr_poly2 *out, sr_poly2 *res)
     *out = *res;
 }
 
+/* paths into *out (replace); *out untouched on failure. */
+sr_status store(const Paths &paths, sr_poly2 *out, sr_err *err, const char *doing)
+{
+    sr_poly2 res;
+    sr_status st = paths_to_region(paths, &res, err, doing);
+    if (st == SR_OK)
+        replace(out, &res);
+    return st;
+}
+
 ClipperLib::ClipType clip_type(sr_poly_op op)
 {
     switch (op) {
@@ -351,12 +361,7 @@ sr_status sr_poly2_boolean(sr_poly_op op, const sr_poly2 *a, const sr_poly2 *b,
         if (st != SR_OK)
             return st;
         run_boolean(clip_type(op), pa, pb, res_paths);
-        sr_poly2 res;
-        st = paths_to_region(res_paths, &res, err, "polygon boolean");
-        if (st != SR_OK)
-            return st;
-        replace(out, &res);
-        return SR_OK;
+        return store(res_paths, out, err, "polygon boolean");
     } catch (...) {
         return status_from_exception(err, "polygon boolean");
     }
@@ -382,12 +387,7 @@ sr_status sr_poly2_offset(const sr_poly2 *a, double delta_mm, int round_joins,
             co.Execute(tree, delta_mm * SR_POLY2_SCALE);
             tree_to_paths(tree, res_paths);
         }
-        sr_poly2 res;
-        st = paths_to_region(res_paths, &res, err, "polygon offset");
-        if (st != SR_OK)
-            return st;
-        replace(out, &res);
-        return SR_OK;
+        return store(res_paths, out, err, "polygon offset");
     } catch (...) {
         return status_from_exception(err, "polygon offset");
     }
@@ -405,12 +405,7 @@ sr_status sr_poly2_clean(const sr_poly2 *a, double tol_mm, sr_poly2 *out, sr_err
             return st;
         ClipperLib::CleanPolygons(pa, tol_mm * SR_POLY2_SCALE);
         run_boolean(ClipperLib::ctUnion, pa, Paths(), res_paths);
-        sr_poly2 res;
-        st = paths_to_region(res_paths, &res, err, "polygon clean");
-        if (st != SR_OK)
-            return st;
-        replace(out, &res);
-        return SR_OK;
+        return store(res_paths, out, err, "polygon clean");
     } catch (...) {
         return status_from_exception(err, "polygon clean");
     }
@@ -519,12 +514,7 @@ sr_status sr_poly2_clip_lines(const sr_poly2 *region, const double *xy,
                                            [](const Path &p) { return p.size() < 2; }),
                             res_paths.end());
         }
-        sr_poly2 res;
-        st = paths_to_region(res_paths, &res, err, "line clipping");
-        if (st != SR_OK)
-            return st;
-        replace(out_open, &res);
-        return SR_OK;
+        return store(res_paths, out_open, err, "line clipping");
     } catch (...) {
         return status_from_exception(err, "line clipping");
     }
