@@ -73,6 +73,77 @@ static void identical_layers_leave_no_internal_faces(void **state)
     sr_mesh_release(&m);
 }
 
+/* Six layers: a 10 mm square three times (the third written from another corner),
+ * an empty layer, then a 4 mm square twice. Merged: three runs over the same heights,
+ * the same solid as the stack unmerged, and walls no longer cut at every layer. */
+static void identical_layers_merge_into_runs(void **state)
+{
+    (void)state;
+    sr_poly2 r[6] = {{0}}, whole[6] = {{0}};
+    square(&r[0], 0, 0, 10, 0);
+    square(&r[1], 0, 0, 10, 0);
+    double turned[8] = {10, 10, 0, 10, 0, 0, 10, 0};
+    assert_int_equal(sr_poly2_add_contour(&r[2], turned, 4, NULL), SR_OK);
+    square(&r[4], 3, 3, 4, 0);
+    square(&r[5], 3, 3, 4, 0);
+    for (int i = 0; i < 6; i++)
+        assert_int_equal(sr_poly2_copy(&r[i], &whole[i], NULL), SR_OK);
+    double z[7] = {0, 1, 2, 3.5, 4, 5, 7}, zw[7];
+    memcpy(zw, z, sizeof z);
+    size_t layers = 6;
+    assert_int_equal(sr_stack_merge_identical(r, z, &layers, NULL), SR_OK);
+    assert_int_equal(layers, 3);
+    double want_z[4] = {0, 3.5, 4, 7};
+    for (int i = 0; i < 4; i++)
+        assert_near(z[i], want_z[i], 0);
+    assert_near(sr_poly2_area(&r[0]), 100.0, 1e-9);
+    assert_int_equal(r[1].contour_count, 0);
+    assert_near(sr_poly2_area(&r[2]), 16.0, 1e-9);
+    for (int i = 3; i < 6; i++) /* merged away: released, safe to release again */
+        assert_int_equal(r[i].contour_count, 0);
+    sr_mesh m = {0}, mw = {0};
+    assert_int_equal(sr_stack_mesh(r, z, layers, &m, NULL), SR_OK);
+    assert_int_equal(sr_stack_mesh(whole, zw, 6, &mw, NULL), SR_OK);
+    check_closed(&m);
+    assert_near(sr_mesh_volume(&m), 100.0 * 3.5 + 16.0 * 3, 1e-9);
+    assert_near(sr_mesh_volume(&m), sr_mesh_volume(&mw), 1e-9);
+    assert_near(sr_mesh_area(&m), sr_mesh_area(&mw), 1e-9);
+    /* one wall strip a run: 4 edges x 2 triangles x 2 runs, and 2 x 2 caps each */
+    assert_int_equal(m.tri_count, 2 * (4 * 2 + 2 * 2));
+    assert_true(mw.tri_count > m.tri_count);
+    sr_mesh_release(&m);
+    sr_mesh_release(&mw);
+    for (int i = 0; i < 6; i++) {
+        sr_poly2_release(&r[i]);
+        sr_poly2_release(&whole[i]);
+    }
+}
+
+/* Layers that differ at all stay apart: a square moved by 10 nm (one unit of the 2D
+ * booleans) is another layer. One layer or none is left as it is. */
+static void layers_that_differ_stay_apart(void **state)
+{
+    (void)state;
+    sr_poly2 r[2] = {{0}};
+    square(&r[0], 0, 0, 10, 0);
+    square(&r[1], 1e-5, 0, 10, 0);
+    double z[3] = {0, 1, 2};
+    size_t layers = 2;
+    assert_int_equal(sr_stack_merge_identical(r, z, &layers, NULL), SR_OK);
+    assert_int_equal(layers, 2);
+    assert_near(z[1], 1, 0);
+    assert_near(z[2], 2, 0);
+    assert_int_equal(r[1].contour_count, 1);
+    layers = 1;
+    assert_int_equal(sr_stack_merge_identical(r, z, &layers, NULL), SR_OK);
+    assert_int_equal(layers, 1);
+    layers = 0;
+    assert_int_equal(sr_stack_merge_identical(r, z, &layers, NULL), SR_OK);
+    assert_int_equal(layers, 0);
+    for (int i = 0; i < 2; i++)
+        sr_poly2_release(&r[i]);
+}
+
 static void shifted_and_rotated_layers_stitch_closed(void **state)
 {
     (void)state;
@@ -287,6 +358,8 @@ int main(void)
     struct CMUnitTest tests[] = {
         cmocka_unit_test(one_square_layer_is_a_closed_box),
         cmocka_unit_test(identical_layers_leave_no_internal_faces),
+        cmocka_unit_test(identical_layers_merge_into_runs),
+        cmocka_unit_test(layers_that_differ_stay_apart),
         cmocka_unit_test(shifted_and_rotated_layers_stitch_closed),
         cmocka_unit_test(layers_with_holes_stitch_closed),
         cmocka_unit_test(a_stack_is_one_mesh_whatever_the_heap_held),

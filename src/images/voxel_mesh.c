@@ -55,8 +55,13 @@ sr_status sr_img_marked_mesh(const sr_voxels *g, const uint8_t *mark, uint8_t bi
     }
     for (size_t l = 0; st == SR_OK && l <= layers; l++)
         z[l] = g->origin[2] + ((double)(box[2] + l) - 0.5) * g->h;
+    /* runs of identical layers stacked as one: the same solid, its walls no longer cut
+     * at every voxel layer */
+    size_t runs = layers;
     if (st == SR_OK)
-        st = sr_stack_mesh_pulled_in(reg, z, layers, out, err);
+        st = sr_stack_merge_identical(reg, z, &runs, err);
+    if (st == SR_OK)
+        st = sr_stack_mesh_pulled_in(reg, z, runs, out, err);
     for (size_t l = 0; reg && l < layers; l++)
         sr_poly2_release(&reg[l]);
     free(reg);

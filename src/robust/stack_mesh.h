@@ -36,4 +36,12 @@ sr_status sr_stack_mesh(const sr_poly2 *regions, const double *z, size_t layers,
 sr_status sr_stack_mesh_pulled_in(sr_poly2 *regions, const double *z, size_t layers,
                                   sr_mesh *out, sr_err *err);
 
+/* Merges runs of identical layers into one layer each, in place: a layer whose region
+ * is the region of the layer below it (their exclusive-or is empty; two empty regions
+ * are identical) joins that layer's run, extruded from the run's bottom to its top.
+ * regions[0 .. *layers) and z[0 .. *layers] are compacted, the merged regions released,
+ * and *layers becomes the number of runs. The solid is the same; its walls are no
+ * longer cut at every layer. On failure the stack is left as it was. */
+sr_status sr_stack_merge_identical(sr_poly2 *regions, double *z, size_t *layers, sr_err *err);
+
 #endif
