@@ -172,6 +172,7 @@ static sr_status align_and_slice(const sr_mesh *scan, const sr_symmetry *sym,
     } else {
         sr_align_opts ao = {0};
         ao.delta_d = opts->delta_d;
+        ao.threads = opts->threads;
         st = sr_align(scan, sym, &ao, &r->alignment, err);
         if (st != SR_OK)
             return st;

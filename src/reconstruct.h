@@ -54,8 +54,9 @@ typedef struct sr_recon_opts {
     int have_alignment;         /* 1: use `alignment` instead of searching (override) */
     sr_alignment alignment;
     int skip_union;             /* 1: restored = scan + patches as separate shells */
-    int threads;                /* image: threads of the vote; 0 = all cores. The result
-                                 * is the same for any number */
+    int threads;                /* threads of the alignment's queries and the image
+                                 * method's vote; 0 = all cores. The result is the same
+                                 * for any number */
     const sr_progress *progress; /* told each phase as it starts; NULL = nobody */
     const sr_mesh *gap_fills;    /* image: the triangles the closing of an open scan made
                                  * (sr_scan_desc.fills), the scan's frame; a section lying

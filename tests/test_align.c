@@ -523,6 +523,35 @@ static void alignment_is_deterministic(void **state)
     sr_mesh_release(&m);
 }
 
+/* The queries spread over two threads give the alignment one thread gives, to the bit:
+ * a posed chipped lever (the mirror search with its tilted restarts), the glide bar
+ * (the shift scan) and the stepped shaft (the axial search), each also within its
+ * bounds both ways. */
+static void one_thread_and_two_give_the_same_alignment(void **state)
+{
+    (void)state;
+    sr_mesh chip, lever, bar, shaft;
+    double clo[3] = {1.0, 10, 3}, chi[3] = {30, 70, 30};
+    assert_int_equal(sr_shape_box(clo, chi, &chip, NULL), SR_OK);
+    double wlo[3] = {-4, -30, 0}, whi[3] = {4, 52, 8};
+    lever_less(wlo, whi, (boss){14, 20, -30, 64}, (boss){8, 16, 52, 48}, &chip, &lever);
+    make_glide_bar(&bar);
+    make_stepped(&shaft);
+    const sr_mesh *parts[3] = {&lever, &bar, &shaft};
+    sr_symmetry syms[3] = {{SR_SYM_MIRROR, 0, 0}, {SR_SYM_GLIDE, 0, 0}, {SR_SYM_AXIAL, 0, 0}};
+    double bound_deg[3] = {0.1, 0.01, 0.05}, bound_mm[3] = {0.05, 0.01, 0.05};
+    for (int i = 0; i < 3; i++) {
+        sr_align_opts one = {.threads = 1}, two = {.threads = 2};
+        sr_alignment a = align_posed(parts[i], 7, &syms[i], &one, bound_deg[i], bound_mm[i]);
+        sr_alignment b = align_posed(parts[i], 7, &syms[i], &two, bound_deg[i], bound_mm[i]);
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+    sr_mesh_release(&chip);
+    sr_mesh_release(&lever);
+    sr_mesh_release(&bar);
+    sr_mesh_release(&shaft);
+}
+
 /* The paper's Algorithm 3 alone, on a cylinder dense in vertices (many rings, as
  * Algorithm 1 needs vertices in every layer): a heuristic, within a degree or so. */
 static void paper_method_aligns_a_dense_cylinder(void **state)
@@ -806,6 +835,7 @@ static void align_rejects_bad_options(void **state)
         {{.coarse_step_deg = -1}, "coarse_step_deg"},
         {{.coarse_step_deg = 90}, "coarse_step_deg"},
         {{.hint = {0, INFINITY, 0}}, "hint"},
+        {{.threads = -1}, "threads"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         assert_int_equal(sr_align(&m, &sym, &bad[i].o, &a, &err), SR_E_RANGE);
@@ -943,6 +973,7 @@ int main(void)
         cmocka_unit_test(glide_given_shift_is_kept),
         cmocka_unit_test(wrong_kind_shows_a_poor_fit),
         cmocka_unit_test(alignment_is_deterministic),
+        cmocka_unit_test(one_thread_and_two_give_the_same_alignment),
         cmocka_unit_test(paper_method_aligns_a_dense_cylinder),
         cmocka_unit_test(paper_method_finds_a_mirror_plane_through_the_slicing_axis),
         cmocka_unit_test(from_axis_builds_the_axial_frame),

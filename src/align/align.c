@@ -147,6 +147,9 @@ static sr_status check_opts(const sr_align_opts *in, sr_align_opts *o, sr_err *e
     if (!isfinite(o->delta_d) || o->delta_d < 0 || o->delta_d >= 1)
         return sr_err_set(err, SR_E_RANGE, "bad alignment delta_d %g: expected 0 or (0, 1)",
                           o->delta_d);
+    if (o->threads < 0)
+        return sr_err_set(err, SR_E_RANGE, "bad alignment threads %d: expected 0 or more",
+                          o->threads);
     if (!isfinite(o->hint[0]) || !isfinite(o->hint[1]) || !isfinite(o->hint[2]))
         return sr_err_set(err, SR_E_RANGE, "bad alignment hint: expected 3 finite numbers");
     if (!isfinite(o->coarse_step_deg) || o->coarse_step_deg < 0 || o->coarse_step_deg > 45)
@@ -182,6 +185,10 @@ sr_status sr_align(const sr_mesh *mesh, const sr_symmetry *sym, const sr_align_o
     st = al_surface_build(&surf, mesh, err);
     if (st != SR_OK)
         return st;
+    if (al_surface_threads(&surf, o.threads) != SR_OK) {
+        al_surface_release(&surf);
+        return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for the search grid");
+    }
     ctx.surf = &surf;
     ctx.sym = sym;
     ctx.opts = &o;

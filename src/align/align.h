@@ -43,6 +43,8 @@ typedef struct sr_align_opts {
                             * (axial) or plane normal (mirror, glide); among the
                             * candidates that fit (score >= 0.8 of the best) the one
                             * nearest the hint is taken. Zero = none (method 0 only) */
+    int threads;           /* threads of the closest-point queries; 0 = all cores (at
+                            * most 8). The alignment is the same for any number */
 } sr_align_opts;
 
 typedef struct sr_alignment {

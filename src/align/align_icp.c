@@ -25,6 +25,9 @@
  * Several variants of a model (rotation angles; +s and -s of a glide) are used at once:
  * sample i uses variant i mod V, so a continuous axis is constrained by many angles at
  * the cost of one closest-point query per sample.
+ * The queries of an iteration (and of an evaluation) are spread over the surface's
+ * threads (al_surface_threads); the sums over them are taken in sample order after, so
+ * the fit is the same for any number of threads.
  */
 #include "align/align_internal.h"
 
@@ -32,6 +35,7 @@
 #include <string.h>
 
 #define FD_EPS 1e-6
+#define PARALLEL_MIN 256 /* fewer samples than this are queried on one thread */
 
 int al_model_nparam(const al_model *m)
 {
@@ -189,17 +193,18 @@ void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double
         al_model_matrix(m, NULL, v, mats + 12 * v);
     size_t in = 0;
     double ss = 0;
+    /* the queries on the surface's threads, the sums in order: the same for any number */
+#pragma omp parallel for num_threads(s->threads) schedule(static) if (smp->count >= PARALLEL_MIN)
     for (size_t i = 0; i < smp->count; i++) {
         double x[3], q[3], n[3], dist;
         apply(mats + 12 * (i % (size_t)V), smp->p + 3 * i, x);
-        if (!al_surface_closest(s, x, tol, q, n, &dist))
-            dist = INFINITY;
-        d[i] = dist;
-        if (dist <= tol) {
-            in++;
-            ss += dist * dist;
-        }
+        d[i] = al_surface_closest(s, x, tol, q, n, &dist) ? dist : INFINITY;
     }
+    for (size_t i = 0; i < smp->count; i++)
+        if (d[i] <= tol) {
+            in++;
+            ss += d[i] * d[i];
+        }
     f.score = smp->count ? (double)in / (double)smp->count : 0;
     f.inlier_rms = in ? sqrt(ss / (double)in) : INFINITY;
     f.median = median_of(d, smp->count, d + smp->count);
@@ -269,6 +274,7 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
                 al_model_matrix(m, dp, v, mv + 12 * (2 + 2 * j));
             }
         }
+#pragma omp parallel for num_threads(s->threads) schedule(static) if (n >= PARALLEL_MIN)
         for (size_t i = 0; i < n; i++) {
             const double *p = smp->p + 3 * i;
             const double *mv = mats + (i % (size_t)V) * nm * 12;

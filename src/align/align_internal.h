@@ -86,6 +86,8 @@ void al_rot_axis(const double k[3], double ang, double r[9]);
 
 /* ---- align_surface.c ---- */
 
+#define AL_THREADS_MAX 8 /* query threads a surface serves at once */
+
 typedef struct al_surface {
     const sr_mesh *mesh;
     size_t count;          /* triangles with non-zero area */
@@ -110,8 +112,10 @@ typedef struct al_surface {
     uint32_t *cell_items;
     uint8_t *brick_rings;  /* per brick: Chebyshev distance (in bricks, <= 255) to the
                             * nearest brick holding a triangle */
-    uint32_t *stamp;       /* count: last query that tested the triangle */
-    uint32_t stamp_id;
+    /* per query thread: the last query that tested each of the count triangles */
+    uint32_t *stamp[AL_THREADS_MAX];
+    uint32_t stamp_id[AL_THREADS_MAX];
+    int threads; /* threads a loop of queries may use (al_surface_threads) */
 } al_surface;
 
 /* The mesh triangle of surface triangle i. */
@@ -127,6 +131,12 @@ void al_surface_normal(const al_surface *s, size_t i, double n[3], double *area)
  * has an area, SR_E_NOMEM. On failure *s is released. */
 sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err);
 void al_surface_release(al_surface *s);
+
+/* Lets `threads` threads query s at once (0: as many as OpenMP gives, at most
+ * AL_THREADS_MAX): each gets its own stamps, 4 bytes a triangle. A built surface serves
+ * one. A loop of queries spread over OpenMP threads passes num_threads(s->threads);
+ * every query's answer is the same from any thread. SR_E_NOMEM. */
+sr_status al_surface_threads(al_surface *s, int threads);
 
 /* Closest point of the surface to p among points within max_dist. Returns false when
  * there is none. q: the closest point, n: its triangle's unit normal, *dist: |p - q|. */

@@ -17,7 +17,8 @@
  *    a grid's cells, and a dense offset array for a million-triangle scan took 34 MB.
  *    Queries visit cubic shells of cells around p and stop once the best distance
  *    found is below the shell's inner distance (or past max_dist). A per-triangle stamp
- *    skips triangles already tested through another cell. A chessboard distance
+ *    (one array for each thread that queries: al_surface_threads) skips triangles
+ *    already tested through another cell. A chessboard distance
  *    transform of the occupied bricks (two raster passes over the 26-neighbourhood,
  *    exact for that metric) lets a query far from the surface skip its empty shells,
  *    or give up at once when even the nearest occupied brick is beyond max_dist; a cell
@@ -28,6 +29,7 @@
  */
 #include "align/align_internal.h"
 
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -48,7 +50,8 @@ void al_surface_release(al_surface *s)
     free(s->brick_slot);
     free(s->cell_start);
     free(s->cell_items);
-    free(s->stamp);
+    for (int t = 0; t < AL_THREADS_MAX; t++)
+        free(s->stamp[t]);
     free(s->brick_rings);
     memset(s, 0, sizeof *s);
 }
@@ -361,8 +364,9 @@ sr_status al_surface_build(al_surface *s, const sr_mesh *mesh, sr_err *err)
     /* bricks the triangles' boxes reach get slots (a few more than needed: harmless) */
     s->brick_slot = malloc(nbrick * sizeof *s->brick_slot);
     s->brick_rings = malloc(nbrick);
-    s->stamp = calloc(s->count, sizeof *s->stamp);
-    if (!s->brick_slot || !s->brick_rings || !s->stamp) {
+    s->stamp[0] = calloc(s->count, sizeof *s->stamp[0]);
+    s->threads = 1;
+    if (!s->brick_slot || !s->brick_rings || !s->stamp[0]) {
         al_surface_release(s);
         return sr_err_set(err, SR_E_NOMEM, "cannot align: out of memory for the search grid");
     }
@@ -420,8 +424,8 @@ static inline double axis_gap(const al_surface *s, int a, int i, double v)
     return v < lo ? lo - v : (v > hi ? v - hi : 0);
 }
 
-static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], double *best2,
-                      size_t *best)
+static void scan_cell(const al_surface *s, uint32_t *stamp, uint32_t id, int x, int y, int z,
+                      const double p[3], double *best2, size_t *best)
 {
     size_t cidx = cell_index(s, x, y, z);
     if (cidx == SIZE_MAX || s->cell_start[cidx + 1] == s->cell_start[cidx])
@@ -438,9 +442,9 @@ static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], dou
         return;
     for (uint32_t j = s->cell_start[cidx]; j < s->cell_start[cidx + 1]; j++) {
         uint32_t i = s->cell_items[j];
-        if (s->stamp[i] == s->stamp_id)
+        if (stamp[i] == id)
             continue;
-        s->stamp[i] = s->stamp_id;
+        stamp[i] = id;
         /* the distance to the triangle's plane bounds the distance to the triangle; the
          * float normal is off by < 1.1e-7 of |p - a|: take that off the bound, so no
          * triangle the exact normal would keep is skipped */
@@ -462,13 +466,33 @@ static void scan_cell(al_surface *s, int x, int y, int z, const double p[3], dou
     }
 }
 
+sr_status al_surface_threads(al_surface *s, int threads)
+{
+    int n = threads > 0 ? threads : omp_get_max_threads();
+    n = n < 1 ? 1 : (n > AL_THREADS_MAX ? AL_THREADS_MAX : n);
+    for (int t = 1; t < n; t++)
+        if (!s->stamp[t]) {
+            s->stamp[t] = calloc(s->count ? s->count : 1, sizeof *s->stamp[t]);
+            if (!s->stamp[t])
+                return SR_E_NOMEM;
+            s->stamp_id[t] = 0;
+        }
+    s->threads = n;
+    return SR_OK;
+}
+
 bool al_surface_closest(al_surface *s, const double p[3], double max_dist, double q[3],
                         double n[3], double *dist)
 {
-    if (++s->stamp_id == 0) { /* wrapped: reset the stamps */
-        memset(s->stamp, 0, s->count * sizeof *s->stamp);
-        s->stamp_id = 1;
+    /* this thread's stamps (a surface serving one thread may be another's: identify.c
+     * fits each candidate's own surface in a thread of its loop) */
+    int t = s->threads > 1 ? omp_get_thread_num() : 0;
+    uint32_t *stamp = s->stamp[t];
+    if (++s->stamp_id[t] == 0) { /* wrapped: reset the stamps */
+        memset(stamp, 0, s->count * sizeof *stamp);
+        s->stamp_id[t] = 1;
     }
+    uint32_t id = s->stamp_id[t];
     /* distance from p to the grid box: nothing is closer */
     double out2 = 0;
     for (int k = 0; k < 3; k++) {
@@ -519,14 +543,14 @@ bool al_surface_closest(al_surface *s, const double p[3], double max_dist, doubl
                 if (face) {
                     int xlo = c0[0] - k, xhi = c0[0] + k;
                     for (int x = xlo < 0 ? 0 : xlo; x <= xhi && x < s->dim[0]; x++)
-                        scan_cell(s, x, y, z, p, &best2, &best);
+                        scan_cell(s, stamp, id, x, y, z, p, &best2, &best);
                 } else {
                     int x = c0[0] - k;
                     if (x >= 0)
-                        scan_cell(s, x, y, z, p, &best2, &best);
+                        scan_cell(s, stamp, id, x, y, z, p, &best2, &best);
                     x = c0[0] + k;
                     if (k > 0 && x < s->dim[0])
-                        scan_cell(s, x, y, z, p, &best2, &best);
+                        scan_cell(s, stamp, id, x, y, z, p, &best2, &best);
                 }
             }
         }
