@@ -239,8 +239,10 @@ static sr_status analysis_from_restored(sr_recon_result *r, sr_err *err)
     return SR_OK;
 }
 
-sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, sr_recon_result *out,
-                         sr_err *err)
+/* sr_reconstruct and sr_reconstruct_owned: `owned`, when given, is scan_in handed
+ * over, unfolded in place. */
+static sr_status reconstruct(const sr_mesh *scan_in, sr_mesh *owned, const sr_recon_opts *opts_in,
+                             sr_recon_result *out, sr_err *err)
 {
     const sr_recon_opts resolved = with_defaults(opts_in);
     const sr_recon_opts *opts = &resolved;
@@ -273,10 +275,13 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
          * alone left 7,403 for the mender to cut out and fill, 125 mm3 of fracture face
          * filled flat across its chip), then the vertices around what still crosses */
         sr_sliver_report slivers = {0};
-        if (sr_mesh_unfold_scan(scan_in, UNFOLD_MAX_MM, &unfolded, &slivers, &unfold, NULL) ==
-                SR_OK &&
-            slivers.crossing_pairs > 0) {
-            scan = &unfolded;
+        sr_status su =
+            owned ? sr_mesh_unfold_scan_in_place(owned, UNFOLD_MAX_MM, &slivers, &unfold, NULL)
+                  : sr_mesh_unfold_scan(scan_in, UNFOLD_MAX_MM, &unfolded, &slivers, &unfold, NULL);
+        if (owned && owned->tri_count == 0)
+            return sr_err_set(err, SR_E_NOMEM, "out of memory unfolding the scan");
+        if (su == SR_OK && slivers.crossing_pairs > 0) {
+            scan = owned ? owned : &unfolded;
             r.unfold_sliver_tris = slivers.faces_removed;
             r.unfold_pairs = slivers.crossing_pairs;
             r.unfold_left = unfold.remaining_pairs;
@@ -292,9 +297,11 @@ sr_status sr_reconstruct(const sr_mesh *scan_in, const sr_recon_opts *opts_in, s
          * for the method to refuse */
         size_t shells = 0,
                slivers_closed = sr_mesh_count_small_shells(scan, SLIVER_SHELL_MM3, &shells);
-        if (slivers_closed > 0 && slivers_closed < shells &&
-            (scan == &unfolded || sr_mesh_copy(&unfolded, scan_in) == SR_OK) &&
-            sr_mesh_drop_small_shells(&unfolded, SLIVER_SHELL_MM3, NULL, NULL) == SR_OK)
+        if (owned && slivers_closed > 0 && slivers_closed < shells)
+            sr_mesh_drop_small_shells(owned, SLIVER_SHELL_MM3, NULL, NULL); /* or as it was */
+        else if (slivers_closed > 0 && slivers_closed < shells &&
+                 (scan == &unfolded || sr_mesh_copy(&unfolded, scan_in) == SR_OK) &&
+                 sr_mesh_drop_small_shells(&unfolded, SLIVER_SHELL_MM3, NULL, NULL) == SR_OK)
             scan = &unfolded;
         r.timings.unfold_s = now_s() - tu;
     }
@@ -491,4 +498,16 @@ fail:
     sr_mesh_release(&unfolded);
     sr_recon_result_release(&r);
     return st;
+}
+
+sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
+                         sr_err *err)
+{
+    return reconstruct(scan, NULL, opts, out, err);
+}
+
+sr_status sr_reconstruct_owned(sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
+                               sr_err *err)
+{
+    return reconstruct(scan, scan, opts, out, err);
 }

@@ -126,6 +126,16 @@ size_t sr_recon_timings_list(const sr_recon_timings *t, const char *names[],
 sr_status sr_reconstruct(const sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
                          sr_err *err);
 
+/* sr_reconstruct on a scan handed over, so that a big scan is held once, not twice: the
+ * image method unfolds it in place (a noisy scan's folds undone: its own arrays are
+ * released before the unfolded ones are made; its closed slivers dropped). On return,
+ * also on failure, *scan is the scan the reconstruction used (unfolded where noise had
+ * folded it, else as given), the caller's to release; empty only when the unfolding ran
+ * out of memory after the scan's arrays went (SR_E_NOMEM). The result is the same as
+ * sr_reconstruct's on the scan as given. */
+sr_status sr_reconstruct_owned(sr_mesh *scan, const sr_recon_opts *opts, sr_recon_result *out,
+                               sr_err *err);
+
 void sr_recon_result_release(sr_recon_result *r);
 
 #endif

@@ -46,15 +46,22 @@ static void minus(const sr_mesh *a, const sr_mesh *b, sr_mesh *out)
     assert_int_equal(sr_boolean_difference(a, b, out, &err), SR_OK);
 }
 
-static void reconstruct_threads(const sr_mesh *scan, sr_symmetry sym, int threads,
-                                sr_recon_result *r)
+/* The options of a run on a shape built in the aligned frame. */
+static sr_recon_opts aligned_opts(sr_symmetry sym, int threads)
 {
     sr_recon_opts o;
     memset(&o, 0, sizeof o);
     o.symmetry = sym;
     o.threads = threads;
-    o.have_alignment = 1; /* the shapes are built in the aligned frame */
+    o.have_alignment = 1;
     sr_xform_identity(o.alignment.xform);
+    return o;
+}
+
+static void reconstruct_threads(const sr_mesh *scan, sr_symmetry sym, int threads,
+                                sr_recon_result *r)
+{
+    sr_recon_opts o = aligned_opts(sym, threads);
     sr_err err = {{0}};
     assert_int_equal(sr_reconstruct(scan, &o, r, &err), SR_OK);
     assert_int_equal(r->method, SR_METHOD_IMAGE); /* the default */
@@ -1017,6 +1024,46 @@ static void a_deep_crossing_is_filled_only_within_the_volume_share(void **state)
     sr_mesh_release(&again);
 }
 
+/* A scan handed over (sr_reconstruct_owned) gives what sr_reconstruct gives on the
+ * scan as given, to the bit, and ends as the scan the method used: a cylinder folded by
+ * a micrometre is left unfolded, crossing nothing; a box that crosses nothing is left
+ * as it was. */
+static void a_scan_handed_over_is_unfolded_in_place(void **state)
+{
+    (void)state;
+    sr_mesh folded, given, block, block_given;
+    folded_cylinder(&folded, 30, 1.001);
+    assert_int_equal(sr_mesh_copy(&given, &folded), SR_OK);
+    box(&block, -20, 0, 0, 20, 12, 30);
+    assert_int_equal(sr_mesh_copy(&block_given, &block), SR_OK);
+    sr_recon_opts o = aligned_opts((sr_symmetry){SR_SYM_AXIAL, 0, 0}, 0);
+    sr_err err = {{0}};
+    sr_recon_result a, b;
+    assert_int_equal(sr_reconstruct(&folded, &o, &a, &err), SR_OK);
+    assert_int_equal(sr_reconstruct_owned(&given, &o, &b, &err), SR_OK);
+    assert_true(a.unfold_pairs > 0);
+    assert_int_equal(a.unfold_pairs, b.unfold_pairs);
+    assert_int_equal(b.unfold_left, 0);
+    assert_same_result(&a, &b);
+    int x = 1;
+    assert_int_equal(sr_mesh_self_intersects(&given, &x, NULL), SR_OK);
+    assert_false(x);
+    assert_true(given.vertex_count != folded.vertex_count ||
+                memcmp(given.xyz, folded.xyz, 3 * given.vertex_count * sizeof *given.xyz) != 0);
+    assert_near(a.scan_volume_mm3, sr_mesh_volume(&given), 1e-9);
+    sr_recon_result_release(&a);
+    sr_recon_result_release(&b);
+    o.symmetry = (sr_symmetry){SR_SYM_MIRROR, 0, 0};
+    assert_int_equal(sr_reconstruct_owned(&block_given, &o, &b, &err), SR_OK);
+    assert_int_equal(b.unfold_pairs, 0);
+    test_assert_same_mesh(&block_given, &block);
+    sr_recon_result_release(&b);
+    sr_mesh_release(&folded);
+    sr_mesh_release(&given);
+    sr_mesh_release(&block);
+    sr_mesh_release(&block_given);
+}
+
 /* The block with a notch at its +x foot (8 x 6 x 8: 384 mm^3) and its back face
  * (y = 12) left off, given to the method as it is (not closed as a scan): the columns
  * of the occupancy run along z, beside the missing face, and the vote finds the notch;
@@ -1074,6 +1121,7 @@ int main(void)
         cmocka_unit_test(one_thread_and_two_give_the_same_result),
         cmocka_unit_test(a_micrometre_crossing_is_moved_apart_not_filled),
         cmocka_unit_test(a_deep_crossing_is_filled_only_within_the_volume_share),
+        cmocka_unit_test(a_scan_handed_over_is_unfolded_in_place),
         cmocka_unit_test(a_section_no_patch_is_built_for_is_counted),
     };
     /* SYMREC_TEST_FILTER=pattern runs only the matching cases (cmocka glob) */

@@ -100,6 +100,14 @@ sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move_mm,
 sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,
                               sr_sliver_report *slivers, sr_unfold_report *unfold, sr_err *err);
 
+/* sr_mesh_unfold_scan on a scan handed over, held once: when anything crossed, the
+ * scan's arrays are released as soon as its unfolded surface stands (before the
+ * unfolded arrays are made) and *scan becomes the unfolded scan; otherwise *scan is
+ * untouched. On failure *scan is untouched, or empty when the failure came after its
+ * arrays went (out of memory making the unfolded ones). */
+sr_status sr_mesh_unfold_scan_in_place(sr_mesh *scan, double max_move_mm, sr_sliver_report *slivers,
+                                       sr_unfold_report *unfold, sr_err *err);
+
 /* The pairs of triangles of mesh (an oriented manifold; it may be open) that cross,
  * as CGAL's self_intersections finds them, searched on `threads` threads (0: every
  * core): *pairs (malloc'ed, 2 * *count indices) each once, the lower triangle first,

@@ -107,9 +107,13 @@ extern "C" sr_status sr_mesh_clean_folded_slivers(sr_mesh *mesh, double max_move
     }
 }
 
-extern "C" sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,
-                                         sr_sliver_report *slivers, sr_unfold_report *unfold,
-                                         sr_err *err)
+namespace
+{
+
+/* sr_mesh_unfold_scan; when `spent` is given (the scan itself), its arrays are released
+ * once the unfolded surface stands in the Surface_mesh, before *out is made from it. */
+sr_status unfold_scan(const sr_mesh *scan, sr_mesh *spent, double max_move_mm, sr_mesh *out,
+                      sr_sliver_report *slivers, sr_unfold_report *unfold, sr_err *err)
 {
     sr_sliver_report local_slivers = {0, 0};
     sr_unfold_report local_unfold = {0, 0, 0, 0};
@@ -143,9 +147,34 @@ extern "C" sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm
             CGAL::parameters::flip_triangle_height_threshold(max_move_mm));
         slivers->faces_removed = faces_before - sm.number_of_faces();
         sr_mend::unfold_rounds(sm, sr_mend::faces_near(sm, seeds, 3), max_move_mm, unfold);
+        if (spent)
+            sr_mesh_release(spent);
         return mesh_to_arrays(sm, out, err, "unfolding a scan");
     } catch (...) {
         sr_mesh_release(out);
         return status_from_exception(err, "unfolding a scan");
     }
+}
+
+} // namespace
+
+extern "C" sr_status sr_mesh_unfold_scan(const sr_mesh *scan, double max_move_mm, sr_mesh *out,
+                                         sr_sliver_report *slivers, sr_unfold_report *unfold,
+                                         sr_err *err)
+{
+    return unfold_scan(scan, nullptr, max_move_mm, out, slivers, unfold, err);
+}
+
+extern "C" sr_status sr_mesh_unfold_scan_in_place(sr_mesh *scan, double max_move_mm,
+                                                  sr_sliver_report *slivers,
+                                                  sr_unfold_report *unfold, sr_err *err)
+{
+    sr_mesh out;
+    sr_mesh_init(&out);
+    sr_status st = unfold_scan(scan, scan, max_move_mm, &out, slivers, unfold, err);
+    if (st == SR_OK && out.tri_count > 0) {
+        sr_mesh_release(scan); /* released already; the move below is all that is left */
+        *scan = out;
+    }
+    return st;
 }
