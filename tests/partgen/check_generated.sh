@@ -78,7 +78,9 @@ for spec in "$@"; do
 done
 $draw_only && exit 0
 
-# The queue: one job per part and input, the noisy scans first.
+# The queue: one job per part and input, the noisy scans first, two at a time on one
+# OpenMP thread each (two reconstructions fill the CPUs; more threads would queue).
+[ -n "${OMP_NUM_THREADS:-}" ] || { OMP_NUM_THREADS=1; export OMP_NUM_THREADS; }
 for input in damaged_scan.stl open_scan.stl damaged_posed.stl; do
     while read -r seed dir names inputs; do
         case " $inputs " in *" $input "*) ;; *) continue ;; esac
