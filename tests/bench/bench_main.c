@@ -657,8 +657,10 @@ static void print_machine(void)
     time_t now = time(NULL);
     char when[64];
     strftime(when, sizeof when, "%Y-%m-%d %H:%M:%S", localtime(&now));
-    printf("symrec bench — %s — %s, %ld online CPU(s), single-threaded code\n\n", when, model,
-           sysconf(_SC_NPROCESSORS_ONLN));
+    const char *omp = getenv("OMP_NUM_THREADS");
+    printf("symrec bench — %s — %s, %ld online CPU(s); the vote and the alignment's queries "
+           "on OpenMP threads (OMP_NUM_THREADS %s)\n\n",
+           when, model, sysconf(_SC_NPROCESSORS_ONLN), omp && *omp ? omp : "unset: all");
 }
 
 int main(int argc, char **argv)
