@@ -35,7 +35,6 @@
 #include <string.h>
 
 #define FD_EPS 1e-6
-#define PARALLEL_MIN 256 /* fewer samples than this are queried on one thread */
 
 int al_model_nparam(const al_model *m)
 {
@@ -194,7 +193,7 @@ void al_evaluate(al_surface *s, const al_samples *smp, const al_model *m, double
     size_t in = 0;
     double ss = 0;
     /* the queries on the surface's threads, the sums in order: the same for any number */
-#pragma omp parallel for num_threads(s->threads) schedule(static) if (smp->count >= PARALLEL_MIN)
+#pragma omp parallel for num_threads(s->threads) schedule(static) if (smp->count >= AL_PARALLEL_MIN)
     for (size_t i = 0; i < smp->count; i++) {
         double x[3], q[3], n[3], dist;
         apply(mats + 12 * (i % (size_t)V), smp->p + 3 * i, x);
@@ -274,7 +273,7 @@ void al_icp(al_surface *s, const al_samples *smp, al_model *m, int max_iter, dou
                 al_model_matrix(m, dp, v, mv + 12 * (2 + 2 * j));
             }
         }
-#pragma omp parallel for num_threads(s->threads) schedule(static) if (n >= PARALLEL_MIN)
+#pragma omp parallel for num_threads(s->threads) schedule(static) if (n >= AL_PARALLEL_MIN)
         for (size_t i = 0; i < n; i++) {
             const double *p = smp->p + 3 * i;
             const double *mv = mats + (i % (size_t)V) * nm * 12;

@@ -87,6 +87,7 @@ void al_rot_axis(const double k[3], double ang, double r[9]);
 /* ---- align_surface.c ---- */
 
 #define AL_THREADS_MAX 8 /* query threads a surface serves at once */
+#define AL_PARALLEL_MIN 256 /* a loop of fewer queries than this runs on one thread */
 
 typedef struct al_surface {
     const sr_mesh *mesh;

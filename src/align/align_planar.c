@@ -305,7 +305,7 @@ static double glide_score(al_surface *s, const double *p, const double *n, size_
     al_model_matrix(m, NULL, 1, mat[1]);
     size_t in = 0;
 #pragma omp parallel for num_threads(s->threads) schedule(static) reduction(+ : in) \
-    if (count >= 256)
+    if (count >= AL_PARALLEL_MIN)
     for (size_t i = 0; i < count; i++) {
         const double *M = mat[i & 1], *pi = p + 3 * i, *ni = n + 3 * i;
         double x[3], nx[3], q[3], nq[3], d;
